@@ -1,0 +1,20 @@
+# Warnings, sanitizers, and the numerics guard (no -ffast-math anywhere: the numerics tests
+# depend on IEEE NaN/Inf semantics and on reproducible rounding).
+add_library(meter_build_flags INTERFACE)
+target_compile_options(meter_build_flags INTERFACE -Wall -Wextra -Wpedantic)
+if(METER_WERROR)
+  target_compile_options(meter_build_flags INTERFACE -Werror)
+endif()
+if(METER_SANITIZE)
+  # -fno-sanitize-recover makes UBSan findings fail the test instead of only printing.
+  add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+foreach(_flags IN ITEMS CMAKE_CXX_FLAGS CMAKE_C_FLAGS CMAKE_CXX_FLAGS_RELEASE CMAKE_CXX_FLAGS_DEBUG
+                        CMAKE_CXX_FLAGS_RELWITHDEBINFO CMAKE_EXE_LINKER_FLAGS)
+  if("${${_flags}}" MATCHES "fast-math|Ofast|funsafe-math|ffinite-math")
+    message(FATAL_ERROR "${_flags} contains '${CMAKE_MATCH_0}': meter forbids fast-math "
+                        "(NaN/Inf handling and reproducible numerics are tested). Remove it.")
+  endif()
+endforeach()

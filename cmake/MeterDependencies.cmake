@@ -1,0 +1,81 @@
+# Every dependency is a Debian 12 package (scripts/install-deps installs them all).
+# Each lookup fails at configure time naming the package to install.
+find_package(PkgConfig REQUIRED)
+
+function(meter_missing what debpkg)
+  message(FATAL_ERROR "meter: ${what} not found. Install the Debian package '${debpkg}' "
+                      "(or run scripts/install-deps, which installs everything).")
+endfunction()
+
+# pkg-config module -> imported target PkgConfig::<target>
+macro(meter_pkg target module debpkg)
+  pkg_check_modules(${target} QUIET IMPORTED_TARGET ${module})
+  if(NOT ${target}_FOUND)
+    meter_missing("pkg-config module '${module}'" ${debpkg})
+  endif()
+endmacro()
+
+# find_package(<name> CONFIG) with a named package on failure
+macro(meter_config name debpkg)
+  find_package(${name} CONFIG QUIET)
+  if(NOT ${name}_FOUND)
+    meter_missing("CMake package '${name}'" ${debpkg})
+  endif()
+endmacro()
+
+find_package(Threads REQUIRED)
+
+# protocol/
+# (nothing beyond the C++ standard library and POSIX sockets)
+
+# controller/
+meter_pkg(MODBUS libmodbus libmodbus-dev)
+meter_config(CLI11 libcli11-dev)
+
+# view/
+meter_config(glm libglm-dev)
+meter_config(nlohmann_json nlohmann-json3-dev)
+meter_config(TinyGLTF libtinygltf-dev)          # TinyGLTF::TinyGLTF (Debian builds it as a .so)
+find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb)
+if(NOT STB_INCLUDE_DIR)
+  meter_missing("stb_image.h" libstb-dev)
+endif()
+meter_pkg(EGL egl libegl-dev)
+meter_pkg(GLESV2 glesv2 libgles-dev)
+meter_pkg(OSMESA osmesa libosmesa6-dev)
+find_package(PNG QUIET)
+if(NOT PNG_FOUND)
+  meter_missing("libpng" libpng-dev)
+endif()
+find_package(Freetype QUIET)
+if(NOT Freetype_FOUND)
+  meter_missing("FreeType" libfreetype-dev)
+endif()
+meter_config(meshoptimizer libmeshoptimizer-dev) # meshoptimizer::meshoptimizer
+
+# Shader optimizer (converter only, never the runtime): glslang -> spirv-opt -> SPIRV-Cross.
+meter_config(glslang glslang-dev)                 # glslang::glslang, glslang::SPIRV
+meter_pkg(SPIRV_TOOLS SPIRV-Tools spirv-tools)
+meter_pkg(SPIRV_CROSS spirv-cross-c-shared libspirv-cross-c-shared-dev)
+
+# The cluster font: DejaVu Sans from fonts-dejavu-core (a Debian font package, not vendored).
+find_file(METER_FONT_FILE DejaVuSans.ttf PATHS /usr/share/fonts/truetype/dejavu NO_DEFAULT_PATH)
+if(NOT METER_FONT_FILE)
+  meter_missing("DejaVuSans.ttf" fonts-dejavu-core)
+endif()
+find_file(METER_FONT_BOLD_FILE DejaVuSans-Bold.ttf PATHS /usr/share/fonts/truetype/dejavu NO_DEFAULT_PATH)
+
+# Tests and benchmarks
+if(METER_BUILD_TESTS)
+  find_package(GTest QUIET)
+  if(NOT GTest_FOUND)
+    meter_missing("GoogleTest" "libgtest-dev libgmock-dev")
+  endif()
+  include(GoogleTest)
+endif()
+if(METER_BUILD_BENCH)
+  find_package(benchmark QUIET)
+  if(NOT benchmark_FOUND)
+    meter_missing("Google Benchmark" libbenchmark-dev)
+  endif()
+endif()
