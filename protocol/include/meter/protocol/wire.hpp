@@ -1,0 +1,189 @@
+// The wire format as pure functions on byte spans: no sockets, no clocks, no global state, so every
+// rule in docs/protocol.md is testable (and fuzzable) on plain bytes.
+//
+// Frame = 32-byte header + payload, all integers little-endian:
+//   0  u32 magic "MTRL" (bytes 4D 54 52 4C)   4  u8 version (1)   5  u8 type   6  u16 flags (0)
+//   8  u32 payload length                    12  u64 sequence    20  i64 sender timestamp ns
+//   28 u32 CRC-32C over bytes 0..27 and the payload
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "meter/protocol/catalog.hpp"
+
+namespace meter::protocol {
+
+inline constexpr std::uint32_t kMagic = 0x4C52544DU;  // "MTRL" as bytes on the wire
+inline constexpr std::uint8_t kProtocolVersion = 1;
+inline constexpr std::size_t kHeaderSize = 32;
+inline constexpr std::size_t kMaxFrameSize = 65536;
+inline constexpr std::size_t kMaxPayloadSize = kMaxFrameSize - kHeaderSize;
+inline constexpr std::size_t kMaxTextBytes = 255;
+inline constexpr std::size_t kMaxNameBytes = 64;
+// The largest signal entry: id, status, flags, value, text length, text.
+inline constexpr std::size_t kMaxEntrySize = 2 + 1 + 1 + 8 + 1 + kMaxTextBytes;
+
+// CRC-32C (Castagnoli, reflected polynomial 0x82F63B78, init and final xor 0xFFFFFFFF).
+// crc32c("123456789") == 0xE3069283. `crc` continues a previous result (0 to start).
+std::uint32_t crc32c(std::span<const std::uint8_t> bytes, std::uint32_t crc = 0);
+
+enum class MessageType : std::uint8_t {
+  Hello = 1,
+  Snapshot = 2,
+  Delta = 3,
+  Heartbeat = 4,
+  Status = 5,
+  Close = 6,
+};
+std::string_view to_string(MessageType type);
+
+enum class Role : std::uint8_t { Publisher = 1, Subscriber = 2 };
+std::string_view to_string(Role role);
+
+struct Hello {
+  Role role = Role::Publisher;
+  std::uint16_t protocol_version = kProtocolVersion;
+  std::uint64_t catalog_hash = 0;
+  std::uint16_t signal_count = 0;         // informational: entries in the sender's catalog
+  std::uint32_t heartbeat_period_ms = 0;  // the receiver uses max(own, this) for loss detection
+  std::string name;                       // at most kMaxNameBytes
+  bool operator==(const Hello&) const = default;
+};
+
+// One signal's value in a SNAPSHOT or DELTA.
+struct SignalUpdate {
+  SignalId id = 0;
+  SignalStatus status = SignalStatus::NotAvailable;
+  double value = 0.0;  // always finite on the wire
+  bool has_text = false;
+  std::string text;    // at most kMaxTextBytes
+  bool operator==(const SignalUpdate&) const = default;
+};
+
+struct Snapshot {
+  bool complete = true;  // false: more SNAPSHOT frames of this catch-up follow
+  std::vector<SignalUpdate> signals;
+  bool operator==(const Snapshot&) const = default;
+};
+
+struct Delta {
+  std::vector<SignalUpdate> signals;
+  bool operator==(const Delta&) const = default;
+};
+
+struct Heartbeat {
+  bool operator==(const Heartbeat&) const = default;
+};
+
+struct Status {
+  std::uint64_t frames_rendered = 0;
+  std::uint64_t last_sequence_applied = 0;
+  std::uint32_t fault_flags = 0;
+  bool operator==(const Status&) const = default;
+};
+
+enum class CloseReason : std::uint8_t {
+  Normal = 0,
+  VersionMismatch = 1,
+  CatalogMismatch = 2,
+  RoleMismatch = 3,
+  NotAllowed = 4,
+  ProtocolError = 5,
+  Timeout = 6,
+};
+std::string_view to_string(CloseReason reason);
+
+struct Close {
+  CloseReason reason = CloseReason::Normal;
+  std::string text;  // at most kMaxTextBytes, human-readable
+  bool operator==(const Close&) const = default;
+};
+
+using Message = std::variant<Hello, Snapshot, Delta, Heartbeat, Status, Close>;
+MessageType type_of(const Message& message);
+
+struct FrameHeader {
+  std::uint8_t version = kProtocolVersion;
+  std::uint8_t type = 0;  // raw, so an unknown type can still be reported
+  std::uint16_t flags = 0;
+  std::uint32_t payload_length = 0;
+  std::uint64_t sequence = 0;
+  std::int64_t timestamp_ns = 0;
+  std::uint32_t crc = 0;
+};
+
+struct Frame {
+  std::uint64_t sequence = 0;
+  std::int64_t timestamp_ns = 0;
+  Message message;
+};
+
+// Appends one encoded frame to `out`. Throws std::length_error if the payload would exceed
+// kMaxPayloadSize, std::invalid_argument for a value the format cannot carry (non-finite value,
+// text/name too long, unknown status) — the encoder never produces a frame the decoder rejects.
+void encode(const Frame& frame, std::vector<std::uint8_t>& out);
+std::vector<std::uint8_t> encode(const Frame& frame);
+
+// Encoded size of one entry / of a DELTA or SNAPSHOT holding `entries` bytes of entries: lets the
+// sender split a large update across frames without encoding twice.
+std::size_t encoded_size(const SignalUpdate& update);
+inline constexpr std::size_t kUpdateListOverhead = 4;  // flags u8, reserved u8, count u16
+
+enum class DecodeError : std::uint8_t {
+  None = 0,
+  Truncated,         // fewer bytes than the header or than header + payload length
+  BadMagic,
+  BadVersion,
+  Oversized,         // payload length > kMaxPayloadSize
+  BadCrc,
+  UnknownType,
+  Malformed,         // CRC fine, payload breaks the format
+};
+std::string_view to_string(DecodeError error);
+
+struct DecodeResult {
+  DecodeError error = DecodeError::None;
+  std::size_t frame_size = 0;  // bytes of the frame (header + payload) when the header was readable
+  FrameHeader header;          // valid when error is not Truncated-before-header / BadMagic
+  Frame frame;                 // valid when error == None
+  std::string detail;          // what was wrong, for logs ("entry 3: unknown signal id 999")
+};
+
+// Header checks only (magic, version, size limit): what a stream reader needs to know how many
+// bytes to wait for. Truncated here means "fewer than kHeaderSize bytes".
+DecodeResult peek_header(std::span<const std::uint8_t> bytes);
+
+// Decodes the frame at the start of `bytes`. Bytes after the frame are ignored (frame_size tells
+// how many were used); a datagram transport treats leftovers as an error itself.
+DecodeResult decode(std::span<const std::uint8_t> bytes);
+
+// Reassembles frames from a byte stream (TCP) that arrives in arbitrary pieces. Pure: feed bytes,
+// take frames. Once the framing is lost (bad magic, unsupported version, oversized length, CRC
+// mismatch: the length field can no longer be trusted) the assembler reports that error once and
+// then stays broken; the caller closes the connection. A frame with a good CRC but an unknown type
+// or a malformed payload is reported and skipped, and the stream continues.
+class StreamAssembler {
+ public:
+  void append(std::span<const std::uint8_t> bytes);
+  // The next complete frame or error; std::nullopt when more bytes are needed (or broken).
+  std::optional<DecodeResult> next();
+  bool broken() const { return broken_; }
+  std::size_t buffered() const { return buffer_.size() - start_; }
+
+ private:
+  std::vector<std::uint8_t> buffer_;
+  std::size_t start_ = 0;  // consumed prefix, compacted lazily to keep append amortised O(1)
+  bool broken_ = false;
+};
+
+// True if `text` is well-formed UTF-8 (the decoder rejects text fields that are not).
+bool is_valid_utf8(std::string_view text);
+
+}  // namespace meter::protocol

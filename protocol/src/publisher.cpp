@@ -1,0 +1,480 @@
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "internal.hpp"
+#include "state.hpp"
+
+namespace meter::protocol {
+
+using detail::Channel;
+using detail::Clock;
+using detail::UniqueFd;
+
+struct Publisher::Impl {
+  struct Peer {
+    std::unique_ptr<Channel> channel;
+    bool live = false;                 // HELLO accepted, SNAPSHOT sent
+    bool closing = false;              // CLOSE queued: flush it, then drop the peer
+    bool gone = false;                 // the socket reported EOF or an error
+    std::string gone_reason;
+    std::vector<std::uint8_t> dirty;   // one flag per catalog entry (attribute-processor style)
+    bool any_dirty = false;
+    std::chrono::milliseconds peer_heartbeat{0};
+    PeerStatus status{0, 0, 0};
+  };
+
+  Endpoint where;
+  LinkOptions options;
+  std::uint64_t our_hash;
+  UniqueFd listener;
+  detail::Poller poller;
+  std::vector<Peer> peers;
+  detail::SignalTable table;
+  LinkStats stats;
+  std::string last_error;
+  dev_t socket_dev = 0;  // identity of the socket file we created, so we only unlink our own
+  ino_t socket_ino = 0;
+
+  Impl(const Endpoint& w, LinkOptions o)
+      : where(w), options(std::move(o)),
+        our_hash(options.catalog_hash_override.value_or(catalog_hash())),
+        poller(std::max(options.heartbeat_period / 4, std::chrono::milliseconds(1))) {
+    if (options.heartbeat_period.count() <= 0) throw std::invalid_argument("heartbeat_period must be > 0 ms");
+    if (options.missed_heartbeats_for_loss < 1) throw std::invalid_argument("missed_heartbeats_for_loss must be >= 1");
+    if (options.name.empty()) options.name = "publisher";
+    if (options.allowed_uids.empty()) options.allowed_uids.push_back(::getuid());
+    if (where.kind == Endpoint::Kind::Unix) {
+      listen_unix();
+    } else {
+      listen_tcp();
+    }
+    poller.add(listener.get(), false);
+  }
+
+  ~Impl() {
+    for (auto& p : peers) {
+      if (p.live) {
+        p.channel->send(Close{CloseReason::Normal, "publisher shutting down"}, stats);
+        std::string ignored;
+        p.channel->flush(stats, ignored);
+      }
+    }
+    if (where.kind == Endpoint::Kind::Unix) {
+      struct stat st{};
+      if (::lstat(where.path.c_str(), &st) == 0 && st.st_dev == socket_dev && st.st_ino == socket_ino) {
+        ::unlink(where.path.c_str());
+      }
+    }
+  }
+
+  [[noreturn]] void fail(const std::string& what, int err) {
+    throw std::runtime_error("publisher on " + where.to_string() + ": " + what +
+                             (err != 0 ? ": " + detail::errno_text(err) : std::string()));
+  }
+
+  void listen_unix() {
+    // The parent folder: create it private (0700) if missing, as for /tmp/meter-<uid>/.
+    const auto slash = where.path.rfind('/');
+    if (slash != std::string::npos && slash > 0) {
+      const std::string dir = where.path.substr(0, slash);
+      struct stat st{};
+      if (::stat(dir.c_str(), &st) != 0) {
+        if (::mkdir(dir.c_str(), 0700) != 0 && errno != EEXIST) fail("cannot create folder " + dir, errno);
+      } else if (!S_ISDIR(st.st_mode)) {
+        fail(dir + " exists and is not a folder", 0);
+      }
+    }
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::memcpy(addr.sun_path, where.path.c_str(), where.path.size() + 1);
+
+    struct stat st{};
+    if (::lstat(where.path.c_str(), &st) == 0) {
+      if (!S_ISSOCK(st.st_mode)) fail(where.path + " exists and is not a socket; refusing to replace it", 0);
+      // A live publisher answers; a stale file left by a crash refuses the connection.
+      UniqueFd probe(::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0));
+      if (probe && ::connect(probe.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+        fail("another publisher is already listening there", 0);
+      }
+      ::unlink(where.path.c_str());
+    }
+    listener.reset(::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
+    if (!listener) fail("socket(AF_UNIX, SOCK_SEQPACKET)", errno);
+    // Bind with a private umask window would race other threads; the 0700 folder plus the chmod
+    // right after bind plus SO_PEERCRED on every accept are the layers of protection.
+    if (::bind(listener.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) fail("bind", errno);
+    if (::chmod(where.path.c_str(), 0600) != 0) fail("chmod 0600", errno);
+    if (::lstat(where.path.c_str(), &st) == 0) {
+      socket_dev = st.st_dev;
+      socket_ino = st.st_ino;
+    }
+    if (::listen(listener.get(), 16) != 0) fail("listen", errno);
+  }
+
+  void listen_tcp() {
+    addrinfo hints{};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    hints.ai_flags = AI_PASSIVE;
+    addrinfo* res = nullptr;
+    const std::string port = std::to_string(where.port);
+    if (int rc = ::getaddrinfo(where.host.c_str(), port.c_str(), &hints, &res); rc != 0) {
+      fail("cannot resolve host '" + where.host + "': " + ::gai_strerror(rc), 0);
+    }
+    std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> guard(res, ::freeaddrinfo);
+    int last_err = 0;
+    for (auto* ai = res; ai != nullptr; ai = ai->ai_next) {
+      UniqueFd fd(::socket(ai->ai_family, ai->ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, ai->ai_protocol));
+      if (!fd) {
+        last_err = errno;
+        continue;
+      }
+      const int one = 1;
+      ::setsockopt(fd.get(), SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+      if (::bind(fd.get(), ai->ai_addr, ai->ai_addrlen) != 0 || ::listen(fd.get(), 16) != 0) {
+        last_err = errno;
+        continue;
+      }
+      listener = std::move(fd);
+      break;
+    }
+    if (!listener) fail("cannot bind/listen", last_err);
+    sockaddr_storage ss{};
+    socklen_t len = sizeof ss;
+    ::getsockname(listener.get(), reinterpret_cast<sockaddr*>(&ss), &len);
+    if (ss.ss_family == AF_INET) {
+      where.port = ntohs(reinterpret_cast<sockaddr_in*>(&ss)->sin_port);
+    } else if (ss.ss_family == AF_INET6) {
+      where.port = ntohs(reinterpret_cast<sockaddr_in6*>(&ss)->sin6_port);
+    }
+  }
+
+  Peer* find_peer(int fd) {
+    for (auto& p : peers) {
+      if (p.channel->fd() == fd) return &p;
+    }
+    return nullptr;
+  }
+
+  void accept_all() {
+    for (;;) {
+      UniqueFd fd(::accept4(listener.get(), nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK));
+      if (!fd) {
+        if (errno == EINTR || errno == ECONNABORTED) continue;
+        if (errno != EAGAIN && errno != EWOULDBLOCK) {
+          detail::log_limited("accept", "accept on " + where.to_string() + " failed: " + detail::errno_text(errno));
+        }
+        return;
+      }
+      const bool stream = where.kind == Endpoint::Kind::Tcp;
+      std::string label = "view";
+      bool allowed = true;
+      std::string refusal;
+      if (stream) {
+        const int one = 1;
+        ::setsockopt(fd.get(), IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);  // DELTAs are tiny: no Nagle
+        sockaddr_storage ss{};
+        socklen_t len = sizeof ss;
+        char host[NI_MAXHOST] = "?", serv[NI_MAXSERV] = "?";
+        if (::getpeername(fd.get(), reinterpret_cast<sockaddr*>(&ss), &len) == 0) {
+          ::getnameinfo(reinterpret_cast<sockaddr*>(&ss), len, host, sizeof host, serv, sizeof serv,
+                        NI_NUMERICHOST | NI_NUMERICSERV);
+        }
+        label = std::string("view at ") + host + ":" + serv;
+      } else {
+        ucred cred{};
+        socklen_t len = sizeof cred;
+        if (::getsockopt(fd.get(), SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0) {
+          allowed = false;
+          refusal = "SO_PEERCRED failed: " + detail::errno_text(errno);
+        } else {
+          label = "view pid " + std::to_string(cred.pid) + " uid " + std::to_string(cred.uid);
+          const auto& ok = options.allowed_uids;
+          if (std::find(ok.begin(), ok.end(), cred.uid) == ok.end()) {
+            allowed = false;
+            refusal = "uid " + std::to_string(cred.uid) + " is not in the allow-list";
+          }
+        }
+      }
+      Peer peer;
+      peer.channel = std::make_unique<Channel>(std::move(fd), stream, label);
+      peer.dirty.assign(catalog().size(), 0);
+      if (!allowed) {
+        ++stats.peers_rejected;
+        last_error = "rejected " + label + ": " + refusal;
+        detail::log_limited("peer-rejected", last_error);
+        peer.channel->send(Close{CloseReason::NotAllowed, refusal.substr(0, kMaxTextBytes)}, stats);
+        peer.closing = true;
+      } else {
+        Hello hello;
+        hello.role = Role::Publisher;
+        hello.catalog_hash = our_hash;
+        hello.signal_count = static_cast<std::uint16_t>(catalog().size());
+        hello.heartbeat_period_ms = static_cast<std::uint32_t>(options.heartbeat_period.count());
+        hello.name = options.name.substr(0, kMaxNameBytes);
+        peer.channel->send(hello, stats);
+      }
+      poller.add(peer.channel->fd(), peer.channel->has_pending());
+      peers.push_back(std::move(peer));
+    }
+  }
+
+  void refuse(Peer& peer, CloseReason reason, const std::string& why) {
+    ++stats.handshakes_refused;
+    last_error = "refused " + peer.channel->label() + ": " + why;
+    detail::log_limited("refused", last_error);
+    peer.channel->send(Close{reason, why.substr(0, kMaxTextBytes)}, stats);
+    peer.closing = true;
+    peer.live = false;
+  }
+
+  void on_frame(Peer& peer, Frame&& frame) {
+    if (peer.closing) return;
+    if (auto* close = std::get_if<Close>(&frame.message)) {
+      last_error = peer.channel->label() + " closed the link: " + std::string(to_string(close->reason)) +
+                   (close->text.empty() ? "" : ": " + close->text);
+      detail::log_limited("peer-close", last_error);
+      if (close->reason != CloseReason::Normal) ++stats.handshakes_refused;
+      peer.closing = true;
+      peer.live = false;
+      return;
+    }
+    if (!peer.live) {
+      auto* hello = std::get_if<Hello>(&frame.message);
+      if (hello == nullptr) {
+        refuse(peer, CloseReason::ProtocolError,
+               std::string("expected HELLO first, got ") + std::string(to_string(type_of(frame.message))));
+        return;
+      }
+      CloseReason reason{};
+      if (auto why = detail::check_hello(*hello, Role::Subscriber, our_hash, reason); !why.empty()) {
+        refuse(peer, reason, why);
+        return;
+      }
+      if (!hello->name.empty()) peer.channel->set_label(hello->name + " (" + peer.channel->label() + ")");
+      peer.peer_heartbeat = std::chrono::milliseconds(hello->heartbeat_period_ms);
+      peer.live = true;
+      ++stats.connects;
+      send_snapshot(peer);
+      return;
+    }
+    std::visit(
+        [&](auto& m) {
+          using T = std::decay_t<decltype(m)>;
+          if constexpr (std::is_same_v<T, Status>) {
+            peer.status = PeerStatus{m.frames_rendered, m.last_sequence_applied, m.fault_flags};
+          } else if constexpr (std::is_same_v<T, Heartbeat>) {
+            // last_rx already refreshed by the channel: nothing else to do
+          } else {
+            // A view never sends HELLO twice, SNAPSHOT or DELTA: count it and ignore it.
+            ++stats.bad_frames.malformed;
+            detail::log_limited("unexpected", "ignored unexpected " + std::string(to_string(type_of(frame.message))) +
+                                                  " from " + peer.channel->label());
+          }
+        },
+        frame.message);
+  }
+
+  SignalUpdate update_for(std::size_t index) const {
+    const auto& s = table.states[index];
+    SignalUpdate u;
+    u.id = catalog()[index].id;
+    u.status = s.status;
+    u.value = s.value;
+    u.has_text = !s.text.empty() || catalog()[index].kind == SignalKind::Text;
+    u.text = s.text;
+    return u;
+  }
+
+  // Splits the entries into as many frames as the payload limit needs.
+  template <typename Emit>
+  void chunked(const std::vector<std::size_t>& indices, Emit&& emit) {
+    std::vector<SignalUpdate> batch;
+    std::size_t size = kUpdateListOverhead;
+    for (std::size_t idx : indices) {
+      SignalUpdate u = update_for(idx);
+      const std::size_t n = encoded_size(u);
+      if (!batch.empty() && size + n > kMaxPayloadSize) {
+        emit(std::move(batch), false);
+        batch.clear();
+        size = kUpdateListOverhead;
+      }
+      size += n;
+      batch.push_back(std::move(u));
+    }
+    emit(std::move(batch), true);
+  }
+
+  void send_snapshot(Peer& peer) {
+    std::vector<std::size_t> all(catalog().size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+    chunked(all, [&](std::vector<SignalUpdate>&& batch, bool last) {
+      peer.channel->send(Snapshot{last, std::move(batch)}, stats);
+    });
+    std::fill(peer.dirty.begin(), peer.dirty.end(), 0);
+    peer.any_dirty = false;
+  }
+
+  void send_delta(Peer& peer) {
+    std::vector<std::size_t> changed;
+    for (std::size_t i = 0; i < peer.dirty.size(); ++i) {
+      if (peer.dirty[i] != 0) changed.push_back(i);
+    }
+    std::fill(peer.dirty.begin(), peer.dirty.end(), 0);
+    peer.any_dirty = false;
+    if (changed.empty()) return;
+    chunked(changed, [&](std::vector<SignalUpdate>&& batch, bool) {
+      if (!batch.empty()) peer.channel->send(Delta{std::move(batch)}, stats);
+    });
+  }
+
+  void mark_dirty(std::size_t index) {
+    for (auto& p : peers) {
+      if (!p.live) continue;
+      if (p.dirty[index] != 0) ++stats.coalesced_updates;  // an unsent value is overwritten
+      p.dirty[index] = 1;
+      p.any_dirty = true;
+    }
+  }
+
+  void drop_peer(std::size_t i, const std::string& why, bool loss) {
+    Peer& p = peers[i];
+    if (loss) {
+      ++stats.link_losses;
+      last_error = p.channel->label() + ": " + why;
+      detail::log_limited("link-lost", "link to " + p.channel->label() + " lost: " + why);
+    }
+    poller.remove(p.channel->fd());
+    peers.erase(peers.begin() + static_cast<std::ptrdiff_t>(i));
+  }
+
+  void service(const std::vector<int>& ready) {
+    for (int fd : ready) {
+      if (fd == listener.get()) {
+        accept_all();
+        continue;
+      }
+      Peer* peer = find_peer(fd);
+      if (peer == nullptr) continue;
+      auto result = peer->channel->receive(stats, [&](Frame&& f) { on_frame(*peer, std::move(f)); });
+      if (result.outcome == detail::ReadOutcome::Fatal && !peer->closing) {
+        refuse(*peer, result.reason, result.detail);
+      } else if (result.outcome == detail::ReadOutcome::PeerClosed) {
+        peer->gone = true;
+        peer->gone_reason = result.detail;
+      }
+    }
+    const auto now = Clock::now();
+    for (std::size_t i = 0; i < peers.size();) {
+      Peer& p = peers[i];
+      if (p.gone) {
+        drop_peer(i, p.gone_reason, p.live);
+        continue;
+      }
+      if (p.live) {
+        // Bounded queue: new DELTAs are built only once the previous batch left; until then the
+        // changes stay dirty and later set() calls overwrite them (latest-value semantics).
+        if (!p.channel->has_pending()) {
+          if (p.any_dirty) send_delta(p);
+          if (!p.channel->has_pending() && now - p.channel->last_tx >= options.heartbeat_period) {
+            p.channel->send(Heartbeat{}, stats);
+          }
+        }
+      }
+      std::string error;
+      if (!p.channel->flush(stats, error)) {
+        drop_peer(i, error, p.live);
+        continue;
+      }
+      if (p.closing && (!p.channel->has_pending() || now - p.channel->last_tx > loss_threshold(p))) {
+        drop_peer(i, "", false);
+        continue;
+      }
+      if (now - p.channel->last_rx > loss_threshold(p)) {
+        const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now - p.channel->last_rx).count();
+        const bool was_live = p.live;
+        drop_peer(i, (was_live ? "no message for " : "no HELLO for ") + std::to_string(ms) + " ms", was_live);
+        continue;
+      }
+      poller.modify(p.channel->fd(), p.channel->has_pending());
+      ++i;
+    }
+    stats.link_up = std::any_of(peers.begin(), peers.end(), [](const Peer& p) { return p.live; });
+  }
+
+  std::chrono::milliseconds loss_threshold(const Peer& p) const {
+    return std::max(options.heartbeat_period, p.peer_heartbeat) * options.missed_heartbeats_for_loss;
+  }
+};
+
+Publisher::Publisher(const Endpoint& where, LinkOptions options)
+    : impl_(std::make_unique<Impl>(where, std::move(options))) {}
+Publisher::~Publisher() = default;
+Publisher::Publisher(Publisher&&) noexcept = default;
+Publisher& Publisher::operator=(Publisher&&) noexcept = default;
+
+void Publisher::set(SignalId id, double value, SignalStatus status) {
+  const std::size_t index = detail::SignalTable::index_or_throw(id, "Publisher::set");
+  if (!std::isfinite(value)) {
+    detail::log_limited("nonfinite", "signal " + std::string(catalog()[index].name) +
+                                         ": non-finite value replaced by 0 with status invalid");
+    value = 0.0;
+    status = SignalStatus::Invalid;
+  }
+  if (impl_->table.assign(index, value, status, nullptr)) impl_->mark_dirty(index);
+}
+
+void Publisher::set_text(SignalId id, std::string_view text, SignalStatus status) {
+  const std::size_t index = detail::SignalTable::index_or_throw(id, "Publisher::set_text");
+  const std::string clean = detail::sanitize_text(text);
+  const double value = impl_->table.states[index].value;
+  if (impl_->table.assign(index, value, status, &clean)) impl_->mark_dirty(index);
+}
+
+const SignalState& Publisher::get(SignalId id) const {
+  return impl_->table.states[detail::SignalTable::index_or_out_of_range(id)];
+}
+
+void Publisher::poll(std::chrono::milliseconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  int wait_ms = 0;
+  for (;;) {
+    impl_->service(impl_->poller.wait(wait_ms));
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    if (left <= 0) break;
+    wait_ms = static_cast<int>(std::min<long long>(left, impl_->options.heartbeat_period.count()));
+  }
+}
+
+int Publisher::wait_fd() const { return impl_->poller.fd(); }
+
+std::size_t Publisher::peer_count() const {
+  return static_cast<std::size_t>(
+      std::count_if(impl_->peers.begin(), impl_->peers.end(), [](const Impl::Peer& p) { return p.live; }));
+}
+
+LinkStats Publisher::stats() const { return impl_->stats; }
+Endpoint Publisher::endpoint() const { return impl_->where; }
+std::string Publisher::last_error() const { return impl_->last_error; }
+
+std::vector<Publisher::PeerStatus> Publisher::peer_status() const {
+  std::vector<PeerStatus> out;
+  for (const auto& p : impl_->peers) {
+    if (p.live) out.push_back(p.status);
+  }
+  return out;
+}
+
+}  // namespace meter::protocol

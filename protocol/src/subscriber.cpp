@@ -1,0 +1,358 @@
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+
+#include "internal.hpp"
+#include "state.hpp"
+
+namespace meter::protocol {
+
+using detail::Channel;
+using detail::Clock;
+using detail::UniqueFd;
+
+struct Subscriber::Impl {
+  enum class Phase { Idle, Connecting, Handshake, Live };
+
+  Endpoint where;
+  LinkOptions options;
+  std::uint64_t our_hash;
+  detail::Poller poller;
+  std::unique_ptr<Channel> channel;
+  Phase phase = Phase::Idle;
+  bool got_hello = false;
+  bool ever_live = false;
+  Clock::time_point retry_at;
+  std::chrono::milliseconds backoff;
+  std::chrono::milliseconds peer_heartbeat{0};
+  detail::SignalTable table;
+  std::uint64_t version = 0;
+  std::int64_t sender_time_ns = 0;
+  std::uint64_t last_applied_seq = 0;
+  std::optional<Status> pending_status;
+  LinkStats stats;
+  std::string last_error;
+  bool changed = false;  // set by apply(), consumed by poll()
+
+  Impl(const Endpoint& w, LinkOptions o)
+      : where(w), options(std::move(o)),
+        our_hash(options.catalog_hash_override.value_or(catalog_hash())),
+        poller(std::max(options.heartbeat_period / 4, std::chrono::milliseconds(1))),
+        retry_at(Clock::now()), backoff(options.reconnect_min) {
+    if (options.heartbeat_period.count() <= 0) throw std::invalid_argument("heartbeat_period must be > 0 ms");
+    if (options.missed_heartbeats_for_loss < 1) throw std::invalid_argument("missed_heartbeats_for_loss must be >= 1");
+    if (options.reconnect_min.count() <= 0 || options.reconnect_max < options.reconnect_min) {
+      throw std::invalid_argument("reconnect backoff needs 0 < reconnect_min <= reconnect_max");
+    }
+    if (options.name.empty()) options.name = "subscriber";
+    if (options.allowed_uids.empty()) options.allowed_uids.push_back(::getuid());
+    try_connect();
+  }
+
+  void note(const std::string& key, const std::string& text) {
+    last_error = text;
+    detail::log_limited(key, options.name + ": " + text);
+  }
+
+  // Closes the connection and schedules the next attempt with exponential backoff.
+  void disconnect(const std::string& why, bool count_loss) {
+    if (channel) {
+      poller.remove(channel->fd());
+      channel.reset();
+    }
+    if (count_loss) {
+      ++stats.link_losses;
+      note("link-lost", "link to " + where.to_string() + " lost: " + why);
+    } else if (!why.empty()) {
+      note("connect", why);
+    }
+    phase = Phase::Idle;
+    got_hello = false;
+    stats.link_up = false;
+    retry_at = Clock::now() + backoff;
+    backoff = std::min(backoff * 2, options.reconnect_max);
+  }
+
+  void try_connect() {
+    const bool stream = where.kind == Endpoint::Kind::Tcp;
+    UniqueFd fd;
+    int err = 0;
+    if (!stream) {
+      fd.reset(::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
+      if (!fd) throw std::runtime_error("socket(AF_UNIX, SOCK_SEQPACKET): " + detail::errno_text(errno));
+      sockaddr_un addr{};
+      addr.sun_family = AF_UNIX;
+      std::memcpy(addr.sun_path, where.path.c_str(), where.path.size() + 1);
+      if (::connect(fd.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) err = errno;
+    } else {
+      addrinfo hints{};
+      hints.ai_family = AF_UNSPEC;
+      hints.ai_socktype = SOCK_STREAM;
+      addrinfo* res = nullptr;
+      const std::string port = std::to_string(where.port);
+      if (int rc = ::getaddrinfo(where.host.c_str(), port.c_str(), &hints, &res); rc != 0) {
+        disconnect("cannot resolve '" + where.host + "': " + ::gai_strerror(rc), false);
+        return;
+      }
+      std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> guard(res, ::freeaddrinfo);
+      fd.reset(::socket(res->ai_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
+      if (!fd) throw std::runtime_error("socket(SOCK_STREAM): " + detail::errno_text(errno));
+      const int one = 1;
+      ::setsockopt(fd.get(), IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+      if (::connect(fd.get(), res->ai_addr, res->ai_addrlen) != 0) err = errno;
+    }
+    if (err != 0 && err != EINPROGRESS && err != EAGAIN) {
+      disconnect("cannot connect to " + where.to_string() + ": " + detail::errno_text(err), false);
+      return;
+    }
+    channel = std::make_unique<Channel>(std::move(fd), stream, "publisher " + where.to_string());
+    poller.add(channel->fd(), true);
+    phase = Phase::Connecting;
+    if (err == 0) on_connected();
+  }
+
+  void on_connected() {
+    if (where.kind == Endpoint::Kind::Unix) {
+      ucred cred{};
+      socklen_t len = sizeof cred;
+      if (::getsockopt(channel->fd(), SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0) {
+        disconnect("SO_PEERCRED failed: " + detail::errno_text(errno), false);
+        return;
+      }
+      const auto& ok = options.allowed_uids;
+      if (std::find(ok.begin(), ok.end(), cred.uid) == ok.end()) {
+        ++stats.peers_rejected;
+        disconnect("publisher on " + where.to_string() + " runs as uid " + std::to_string(cred.uid) +
+                       ", which is not in the allow-list",
+                   false);
+        return;
+      }
+    }
+    phase = Phase::Handshake;
+    Hello hello;
+    hello.role = Role::Subscriber;
+    hello.catalog_hash = our_hash;
+    hello.signal_count = static_cast<std::uint16_t>(catalog().size());
+    hello.heartbeat_period_ms = static_cast<std::uint32_t>(options.heartbeat_period.count());
+    hello.name = options.name.substr(0, kMaxNameBytes);
+    channel->send(hello, stats);
+    channel->last_rx = Clock::now();  // the handshake timeout counts from here
+  }
+
+  void refuse(CloseReason reason, const std::string& why) {
+    ++stats.handshakes_refused;
+    channel->send(Close{reason, why.substr(0, kMaxTextBytes)}, stats);
+    std::string ignored;
+    channel->flush(stats, ignored);
+    disconnect("refused publisher " + where.to_string() + ": " + why, false);
+  }
+
+  void apply(const std::vector<SignalUpdate>& updates, const Frame& frame) {
+    for (const auto& u : updates) {
+      const std::size_t index = detail::SignalTable::index_or_out_of_range(u.id);  // decoder checked the id
+      const std::string* text = u.has_text ? &u.text : nullptr;
+      const std::string empty;
+      if (!u.has_text && !table.states[index].text.empty()) text = &empty;
+      if (table.assign(index, u.value, u.status, text)) {
+        ++version;
+        ++stats.signal_updates_applied;
+        changed = true;
+      }
+    }
+    sender_time_ns = frame.timestamp_ns;
+    last_applied_seq = frame.sequence;
+  }
+
+  // Returns false if the channel was closed while handling the frame.
+  bool on_frame(Frame&& frame) {
+    if (auto* close = std::get_if<Close>(&frame.message)) {
+      const bool was_live = phase == Phase::Live;
+      if (close->reason != CloseReason::Normal) ++stats.handshakes_refused;
+      disconnect("publisher closed the link: " + std::string(to_string(close->reason)) +
+                     (close->text.empty() ? "" : ": " + close->text),
+                 was_live);
+      return false;
+    }
+    if (!got_hello) {
+      auto* hello = std::get_if<Hello>(&frame.message);
+      if (hello == nullptr) {
+        refuse(CloseReason::ProtocolError,
+               "expected HELLO first, got " + std::string(to_string(type_of(frame.message))));
+        return false;
+      }
+      CloseReason reason{};
+      if (auto why = detail::check_hello(*hello, Role::Publisher, our_hash, reason); !why.empty()) {
+        refuse(reason, why);
+        return false;
+      }
+      got_hello = true;
+      peer_heartbeat = std::chrono::milliseconds(hello->heartbeat_period_ms);
+      if (!hello->name.empty()) channel->set_label(hello->name + " at " + where.to_string());
+      return true;
+    }
+    if (auto* snap = std::get_if<Snapshot>(&frame.message)) {
+      apply(snap->signals, frame);
+      if (snap->complete && phase != Phase::Live) {
+        phase = Phase::Live;
+        stats.link_up = true;
+        ++stats.connects;
+        if (ever_live) ++stats.reconnects;
+        ever_live = true;
+        backoff = options.reconnect_min;
+        last_error.clear();
+      }
+      return true;
+    }
+    if (auto* delta = std::get_if<Delta>(&frame.message)) {
+      if (phase != Phase::Live) {
+        refuse(CloseReason::ProtocolError, "DELTA before the SNAPSHOT completed");
+        return false;
+      }
+      apply(delta->signals, frame);
+      return true;
+    }
+    if (std::holds_alternative<Heartbeat>(frame.message)) return true;
+    // HELLO twice or STATUS from a publisher: count, log and ignore.
+    ++stats.bad_frames.malformed;
+    detail::log_limited("unexpected", options.name + ": ignored unexpected " +
+                                          std::string(to_string(type_of(frame.message))) + " from the publisher");
+    return true;
+  }
+
+  std::chrono::milliseconds loss_threshold() const {
+    return std::max(options.heartbeat_period, peer_heartbeat) * options.missed_heartbeats_for_loss;
+  }
+
+  void service(const std::vector<int>& ready) {
+    const auto now = Clock::now();
+    if (!channel) {
+      if (now >= retry_at) try_connect();
+      return;
+    }
+    const bool readable = std::find(ready.begin(), ready.end(), channel->fd()) != ready.end();
+    if (phase == Phase::Connecting) {
+      if (readable) {
+        int err = 0;
+        socklen_t len = sizeof err;
+        ::getsockopt(channel->fd(), SOL_SOCKET, SO_ERROR, &err, &len);
+        if (err != 0) {
+          disconnect("cannot connect to " + where.to_string() + ": " + detail::errno_text(err), false);
+          return;
+        }
+        on_connected();
+        if (!channel) return;
+      } else if (now - channel->last_tx > loss_threshold()) {
+        disconnect("connect to " + where.to_string() + " timed out", false);
+        return;
+      } else {
+        return;
+      }
+    }
+    if (readable) {
+      bool alive = true;
+      auto result = channel->receive(stats, [&](Frame&& f) {
+        if (alive) alive = on_frame(std::move(f));
+      });
+      if (!alive) return;
+      if (result.outcome == detail::ReadOutcome::Fatal) {
+        const bool was_live = phase == Phase::Live;
+        ++stats.handshakes_refused;
+        channel->send(Close{result.reason, result.detail.substr(0, kMaxTextBytes)}, stats);
+        std::string ignored;
+        channel->flush(stats, ignored);
+        disconnect(result.detail, was_live);
+        return;
+      }
+      if (result.outcome == detail::ReadOutcome::PeerClosed) {
+        disconnect(result.detail, phase == Phase::Live);
+        return;
+      }
+    }
+    if (phase == Phase::Live && !channel->has_pending()) {
+      if (pending_status) {
+        channel->send(*pending_status, stats);
+        pending_status.reset();
+      } else if (now - channel->last_tx >= options.heartbeat_period) {
+        channel->send(Heartbeat{}, stats);
+      }
+    }
+    std::string error;
+    if (!channel->flush(stats, error)) {
+      disconnect(error, phase == Phase::Live);
+      return;
+    }
+    if (now - channel->last_rx > loss_threshold()) {
+      const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now - channel->last_rx).count();
+      const bool live = phase == Phase::Live;
+      disconnect((live ? "no message for " : "no handshake for ") + std::to_string(ms) + " ms", live);
+      return;
+    }
+    poller.modify(channel->fd(), channel->has_pending());
+  }
+};
+
+Subscriber::Subscriber(const Endpoint& where, LinkOptions options)
+    : impl_(std::make_unique<Impl>(where, std::move(options))) {}
+Subscriber::~Subscriber() {
+  if (impl_ && impl_->channel && impl_->phase == Impl::Phase::Live) {
+    impl_->channel->send(Close{CloseReason::Normal, "view shutting down"}, impl_->stats);
+    std::string ignored;
+    impl_->channel->flush(impl_->stats, ignored);
+  }
+}
+Subscriber::Subscriber(Subscriber&&) noexcept = default;
+Subscriber& Subscriber::operator=(Subscriber&&) noexcept = default;
+
+bool Subscriber::poll(std::chrono::milliseconds timeout) {
+  auto& im = *impl_;
+  im.changed = false;
+  const auto deadline = Clock::now() + timeout;
+  int wait_ms = 0;
+  for (;;) {
+    im.service(im.poller.wait(wait_ms));
+    if (im.changed) return true;
+    const auto now = Clock::now();
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - now).count();
+    if (left <= 0) return false;
+    long long cap = im.options.heartbeat_period.count();
+    if (!im.channel) {
+      cap = std::min<long long>(cap, std::max<long long>(
+          0, std::chrono::ceil<std::chrono::milliseconds>(im.retry_at - now).count()));
+    }
+    wait_ms = static_cast<int>(std::min<long long>(left, cap));
+  }
+}
+
+bool Subscriber::link_up() const { return impl_->phase == Impl::Phase::Live; }
+const SignalState& Subscriber::get(SignalId id) const {
+  return impl_->table.states[detail::SignalTable::index_or_out_of_range(id)];
+}
+std::uint64_t Subscriber::state_version() const { return impl_->version; }
+std::int64_t Subscriber::last_sender_time_ns() const { return impl_->sender_time_ns; }
+std::uint64_t Subscriber::last_sequence_applied() const { return impl_->last_applied_seq; }
+
+void Subscriber::send_status(std::uint64_t frames_rendered, std::uint32_t fault_flags) {
+  auto& im = *impl_;
+  im.pending_status = Status{frames_rendered, im.last_applied_seq, fault_flags};
+  if (im.phase == Impl::Phase::Live && !im.channel->has_pending()) {
+    im.channel->send(*im.pending_status, im.stats);
+    im.pending_status.reset();
+    std::string error;
+    if (!im.channel->flush(im.stats, error)) im.disconnect(error, true);
+  }
+}
+
+LinkStats Subscriber::stats() const { return impl_->stats; }
+int Subscriber::wait_fd() const { return impl_->poller.fd(); }
+std::string Subscriber::last_error() const { return impl_->last_error; }
+
+}  // namespace meter::protocol
