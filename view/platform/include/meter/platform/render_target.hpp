@@ -1,0 +1,94 @@
+// Offscreen render target: framebuffer object of any size with optional MSAA, depth, and sRGB
+// encoding, read back as a top-down Image.
+//
+// Colour handling: the colour attachment is GL_SRGB8_ALPHA8, so shaders write LINEAR colour and GL
+// encodes to sRGB on write; blending (and the MSAA resolve) then happen in linear space, as in
+// Blender. On GLES the encode is automatic; on desktop GL (OSMesa) bind() enables
+// GL_FRAMEBUFFER_SRGB. Example: a shader writing 0.5 stores 188 (sRGB of linear 0.5).
+// Set `srgb = false` for data targets (ids, masks) where values must pass through unchanged.
+#pragma once
+
+#include "meter/platform/backend.hpp"
+#include "meter/platform/gl_api.hpp"
+#include "meter/platform/image.hpp"
+
+#include <string>
+
+namespace meter::platform {
+
+enum class DepthFormat {
+  None,
+  // GL_DEPTH_COMPONENT24 (24-bit fixed point, 2^-24 resolution over [0,1] of window depth).
+  Depth24,
+  // GL_DEPTH_COMPONENT32F (float): use with a reversed-Z projection (near -> 1, far -> 0,
+  // glDepthFunc(GL_GREATER), clear depth 0) for much more precision far from the camera; this is
+  // what keeps nearly coplanar dial layers (face, ticks, needle) from z-fighting. Depth24 with
+  // glPolygonOffset per layer is the alternative.
+  Depth32F,
+};
+
+struct RenderTargetOptions {
+  int width = 1280;   // cluster default
+  int height = 480;
+  // 1 = no MSAA; 2, 4 or 8 samples. Clamped to GL_MAX_SAMPLES (warning on stderr + warning()).
+  int samples = 1;
+  DepthFormat depth = DepthFormat::Depth24;
+  bool srgb = true;
+};
+
+// Owns GL objects in the backend's context; the backend must outlive the target and be current.
+class RenderTarget {
+ public:
+  // Throws GlError when the framebuffer is incomplete (names the size/format/samples) and
+  // std::invalid_argument for sizes <= 0, sizes above GL_MAX_TEXTURE_SIZE, or samples not in 1,2,4,8.
+  RenderTarget(const GpuBackend& backend, const RenderTargetOptions& options);
+  ~RenderTarget();
+  RenderTarget(const RenderTarget&) = delete;
+  RenderTarget& operator=(const RenderTarget&) = delete;
+  RenderTarget(RenderTarget&& other) noexcept;
+  RenderTarget& operator=(RenderTarget&& other) noexcept;
+
+  // Binds the drawing framebuffer (the multisample one when samples > 1) for draw and read, sets
+  // the viewport to the full target, and enables sRGB encoding where the API needs it.
+  void bind();
+  // Resolves MSAA by a blit into the single-sample framebuffer (in linear space for sRGB targets),
+  // reads RGBA8 and flips rows to top-down. Leaves the drawing framebuffer bound.
+  Image resolve_and_read();
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int samples() const { return samples_; }  // effective count after clamping
+  bool srgb() const { return srgb_; }
+  DepthFormat depth() const { return depth_; }
+  // The framebuffer draws go to (multisample one when samples() > 1).
+  GLuint draw_framebuffer() const { return samples_ > 1 ? msaa_fbo_ : fbo_; }
+  // The single-sample colour texture holding the last resolve (sampleable, e.g. for overlays).
+  GLuint color_texture() const { return color_tex_; }
+  // Non-empty when the requested options were adjusted (e.g. samples clamped).
+  const std::string& warning() const { return warning_; }
+
+ private:
+  void release() noexcept;
+
+  const Gl* gl_ = nullptr;
+  int width_ = 0;
+  int height_ = 0;
+  int samples_ = 1;
+  bool srgb_ = true;
+  DepthFormat depth_ = DepthFormat::Depth24;
+  GLuint fbo_ = 0;        // single-sample: colour texture + depth renderbuffer (when samples == 1)
+  GLuint color_tex_ = 0;
+  GLuint depth_rb_ = 0;
+  GLuint msaa_fbo_ = 0;   // multisample: colour + depth renderbuffers (when samples > 1)
+  GLuint msaa_color_rb_ = 0;
+  GLuint msaa_depth_rb_ = 0;
+  std::string warning_;
+};
+
+// sRGB transfer functions (IEC 61966-2-1), exact formulas, for tests and CPU-side colour work.
+double srgb_to_linear(double encoded);  // 0..1 -> 0..1
+double linear_to_srgb(double linear);   // 0..1 -> 0..1
+// The 8-bit value a GL sRGB attachment stores for a linear value (round to nearest).
+int linear_to_srgb8(double linear);
+
+}  // namespace meter::platform
