@@ -1,5 +1,6 @@
 #include "meter/protocol/wire.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -458,6 +459,25 @@ std::vector<std::uint8_t> encode(const Frame& frame) {
 
 DecodeResult peek_header(std::span<const std::uint8_t> bytes) {
   DecodeResult res;
+  // Judge the magic and version as soon as their bytes are here, so a stream of garbage (say an
+  // HTTP request sent to the port) is refused at once instead of after a handshake timeout.
+  const std::uint8_t magic_bytes[4] = {static_cast<std::uint8_t>(kMagic), static_cast<std::uint8_t>(kMagic >> 8),
+                                       static_cast<std::uint8_t>(kMagic >> 16), static_cast<std::uint8_t>(kMagic >> 24)};
+  for (std::size_t i = 0; i < std::min<std::size_t>(4, bytes.size()); ++i) {
+    if (bytes[i] != magic_bytes[i]) {
+      res.error = DecodeError::BadMagic;
+      res.detail = "byte " + std::to_string(i) + " of the magic is " + std::to_string(bytes[i]) +
+                   ", expected \"MTRL\" (4D 54 52 4C)";
+      return res;
+    }
+  }
+  if (bytes.size() > 4 && bytes[4] != kProtocolVersion) {
+    res.header.version = bytes[4];
+    res.error = DecodeError::BadVersion;
+    res.detail = "protocol version " + std::to_string(bytes[4]) + ", this build speaks " +
+                 std::to_string(kProtocolVersion);
+    return res;
+  }
   if (bytes.size() < kHeaderSize) {
     res.error = DecodeError::Truncated;
     res.detail = "header needs " + std::to_string(kHeaderSize) + " bytes, got " + std::to_string(bytes.size());

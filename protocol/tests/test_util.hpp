@@ -1,0 +1,141 @@
+// Helpers shared by the protocol unit tests: hand-built frames (so tests can produce exactly the
+// malformed input a broken or hostile peer would), temp socket paths, and a pump loop.
+#pragma once
+
+#include <stdlib.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "meter/protocol/link.hpp"
+#include "meter/protocol/wire.hpp"
+
+namespace meter::protocol::test {
+
+inline void put_le(std::vector<std::uint8_t>& out, std::uint64_t v, int n) {
+  for (int i = 0; i < n; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+}
+
+// A frame with any header fields and payload, with a correct CRC unless told otherwise.
+inline std::vector<std::uint8_t> raw_frame(std::uint8_t type, const std::vector<std::uint8_t>& payload,
+                                           std::uint64_t seq = 1, std::uint8_t version = kProtocolVersion,
+                                           std::uint16_t flags = 0, std::uint32_t magic = kMagic) {
+  std::vector<std::uint8_t> f;
+  put_le(f, magic, 4);
+  f.push_back(version);
+  f.push_back(type);
+  put_le(f, flags, 2);
+  put_le(f, payload.size(), 4);
+  put_le(f, seq, 8);
+  put_le(f, 12345, 8);
+  std::uint32_t crc = crc32c(std::span(f).first(28));
+  crc = crc32c(payload, crc);
+  put_le(f, crc, 4);
+  f.insert(f.end(), payload.begin(), payload.end());
+  return f;
+}
+
+// One DELTA/SNAPSHOT entry, byte by byte.
+inline void put_entry(std::vector<std::uint8_t>& p, std::uint16_t id, std::uint8_t status, double value,
+                      std::uint8_t flags = 0) {
+  put_le(p, id, 2);
+  p.push_back(status);
+  p.push_back(flags);
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, 8);
+  put_le(p, bits, 8);
+}
+
+inline Hello subscriber_hello(std::uint64_t hash = catalog_hash()) {
+  Hello h;
+  h.role = Role::Subscriber;
+  h.catalog_hash = hash;
+  h.signal_count = static_cast<std::uint16_t>(catalog().size());
+  h.heartbeat_period_ms = 100;
+  h.name = "raw-test-client";
+  return h;
+}
+
+class TempDir {
+ public:
+  TempDir() {
+    char tmpl[] = "/tmp/meter-proto-test-XXXXXX";
+    path_ = ::mkdtemp(tmpl);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  std::string file(const std::string& name) const { return path_ + "/" + name; }
+  Endpoint unix_endpoint(const std::string& name = "link.sock") const {
+    return Endpoint::parse("unix:" + file(name));
+  }
+
+ private:
+  std::string path_;
+};
+
+// Drives both ends until `done()` or the limit; true if done.
+template <typename Done>
+bool pump(Publisher& pub, Subscriber& sub, Done done,
+          std::chrono::milliseconds limit = std::chrono::milliseconds(3000)) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < deadline) {
+    pub.poll(std::chrono::milliseconds(0));
+    sub.poll(std::chrono::milliseconds(2));
+    if (done()) return true;
+  }
+  return false;
+}
+
+// A bare SEQPACKET client that speaks raw bytes to a Publisher.
+class RawUnixClient {
+ public:
+  explicit RawUnixClient(const std::string& path) {
+    fd_ = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
+    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+  }
+  ~RawUnixClient() { ::close(fd_); }
+  bool connected() const { return connected_; }
+  bool send(const std::vector<std::uint8_t>& bytes) {
+    return ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(bytes.size());
+  }
+  // Receives one datagram, waiting up to timeout; empty on timeout/EOF.
+  std::vector<std::uint8_t> receive(Publisher& pub, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    std::vector<std::uint8_t> buf(kMaxFrameSize);
+    while (std::chrono::steady_clock::now() < deadline) {
+      pub.poll(std::chrono::milliseconds(0));
+      const ssize_t n = ::recv(fd_, buf.data(), buf.size(), MSG_DONTWAIT);
+      if (n > 0) {
+        buf.resize(static_cast<std::size_t>(n));
+        return buf;
+      }
+      if (n == 0) {
+        eof_ = true;
+        return {};
+      }
+      ::usleep(1000);
+    }
+    return {};
+  }
+  bool eof() const { return eof_; }
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+  bool connected_ = false;
+  bool eof_ = false;
+};
+
+}  // namespace meter::protocol::test
