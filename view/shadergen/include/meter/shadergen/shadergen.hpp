@@ -80,7 +80,9 @@ enum class UniformSemantic {
   SpecularColor,       // vec3 Blinn-Phong / Gouraud specular colour
   Shininess,           // float Blinn-Phong exponent
   AmbientLight,        // vec3 linear radiance of the world (Blender world colour * strength)
-  LightColor,          // vec3 linear, index = light index within its type
+  // Light uniforms: index = the light's position in the program's light list, directionals
+  // first, then points, then spots (lights.directional + lights.point + i for spot i).
+  LightColor,          // vec3 linear
   LightIntensity,      // float, glTF units: lux (directional) or candela (point, spot)
   LightPosition,       // vec3 world (point, spot)
   LightDirection,      // vec3 world, direction the light travels (directional, spot)
@@ -100,7 +102,7 @@ struct UniformInfo {
   std::string name;
   std::string glsl_type;  // "vec4", "mat4", "float", ...
   UniformSemantic semantic{};
-  int index = -1;       // light index / texture slot, -1 when not applicable
+  int index = -1;       // light list index / int(TextureSlot), -1 when not applicable
   int array_size = 1;   // > 1 for JointMatrices / MorphWeights
 };
 

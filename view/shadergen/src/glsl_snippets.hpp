@@ -1,0 +1,104 @@
+// GLSL building blocks pasted into generated programs only when the feature that needs them is on.
+#pragma once
+
+namespace meter::shadergen::detail {
+
+// Blender's glTF exporter writes photometric units: a sun of S W/m^2 becomes S*683 lux, a point or
+// spot light of P W becomes P*683/(4*pi) cd (KHR_lights_punctual). Dividing by 683 lm/W gives back
+// Blender's radiometric irradiance, so a white Lambert surface under a sun of strength S renders
+// S/pi, as in EEVEE/Cycles with the 'Standard' view transform and exposure 0.
+inline constexpr const char* kLightConstants = R"(const float PI = 3.14159265358979;
+const float kWattsPerLumen = 1.0 / 683.0;
+const float kMinLightDistance2 = 1e-4;
+)";
+
+// KHR_lights_punctual: smooth window to zero at `range`, range <= 0 (absent) means infinite.
+inline constexpr const char* kRangeAttenuation = R"(float range_attenuation(float d, float range) {
+  if (range <= 0.0) return 1.0;
+  float x = d / range;
+  x *= x;
+  return clamp(1.0 - x * x, 0.0, 1.0);
+}
+)";
+
+// KHR_lights_punctual spot cone: linear in cos between outer and inner cone, squared.
+inline constexpr const char* kSpotAttenuation =
+    R"(float spot_attenuation(float cos_angle, float inner_cos, float outer_cos) {
+  float scale = 1.0 / max(0.001, inner_cos - outer_cos);
+  float t = clamp((cos_angle - outer_cos) * scale, 0.0, 1.0);
+  return t * t;
+}
+)";
+
+// Normalised Blinn-Phong lobe ((s + 8) / 8pi keeps the reflected energy roughly constant).
+inline constexpr const char* kBlinnPhongSpecular =
+    R"(float blinn_phong_specular(vec3 n, vec3 v, vec3 l, float shininess) {
+  vec3 h = normalize(l + v);
+  return (shininess + 8.0) / (8.0 * PI) * pow(max(dot(n, h), 0.0), shininess);
+}
+)";
+
+// glTF 2.0 spec appendix B: Lambert diffuse + GGX (Trowbridge-Reitz) D, separable Smith-GGX
+// visibility, Schlick Fresnel; returns outgoing radiance for irradiance e from direction l.
+inline constexpr const char* kPbrBrdf =
+    R"(vec3 pbr_light(vec3 n, vec3 v, vec3 l, vec3 e, vec3 c_diff, vec3 f0, float alpha) {
+  float n_dot_l = dot(n, l);
+  if (n_dot_l <= 0.0) return vec3(0.0);
+  vec3 h = normalize(l + v);
+  float n_dot_v = max(dot(n, v), 1e-4);
+  float n_dot_h = max(dot(n, h), 0.0);
+  float v_dot_h = max(dot(v, h), 0.0);
+  vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - v_dot_h, 5.0);
+  float a2 = alpha * alpha;
+  float dd = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+  float distribution = a2 / (PI * dd * dd);
+  float visibility = 1.0 / ((n_dot_l + sqrt(a2 + (1.0 - a2) * n_dot_l * n_dot_l)) *
+                            (n_dot_v + sqrt(a2 + (1.0 - a2) * n_dot_v * n_dot_v)));
+  vec3 diffuse = (1.0 - fresnel) * c_diff / PI;
+  vec3 specular = fresnel * (distribution * visibility);
+  return (diffuse + specular) * e * n_dot_l;
+}
+)";
+
+// Directional-albedo of the specular lobe under uniform light (Karis' analytic fit of the split-sum
+// DFG term): weights the ambient / environment radiance so metals reflect the world.
+inline constexpr const char* kEnvBrdfApprox =
+    R"(vec3 env_brdf_approx(vec3 f0, float roughness, float n_dot_v) {
+  const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022);
+  const vec4 c1 = vec4(1.0, 0.0425, 1.04, -0.04);
+  vec4 r = roughness * c0 + c1;
+  float a004 = min(r.x * r.x, exp2(-9.28 * n_dot_v)) * r.x + r.y;
+  vec2 ab = vec2(-1.04, 1.04) * a004 + r.zw;
+  return f0 * ab.x + ab.y;
+}
+)";
+
+// Tangent frame from screen-space derivatives when the mesh has no TANGENT attribute.
+inline constexpr const char* kCotangentFrame = R"(mat3 cotangent_frame(vec3 n, vec3 p, vec2 uv) {
+  vec3 dp1 = dFdx(p);
+  vec3 dp2 = dFdy(p);
+  vec2 duv1 = dFdx(uv);
+  vec2 duv2 = dFdy(uv);
+  vec3 dp2perp = cross(dp2, n);
+  vec3 dp1perp = cross(n, dp1);
+  vec3 t = dp2perp * duv1.x + dp1perp * duv2.x;
+  vec3 b = dp2perp * duv1.y + dp1perp * duv2.y;
+  // Degenerate UVs give t = b = 0: keep the frame finite instead of dividing by zero.
+  float inv_max = inversesqrt(max(max(dot(t, t), dot(b, b)), 1e-12));
+  return mat3(t * inv_max, b * inv_max, n);
+}
+)";
+
+// Blender's equirectangular world mapping. glTF is Y-up, Blender Z-up: Blender (x, y, z) =
+// glTF (x, -z, y). Blender: u = 0.5 - atan(y, x) / 2pi, v = 0.5 + asin(z) / pi (v up); the texture is
+// uploaded top row first (as every glTF image), so t = 1 - v.
+inline constexpr const char* kEquirect = R"(vec2 equirect_uv(vec3 d) {
+  d = normalize(d);
+  // atan(0, 0) is undefined: straight up/down any u is right, pick the seam-free centre.
+  float u = abs(d.x) + abs(d.z) > 1e-6 ? 0.5 + atan(d.z, d.x) / (2.0 * 3.14159265358979) : 0.5;
+  float t = 0.5 - asin(clamp(d.y, -1.0, 1.0)) / 3.14159265358979;
+  return vec2(u, t);
+}
+)";
+
+}  // namespace meter::shadergen::detail
