@@ -236,3 +236,144 @@ def set_linear(action):
     for fc in action.fcurves:
         for kp in fc.keyframe_points:
             kp.interpolation = "LINEAR"
+
+
+class MeshBuilder:
+    """Accumulates polygons from several pieces (primitives, converted text) into ONE mesh, so an
+    icon made of many shapes is one glTF node and one draw: what an artist gets from Ctrl+J."""
+
+    def __init__(self):
+        self.verts = []
+        self.faces = []
+
+    def add(self, verts, faces, offset=(0.0, 0.0, 0.0), rot_z=0.0, scale=1.0):
+        c, s = math.cos(rot_z), math.sin(rot_z)
+        base = len(self.verts)
+        for (x, y, z) in verts:
+            x, y = x * scale, y * scale
+            self.verts.append((c * x - s * y + offset[0], s * x + c * y + offset[1],
+                               z * scale + offset[2]))
+        for f in faces:
+            self.faces.append(tuple(base + i for i in f))
+        return self
+
+    def poly(self, pts2d, z=0.0, **kw):
+        """A flat convex-or-fan-able polygon facing +Z (points CCW)."""
+        return self.add([(x, y, z) for (x, y) in pts2d], [tuple(range(len(pts2d)))], **kw)
+
+    def rect(self, x0, y0, x1, y1, z=0.0, **kw):
+        return self.poly([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], z, **kw)
+
+    def ring(self, r_in, r_out, segments, a0=0.0, a1=2.0 * math.pi, z=0.0, **kw):
+        full = abs((a1 - a0) - 2.0 * math.pi) < 1e-9
+        n = segments if full else segments + 1
+        v = []
+        for i in range(n):
+            a = a0 + (a1 - a0) * i / segments
+            v.append((r_in * math.cos(a), r_in * math.sin(a), z))
+            v.append((r_out * math.cos(a), r_out * math.sin(a), z))
+        f = [(2 * i, 2 * i + 1, 2 * ((i + 1) % n) + 1, 2 * ((i + 1) % n)) for i in range(segments)]
+        return self.add(v, f, **kw)
+
+    def disc(self, r, segments, a0=0.0, a1=2.0 * math.pi, z=0.0, **kw):
+        full = abs((a1 - a0) - 2.0 * math.pi) < 1e-9
+        n = segments if full else segments + 1
+        v = [(0.0, 0.0, z)] + [(r * math.cos(a0 + (a1 - a0) * i / segments),
+                                r * math.sin(a0 + (a1 - a0) * i / segments), z) for i in range(n)]
+        f = [(0, 1 + i, 1 + (i + 1) % n) for i in range(segments)]
+        return self.add(v, f, **kw)
+
+    def text(self, body, size, align="CENTER", z=0.0, **kw):
+        v, f = text_polygons(body, size, align, z)
+        return self.add(v, f, **kw)
+
+    def build(self, name, mat=None, location=(0, 0, 0), parent=None):
+        return mesh_from_data(name, self.verts, self.faces, mat, location, parent)
+
+
+def text_polygons(body, size, align="CENTER", z=0.0, resolution=2):
+    """Blender text (built-in Bfont) converted to mesh polygons, as the artist's 'Convert to Mesh'.
+    Returns (verts, faces) centred horizontally per `align` and vertically on the cap height.
+    resolution 2 keeps glyph outlines at a few dozen vertices (the scenes must stay compact)."""
+    curve = bpy.data.curves.new("tmp_text", "FONT")
+    curve.body = body
+    curve.size = size
+    curve.align_x = align
+    curve.align_y = "CENTER"
+    curve.resolution_u = resolution
+    curve.fill_mode = "FRONT"
+    obj = bpy.data.objects.new("tmp_text", curve)
+    bpy.context.scene.collection.objects.link(obj)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    ev = obj.evaluated_get(depsgraph)
+    mesh = ev.to_mesh()
+    verts = [(v.co.x, v.co.y, v.co.z + z) for v in mesh.vertices]
+    faces = [tuple(p.vertices) for p in mesh.polygons]
+    ev.to_mesh_clear()
+    bpy.data.objects.remove(obj)
+    bpy.data.curves.remove(curve)
+    return verts, faces
+
+
+def text_object(name, body, size, mat=None, location=(0, 0, 0), align="CENTER", parent=None,
+                rot_z=0.0):
+    v, f = text_polygons(body, size, align)
+    obj = mesh_from_data(name, v, f, mat, location, parent)
+    obj.rotation_euler = (0.0, 0.0, rot_z)
+    return obj
+
+
+def planar_uv(obj, x0, y0, size_x, size_y):
+    """UVs from the object's local XY (u right, v up), for flat faces carrying a texture."""
+    mesh = obj.data
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop in mesh.loops:
+        co = mesh.vertices[loop.vertex_index].co
+        uv.data[loop.index].uv = ((co.x - x0) / size_x, (co.y - y0) / size_y)
+
+
+def empty(name, location, parent=None):
+    """An empty: exported as a glTF node with no mesh; the engine anchors text at its origin."""
+    obj = bpy.data.objects.new(name, None)
+    obj.empty_display_type = "PLAIN_AXES"
+    obj.empty_display_size = 0.2
+    bpy.context.scene.collection.objects.link(obj)
+    obj.location = location
+    link(obj, parent)
+    return obj
+
+
+def image_from_rgb(name, width, height, rgb_rows):
+    """A Blender image from a flat list of floats (RGBA, bottom row first), stored as 8-bit PNG
+    inside the .blend and written into the .glb by the exporter."""
+    img = bpy.data.images.new(name, width, height, alpha=False, float_buffer=False)
+    img.colorspace_settings.name = "Non-Color"
+    img.pixels.foreach_set(rgb_rows)
+    img.file_format = "PNG"
+    img.pack()
+    return img
+
+
+def write_scene_config(path, config):
+    """Writes a meter-scene-config/1 file with one binding / group per line: reviewable diffs
+    when a binding changes, instead of a 600-line indent dump."""
+    import json
+
+    def dump(v):
+        return json.dumps(v, ensure_ascii=False)
+
+    lines = ["{"]
+    items = list(config.items())
+    for i, (key, value) in enumerate(items):
+        comma = "," if i + 1 < len(items) else ""
+        if isinstance(value, list) and value and all(isinstance(e, dict) for e in value):
+            lines.append(f"  {dump(key)}: [")
+            for j, e in enumerate(value):
+                lines.append("    " + dump(e) + ("," if j + 1 < len(value) else ""))
+            lines.append("  ]" + comma)
+        else:
+            lines.append(f"  {dump(key)}: {dump(value)}{comma}")
+    lines.append("}")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+    json.loads(open(path, encoding="utf-8").read())  # never commit a file the engine cannot parse
