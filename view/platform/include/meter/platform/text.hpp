@@ -101,7 +101,8 @@ class TextRenderer {
   // Total pen advance of the text in pixels (layout width, including spaces).
   int advance(std::string_view utf8) const;
 
-  // Draws alpha-blended text into `target` (binds it). Leaves blending disabled afterwards.
+  // Draws alpha-blended text into `target` (binds it). State left behind: blending, depth test and
+  // face culling disabled, program 0, VAO 0, texture unit 0 bound to the atlas.
   void draw(RenderTarget& target, std::string_view utf8, int x, int baseline_y, Align align,
             Color color);
   // Fills a rectangle (alpha-blended when color.a < 1), e.g. the "NO SIGNAL" banner background.
@@ -117,7 +118,7 @@ class TextRenderer {
   GLuint program_ = 0;
   GLuint vao_ = 0;
   GLuint vbo_ = 0;
-  GLint u_viewport_ = -1, u_color_ = -1, u_textured_ = -1, u_atlas_ = -1, u_atlas_size_ = -1;
+  GLint u_viewport_ = -1, u_color_ = -1, u_textured_ = -1, u_atlas_ = -1;
 };
 
 }  // namespace meter::platform

@@ -1,0 +1,210 @@
+#include "meter/platform/render_target.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace meter::platform {
+namespace {
+
+std::string describe(int w, int h, int samples, bool srgb, DepthFormat depth) {
+  const char* d = depth == DepthFormat::None ? "no depth"
+                  : depth == DepthFormat::Depth24 ? "DEPTH_COMPONENT24" : "DEPTH_COMPONENT32F";
+  return std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(samples) +
+         " sample(s), " + (srgb ? "SRGB8_ALPHA8" : "RGBA8") + ", " + d;
+}
+
+std::string status_name(GLenum status) {
+  switch (status) {
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
+    case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED";
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+    default: return "status 0x" + std::to_string(status);
+  }
+}
+
+}  // namespace
+
+RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions& options)
+    : gl_(&backend.gl()), width_(options.width), height_(options.height), srgb_(options.srgb),
+      depth_(options.depth) {
+  const Gl& gl = *gl_;
+  const GlInfo& info = gl.info;
+  if (width_ <= 0 || height_ <= 0) {
+    throw std::invalid_argument("RenderTarget: size " + std::to_string(width_) + "x" +
+                                std::to_string(height_) + " must be positive");
+  }
+  if (width_ > info.max_texture_size || height_ > info.max_texture_size) {
+    throw std::invalid_argument("RenderTarget: size " + std::to_string(width_) + "x" +
+                                std::to_string(height_) + " exceeds GL_MAX_TEXTURE_SIZE " +
+                                std::to_string(info.max_texture_size) + " of " +
+                                std::string(backend.name()));
+  }
+  const int requested = options.samples;
+  if (requested != 1 && requested != 2 && requested != 4 && requested != 8) {
+    throw std::invalid_argument("RenderTarget: samples " + std::to_string(requested) +
+                                " not supported (expected 1, 2, 4 or 8)");
+  }
+  samples_ = requested;
+  if (samples_ > info.max_samples) {
+    samples_ = info.max_samples >= 1 ? info.max_samples : 1;
+    warning_ = "RenderTarget: " + std::to_string(requested) + "x MSAA requested but " +
+               std::string(backend.name()) + " allows at most GL_MAX_SAMPLES=" +
+               std::to_string(info.max_samples) + "; using " + std::to_string(samples_);
+    std::fprintf(stderr, "warning: %s\n", warning_.c_str());
+  }
+
+  const GLenum color_format = srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8;
+  const GLenum depth_format = depth_ == DepthFormat::Depth32F ? GL_DEPTH_COMPONENT32F : GL_DEPTH_COMPONENT24;
+  try {
+    // Single-sample framebuffer: the resolve destination (and the draw target without MSAA).
+    gl.GenTextures(1, &color_tex_);
+    gl.BindTexture(GL_TEXTURE_2D, color_tex_);
+    gl.TexStorage2D(GL_TEXTURE_2D, 1, color_format, width_, height_);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gl.BindTexture(GL_TEXTURE_2D, 0);
+    gl.GenFramebuffers(1, &fbo_);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_tex_, 0);
+    if (samples_ == 1 && depth_ != DepthFormat::None) {
+      gl.GenRenderbuffers(1, &depth_rb_);
+      gl.BindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
+      gl.RenderbufferStorage(GL_RENDERBUFFER, depth_format, width_, height_);
+      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb_);
+    }
+    GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+      throw GlError("RenderTarget (" + describe(width_, height_, 1, srgb_, depth_) +
+                    "): framebuffer incomplete: " + status_name(status));
+    }
+    if (samples_ > 1) {
+      gl.GenRenderbuffers(1, &msaa_color_rb_);
+      gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_color_rb_);
+      gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, color_format, width_, height_);
+      gl.GenFramebuffers(1, &msaa_fbo_);
+      gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color_rb_);
+      if (depth_ != DepthFormat::None) {
+        gl.GenRenderbuffers(1, &msaa_depth_rb_);
+        gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_depth_rb_);
+        gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, depth_format, width_, height_);
+        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_depth_rb_);
+      }
+      status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+      if (status != GL_FRAMEBUFFER_COMPLETE) {
+        throw GlError("RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_) +
+                      "): multisample framebuffer incomplete: " + status_name(status));
+      }
+    }
+    gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    check_gl(gl, "RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  } catch (...) {
+    release();
+    throw;
+  }
+  bind();
+}
+
+RenderTarget::~RenderTarget() { release(); }
+
+RenderTarget::RenderTarget(RenderTarget&& other) noexcept { *this = std::move(other); }
+
+RenderTarget& RenderTarget::operator=(RenderTarget&& other) noexcept {
+  if (this != &other) {
+    release();
+    gl_ = std::exchange(other.gl_, nullptr);
+    width_ = other.width_;
+    height_ = other.height_;
+    samples_ = other.samples_;
+    srgb_ = other.srgb_;
+    depth_ = other.depth_;
+    fbo_ = std::exchange(other.fbo_, 0);
+    color_tex_ = std::exchange(other.color_tex_, 0);
+    depth_rb_ = std::exchange(other.depth_rb_, 0);
+    msaa_fbo_ = std::exchange(other.msaa_fbo_, 0);
+    msaa_color_rb_ = std::exchange(other.msaa_color_rb_, 0);
+    msaa_depth_rb_ = std::exchange(other.msaa_depth_rb_, 0);
+    warning_ = std::move(other.warning_);
+  }
+  return *this;
+}
+
+void RenderTarget::release() noexcept {
+  if (!gl_) return;
+  const Gl& gl = *gl_;
+  if (fbo_) gl.DeleteFramebuffers(1, &fbo_);
+  if (msaa_fbo_) gl.DeleteFramebuffers(1, &msaa_fbo_);
+  if (color_tex_) gl.DeleteTextures(1, &color_tex_);
+  if (depth_rb_) gl.DeleteRenderbuffers(1, &depth_rb_);
+  if (msaa_color_rb_) gl.DeleteRenderbuffers(1, &msaa_color_rb_);
+  if (msaa_depth_rb_) gl.DeleteRenderbuffers(1, &msaa_depth_rb_);
+  fbo_ = msaa_fbo_ = color_tex_ = depth_rb_ = msaa_color_rb_ = msaa_depth_rb_ = 0;
+  gl_ = nullptr;
+}
+
+void RenderTarget::bind() {
+  if (!gl_) throw std::logic_error("RenderTarget::bind on a moved-from target");
+  const Gl& gl = *gl_;
+  gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
+  gl.Viewport(0, 0, width_, height_);
+  // Desktop GL only encodes into sRGB attachments when asked; GLES always does.
+  if (gl.info.needs_framebuffer_srgb_enable) {
+    if (srgb_) gl.Enable(GL_FRAMEBUFFER_SRGB);
+    else gl.Disable(GL_FRAMEBUFFER_SRGB);
+  }
+}
+
+Image RenderTarget::resolve_and_read() {
+  if (!gl_) throw std::logic_error("RenderTarget::resolve_and_read on a moved-from target");
+  const Gl& gl = *gl_;
+  if (gl.info.needs_framebuffer_srgb_enable && srgb_) {
+    // With GL_FRAMEBUFFER_SRGB on, desktop GL resolves sRGB samples in linear space, as GLES does.
+    gl.Enable(GL_FRAMEBUFFER_SRGB);
+  }
+  if (samples_ > 1) {
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
+    gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+    gl.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  Image image(width_, height_);
+  gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+  gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
+  check_gl(gl, "RenderTarget::resolve_and_read (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  // GL rows are bottom-up; Image rows are top-down.
+  const std::size_t row = static_cast<std::size_t>(width_) * 4;
+  std::vector<std::uint8_t> tmp(row);
+  for (int y = 0; y < height_ / 2; ++y) {
+    std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
+    std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(height_ - 1 - y) * row;
+    std::memcpy(tmp.data(), a, row);
+    std::memcpy(a, b, row);
+    std::memcpy(b, tmp.data(), row);
+  }
+  return image;
+}
+
+double srgb_to_linear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+double linear_to_srgb(double l) {
+  return l <= 0.0031308 ? l * 12.92 : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+}
+
+int linear_to_srgb8(double linear) {
+  if (!(linear >= 0.0)) linear = 0.0;  // also maps NaN to 0 instead of propagating it
+  if (linear > 1.0) linear = 1.0;
+  return static_cast<int>(std::lround(linear_to_srgb(linear) * 255.0));
+}
+
+}  // namespace meter::platform
