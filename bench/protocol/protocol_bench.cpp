@@ -1,0 +1,221 @@
+// meter_protocol_bench: numbers for issue #3, measured side by side in one run.
+//   1. encode / decode / CRC throughput on plain bytes (no sockets);
+//   2. bytes on the wire per change: per-peer DELTA vs resending the full SNAPSHOT;
+//   3. DELTA latency from send (sender timestamp, taken when the frame is encoded) to apply (the
+//      Subscriber's poll() returning) between two processes (fork), over a Unix SOCK_SEQPACKET
+//      socket and over TCP loopback, paced so nothing coalesces.
+// Usage: meter_protocol_bench [samples]   (default 2000 latency samples per transport)
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "meter/protocol/link.hpp"
+#include "meter/protocol/wire.hpp"
+
+using namespace meter::protocol;
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::int64_t now_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+volatile std::size_t g_sink = 0;  // keeps the optimiser from dropping the measured work
+
+struct Rate {
+  double per_second;
+  double ns_each;
+};
+
+template <typename F>
+Rate measure(std::size_t iterations, F&& body) {
+  for (std::size_t i = 0; i < iterations / 10; ++i) body(i);  // warm-up
+  const auto t0 = Clock::now();
+  for (std::size_t i = 0; i < iterations; ++i) body(i);
+  const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return {static_cast<double>(iterations) / s, s * 1e9 / static_cast<double>(iterations)};
+}
+
+Frame typical_delta(std::size_t i) {
+  // What a 60 Hz tick usually carries: speed, rpm, one lamp.
+  return Frame{i + 1, static_cast<std::int64_t>(i),
+               Delta{{{sig::kSpeed, SignalStatus::Valid, 50.0 + static_cast<double>(i % 100), false, ""},
+                      {sig::kEngineSpeed, SignalStatus::Valid, 2000.0 + static_cast<double>(i % 1000), false, ""},
+                      {sig::kTurnLeft, SignalStatus::Valid, static_cast<double>(i % 2), false, ""}}}};
+}
+
+Frame full_snapshot(std::size_t i) {
+  Snapshot s;
+  for (const auto& info : catalog()) s.signals.push_back({info.id, SignalStatus::Valid, info.min, false, ""});
+  return Frame{i + 1, 0, std::move(s)};
+}
+
+void throughput() {
+  std::printf("== encode/decode on plain bytes (no sockets)\n");
+  constexpr std::size_t kN = 1'000'000;
+  std::vector<std::uint8_t> buf;
+  buf.reserve(kMaxFrameSize);
+  const auto enc = measure(kN, [&](std::size_t i) {
+    buf.clear();
+    encode(typical_delta(i), buf);
+    g_sink = g_sink + buf.size();
+  });
+  const auto delta_bytes = encode(typical_delta(7));
+  const auto dec = measure(kN, [&](std::size_t) {
+    const auto r = decode(delta_bytes);
+    g_sink = g_sink + r.frame_size;
+  });
+  const auto both = measure(kN, [&](std::size_t i) {
+    buf.clear();
+    encode(typical_delta(i), buf);
+    const auto r = decode(buf);
+    g_sink = g_sink + r.frame_size;
+  });
+  const auto snap_bytes = encode(full_snapshot(1));
+  const auto snap = measure(kN / 10, [&](std::size_t i) {
+    buf.clear();
+    encode(full_snapshot(i), buf);
+    const auto r = decode(buf);
+    g_sink = g_sink + r.frame_size;
+  });
+  std::vector<std::uint8_t> block(64 * 1024, 0x5A);
+  const auto crc = measure(20'000, [&](std::size_t i) {
+    block[0] = static_cast<std::uint8_t>(i);
+    g_sink = g_sink + crc32c(block);
+  });
+  std::printf("  DELTA (3 signals, %zu B)  encode          %10.0f msg/s  %7.0f ns/msg\n", delta_bytes.size(),
+              enc.per_second, enc.ns_each);
+  std::printf("  DELTA (3 signals, %zu B)  decode          %10.0f msg/s  %7.0f ns/msg\n", delta_bytes.size(),
+              dec.per_second, dec.ns_each);
+  std::printf("  DELTA (3 signals, %zu B)  encode+decode   %10.0f msg/s  %7.0f ns/msg\n", delta_bytes.size(),
+              both.per_second, both.ns_each);
+  std::printf("  SNAPSHOT (%zu signals, %zu B) encode+decode %8.0f msg/s  %7.0f ns/msg\n", catalog().size(),
+              snap_bytes.size(), snap.per_second, snap.ns_each);
+  std::printf("  CRC-32C (slicing-by-8)                    %10.1f MB/s\n",
+              crc.per_second * static_cast<double>(block.size()) / 1e6);
+  std::printf("  ratio: full SNAPSHOT bytes / typical DELTA bytes = %.1fx; encode+decode time ratio = %.1fx\n",
+              static_cast<double>(snap_bytes.size()) / static_cast<double>(delta_bytes.size()),
+              snap.ns_each / both.ns_each);
+}
+
+struct Latency {
+  std::vector<double> us;
+  std::size_t lost = 0;
+};
+
+double pct(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const auto idx = static_cast<std::size_t>(p / 100.0 * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(idx, v.size() - 1)];
+}
+
+// Child: the controller. Sends `samples` paced DELTAs once the view is in sync.
+[[noreturn]] void run_publisher(const Endpoint& where, int port_pipe, int samples) {
+  int rc = 0;
+  try {
+    LinkOptions o;
+    o.name = "bench-controller";
+    Publisher pub(where, o);
+    const std::uint16_t port = pub.endpoint().port;
+    if (::write(port_pipe, &port, sizeof port) != sizeof port) std::_Exit(3);
+    ::close(port_pipe);
+    const auto give_up = Clock::now() + 10s;
+    while (pub.peer_count() == 0 && Clock::now() < give_up) pub.poll(1ms);
+    pub.poll(20ms);  // let the snapshot land before the timed part
+    for (int i = 1; i <= samples; ++i) {
+      pub.set(sig::kSpeed, i, SignalStatus::Valid);
+      pub.poll(0ms);  // encode + send now: the timestamp in the frame is the send time
+      // Pace at ~2 kHz, well beyond a 60 Hz display but with no coalescing of consecutive values.
+      const auto until = Clock::now() + 500us;
+      while (Clock::now() < until) pub.poll(0ms);
+    }
+    const auto linger = Clock::now() + 5s;
+    while (pub.peer_count() > 0 && Clock::now() < linger) pub.poll(5ms);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench publisher: %s\n", e.what());
+    rc = 1;
+  }
+  std::_Exit(rc);
+}
+
+Latency run_pair(Endpoint where, int samples) {
+  int fds[2];
+  if (::pipe(fds) != 0) std::exit(1);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::close(fds[0]);
+    run_publisher(where, fds[1], samples);
+  }
+  ::close(fds[1]);
+  std::uint16_t port = 0;
+  if (::read(fds[0], &port, sizeof port) != sizeof port) {
+    std::fprintf(stderr, "bench: publisher failed to start on %s\n", where.to_string().c_str());
+    std::exit(1);
+  }
+  ::close(fds[0]);
+  if (where.kind == Endpoint::Kind::Tcp) where.port = port;
+
+  Latency lat;
+  {
+    LinkOptions o;
+    o.name = "bench-view";
+    Subscriber sub(where, o);
+    double last = 0;
+    const auto give_up = Clock::now() + 30s;
+    while (last < samples && Clock::now() < give_up) {
+      if (!sub.poll(5ms)) continue;
+      const std::int64_t applied = now_ns();  // the change is in our state now
+      const double v = sub.get(sig::kSpeed).value;
+      if (v >= 1 && v != last) {
+        // Two DELTAs applied in one poll(): only the newer one is timed.
+        lat.lost += static_cast<std::size_t>(v - last - 1);
+        lat.us.push_back(static_cast<double>(applied - sub.last_sender_time_ns()) / 1000.0);
+        last = v;
+      }
+    }
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::fprintf(stderr, "bench: publisher exited badly\n");
+  return lat;
+}
+
+void print_latency(const char* name, const Latency& l, int samples) {
+  std::printf("  %-22s n=%zu/%d  p50 %7.1f us  p90 %7.1f us  p99 %7.1f us  max %8.1f us  not timed %zu\n", name,
+              l.us.size(), samples, pct(l.us, 50), pct(l.us, 90), pct(l.us, 99), pct(l.us, 100), l.lost);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int samples = argc > 1 ? std::atoi(argv[1]) : 2000;
+  if (samples < 10) {
+    std::fprintf(stderr, "usage: %s [samples >= 10]\n", argv[0]);
+    return 2;
+  }
+  set_log_sink([](std::string_view) {});  // link chatter (peer closed at the end) is not a result
+  throughput();
+
+  std::printf("== DELTA latency send->apply, two processes, %d paced updates each\n", samples);
+  const Endpoint unix_ep = Endpoint::parse("unix:/tmp/meter-bench-" + std::to_string(::getpid()) + ".sock");
+  const auto u = run_pair(unix_ep, samples);
+  const auto t = run_pair(Endpoint::parse("tcp:127.0.0.1:0"), samples);
+  print_latency("unix SOCK_SEQPACKET", u, samples);
+  print_latency("tcp loopback", t, samples);
+  if (!u.us.empty() && !t.us.empty()) {
+    std::printf("  ratio tcp/unix: p50 %.2fx  p99 %.2fx\n", pct(t.us, 50) / pct(u.us, 50), pct(t.us, 99) / pct(u.us, 99));
+  }
+  return (u.us.empty() || t.us.empty()) ? 1 : 0;
+}
