@@ -286,7 +286,7 @@ void Channel::count_bad(const DecodeResult& r, LinkStats& stats) {
               "dropped bad frame from " + label_ + ": " + std::string(to_string(r.error)) + ": " + r.detail);
 }
 
-void Channel::accept_frame(Frame&& frame, LinkStats& stats, const std::function<void(Frame&&)>& on_frame) {
+bool Channel::accept_frame(Frame&& frame, LinkStats& stats, const std::function<bool(Frame&&)>& on_frame) {
   const std::uint64_t expected = last_rx_seq_ + 1;
   if (frame.sequence != expected) {
     ++stats.sequence_gaps;
@@ -305,10 +305,10 @@ void Channel::accept_frame(Frame&& frame, LinkStats& stats, const std::function<
     case MessageType::Status: ++stats.status_received; break;
     case MessageType::Close: break;
   }
-  on_frame(std::move(frame));
+  return on_frame(std::move(frame));
 }
 
-ReadResult Channel::receive(LinkStats& stats, const std::function<void(Frame&&)>& on_frame) {
+ReadResult Channel::receive(LinkStats& stats, const std::function<bool(Frame&&)>& on_frame) {
   // Bounded work per call so one chatty peer cannot starve the others or the caller's loop.
   constexpr int kMaxReads = 64;
   if (rx_buffer_.empty()) rx_buffer_.resize(kMaxFrameSize + 1);
@@ -346,14 +346,14 @@ ReadResult Channel::receive(LinkStats& stats, const std::function<void(Frame&&)>
         count_bad(r, stats);
         continue;  // datagram boundaries survive a bad frame: drop it and carry on
       }
-      accept_frame(std::move(r.frame), stats, on_frame);
+      if (!accept_frame(std::move(r.frame), stats, on_frame)) return {};
       continue;
     }
     stats.bytes_received += got;
     assembler_.append(std::span<const std::uint8_t>(rx_buffer_.data(), got));
     while (auto r = assembler_.next()) {
       if (r->error == DecodeError::None) {
-        accept_frame(std::move(r->frame), stats, on_frame);
+        if (!accept_frame(std::move(r->frame), stats, on_frame)) return {};
         continue;
       }
       count_bad(*r, stats);

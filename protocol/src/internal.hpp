@@ -92,14 +92,16 @@ class Channel {
   bool flush(LinkStats& stats, std::string& error);
   // Reads what is available (bounded per call), delivers good frames to `on_frame`, counts, logs and
   // drops bad ones; Fatal when the connection must close (framing lost, wrong version).
-  ReadResult receive(LinkStats& stats, const std::function<void(Frame&&)>& on_frame);
+  // `on_frame` returns false to stop reading (the session is ending); receive() then returns Ok
+  // at once and the caller may destroy the channel.
+  ReadResult receive(LinkStats& stats, const std::function<bool(Frame&&)>& on_frame);
 
   Clock::time_point last_rx;
   Clock::time_point last_tx;
 
  private:
   void count_bad(const DecodeResult& r, LinkStats& stats);
-  void accept_frame(Frame&& frame, LinkStats& stats, const std::function<void(Frame&&)>& on_frame);
+  bool accept_frame(Frame&& frame, LinkStats& stats, const std::function<bool(Frame&&)>& on_frame);
 
   UniqueFd fd_;
   bool stream_;

@@ -211,7 +211,15 @@ struct Publisher::Impl {
       Peer peer;
       peer.channel = std::make_unique<Channel>(std::move(fd), stream, label);
       peer.dirty.assign(catalog().size(), 0);
-      if (!allowed) {
+      if (allowed && peers.size() >= options.max_peers) {
+        // Bounded resources: every connection costs a buffer and a dirty table.
+        last_error = "rejected " + label + ": already serving " + std::to_string(peers.size()) +
+                     " connections (max_peers)";
+        detail::log_limited("too-many", last_error);
+        ++stats.peers_rejected;
+        peer.channel->send(Close{CloseReason::ProtocolError, "too many connections"}, stats);
+        peer.closing = true;
+      } else if (!allowed) {
         ++stats.peers_rejected;
         last_error = "rejected " + label + ": " + refusal;
         detail::log_limited("peer-rejected", last_error);
@@ -368,7 +376,10 @@ struct Publisher::Impl {
       }
       Peer* peer = find_peer(fd);
       if (peer == nullptr) continue;
-      auto result = peer->channel->receive(stats, [&](Frame&& f) { on_frame(*peer, std::move(f)); });
+      auto result = peer->channel->receive(stats, [&](Frame&& f) {
+        on_frame(*peer, std::move(f));
+        return !peer->closing;
+      });
       if (result.outcome == detail::ReadOutcome::Fatal && !peer->closing) {
         refuse(*peer, result.reason, result.detail);
       } else if (result.outcome == detail::ReadOutcome::PeerClosed) {

@@ -42,6 +42,12 @@ struct Subscriber::Impl {
   LinkStats stats;
   std::string last_error;
   bool changed = false;  // set by apply(), consumed by poll()
+  // A disconnect decided while Channel::receive() is still on the stack runs after it returns.
+  struct PendingDisconnect {
+    std::string why;
+    bool loss;
+  };
+  std::optional<PendingDisconnect> pending_disconnect;
 
   Impl(const Endpoint& w, LinkOptions o)
       : where(w), options(std::move(o)),
@@ -153,7 +159,7 @@ struct Subscriber::Impl {
     channel->send(Close{reason, why.substr(0, kMaxTextBytes)}, stats);
     std::string ignored;
     channel->flush(stats, ignored);
-    disconnect("refused publisher " + where.to_string() + ": " + why, false);
+    pending_disconnect = PendingDisconnect{"refused publisher " + where.to_string() + ": " + why, false};
   }
 
   void apply(const std::vector<SignalUpdate>& updates, const Frame& frame) {
@@ -177,9 +183,9 @@ struct Subscriber::Impl {
     if (auto* close = std::get_if<Close>(&frame.message)) {
       const bool was_live = phase == Phase::Live;
       if (close->reason != CloseReason::Normal) ++stats.handshakes_refused;
-      disconnect("publisher closed the link: " + std::string(to_string(close->reason)) +
-                     (close->text.empty() ? "" : ": " + close->text),
-                 was_live);
+      pending_disconnect = PendingDisconnect{"publisher closed the link: " + std::string(to_string(close->reason)) +
+                                                 (close->text.empty() ? "" : ": " + close->text),
+                                             was_live};
       return false;
     }
     if (!got_hello) {
@@ -258,11 +264,13 @@ struct Subscriber::Impl {
       }
     }
     if (readable) {
-      bool alive = true;
-      auto result = channel->receive(stats, [&](Frame&& f) {
-        if (alive) alive = on_frame(std::move(f));
-      });
-      if (!alive) return;
+      auto result = channel->receive(stats, [&](Frame&& f) { return on_frame(std::move(f)); });
+      if (pending_disconnect) {
+        auto pd = std::move(*pending_disconnect);
+        pending_disconnect.reset();
+        disconnect(pd.why, pd.loss);
+        return;
+      }
       if (result.outcome == detail::ReadOutcome::Fatal) {
         const bool was_live = phase == Phase::Live;
         ++stats.handshakes_refused;

@@ -169,37 +169,38 @@ bool decode_updates(Reader& r, std::uint8_t& flags, std::vector<SignalUpdate>& o
   for (std::uint16_t i = 0; i < count; ++i) {
     SignalUpdate u;
     std::uint8_t status = 0, eflags = 0;
-    const std::string where = "entry " + std::to_string(i) + ": ";
+    // Built only on the error path: the happy path allocates nothing per entry.
+    const auto where = [i] { return "entry " + std::to_string(i) + ": "; };
     if (!r.u16(u.id) || !r.u8(status) || !r.u8(eflags) || !r.f64(u.value)) {
-      detail = where + "truncated (12 bytes expected)";
+      detail = where() + "truncated (12 bytes expected)";
       return false;
     }
     if (find_signal(u.id) == nullptr) {
-      detail = where + "unknown signal id " + std::to_string(u.id);
+      detail = where() + "unknown signal id " + std::to_string(u.id);
       return false;
     }
     if (!valid_status(status)) {
-      detail = where + "status " + std::to_string(status) + " is not 0..3";
+      detail = where() + "status " + std::to_string(status) + " is not 0..3";
       return false;
     }
     u.status = static_cast<SignalStatus>(status);
     if ((eflags & ~1U) != 0) {
-      detail = where + "entry flags " + std::to_string(eflags) + " use reserved bits (only bit 0 is defined)";
+      detail = where() + "entry flags " + std::to_string(eflags) + " use reserved bits (only bit 0 is defined)";
       return false;
     }
     if (!std::isfinite(u.value)) {
-      detail = where + "value is not finite (signal " + std::to_string(u.id) + ")";
+      detail = where() + "value is not finite (signal " + std::to_string(u.id) + ")";
       return false;
     }
     u.has_text = (eflags & 1U) != 0;
     if (u.has_text) {
       std::uint8_t len = 0;
       if (!r.u8(len) || !r.text(len, u.text)) {
-        detail = where + "text runs past the end of the payload";
+        detail = where() + "text runs past the end of the payload";
         return false;
       }
       if (!is_valid_utf8(u.text)) {
-        detail = where + "text is not valid UTF-8";
+        detail = where() + "text is not valid UTF-8";
         return false;
       }
     }

@@ -345,6 +345,22 @@ TEST(Link, SubscriberChecksThePublishersUidToo) {
   EXPECT_NE(sub.last_error().find("allow-list"), std::string::npos) << sub.last_error();
 }
 
+TEST(Link, ConnectionsBeyondMaxPeersAreTurnedAway) {
+  LogCapture log;
+  TempDir dir;
+  auto opts = fast_options();
+  opts.max_peers = 1;
+  Publisher pub(dir.unix_endpoint(), opts);
+  Subscriber first(dir.unix_endpoint(), fast_options());
+  ASSERT_TRUE(pump(pub, first, [&] { return first.link_up(); }));
+  Subscriber second(dir.unix_endpoint(), fast_options());
+  pump(pub, second, [&] { return pub.stats().peers_rejected > 0 && !second.last_error().empty(); }, 1000ms);
+  EXPECT_FALSE(second.link_up());
+  EXPECT_NE(second.last_error().find("too many connections"), std::string::npos) << second.last_error();
+  EXPECT_TRUE(first.link_up() || pump(pub, first, [&] { return first.link_up(); }));
+  EXPECT_EQ(pub.peer_count(), 1U);
+}
+
 TEST(Link, UnixSocketIsPrivateAndNotStolen) {
   LogCapture log;
   TempDir dir;

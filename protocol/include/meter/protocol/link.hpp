@@ -57,6 +57,7 @@ struct LinkOptions {
   std::vector<uid_t> allowed_uids;        // empty = only our own uid (Unix sockets, SO_PEERCRED)
   std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};  // Subscriber backoff
   std::string name;                       // sent in HELLO, used in log lines ("meter-view")
+  std::size_t max_peers = 16;             // Publisher: connections beyond this get CLOSE and are dropped
   // The catalog hash announced in HELLO. Empty = catalog_hash() of this build. Only tools and
   // tests that deliberately emulate another build set it.
   std::optional<std::uint64_t> catalog_hash_override;
