@@ -88,3 +88,12 @@ def percentile(values, q):
         raise ValueError("percentile of nothing")
     i = min(len(s) - 1, max(0, int(round(q / 100.0 * (len(s) - 1)))))
     return s[i]
+
+
+def free_port():
+    """A TCP port free on the host right now; used for both sides of --hostfwd so the same test
+    works on the direct path (where the ports must be equal)."""
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
