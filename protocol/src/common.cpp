@@ -104,6 +104,7 @@ std::map<std::string, Bucket, std::less<>> g_buckets;
 void set_log_sink(LogSink sink) {
   std::lock_guard lock(g_log_mutex);
   g_sink = std::move(sink);
+  g_buckets.clear();  // a new sink starts with full budgets: it sees the first lines of each kind
 }
 
 namespace detail {

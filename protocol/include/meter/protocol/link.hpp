@@ -104,7 +104,7 @@ struct LinkStats {
 // Log lines from the link (bad input, link loss, refusals) go through this sink, rate-limited per
 // kind of event so a peer flooding garbage cannot flood the log. Default: stderr.
 using LogSink = std::function<void(std::string_view line)>;
-void set_log_sink(LogSink sink);  // empty = back to stderr
+void set_log_sink(LogSink sink);  // empty = back to stderr; resets the rate-limit budgets
 
 // Controller side: listens on the endpoint, serves any number of views. Latest-value semantics:
 // set() only records the value and marks it dirty per peer; poll() sends coalesced DELTAs.
