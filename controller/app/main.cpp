@@ -1,0 +1,46 @@
+// meter-controller: the vehicle-control process. A thin CLI11 front end over the library.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "meter/controller/commands.hpp"
+
+int main(int argc, char** argv) {
+  using namespace meter::controller;
+  CLI::App app{"meter-controller: reads CAN (SocketCAN, candump logs) or Modbus, decodes it with a DBC, "
+               "conditions the signals and publishes the cluster state to meter-view."};
+  app.require_subcommand(1);
+
+  RunOptions run;
+  auto* r = app.add_subcommand("run", "Run the controller daemon: input -> DBC decode -> mapping -> protocol link.");
+  r->add_option("--dbc", run.dbc, "DBC file describing the bus (not needed for a Modbus-only mapping)")->check(CLI::ExistingFile);
+  r->add_option("--map", run.map, "Mapping file: bus signals -> catalog signals (docs/mapping.md)")->required()->check(CLI::ExistingFile);
+  r->add_option("--input", run.input,
+                "Input: log:FILE (candump -L), can:IFACE (SocketCAN, e.g. can:vcan0), modbus-tcp:HOST:PORT, "
+                "modbus-rtu:DEVICE:BAUD[:8N1]")
+      ->required();
+  r->add_option("--replay", run.replay,
+                "Log timing: realtime (original timing), fast (simulated clock, as fast as possible), "
+                "scale:N (N times faster than recorded)")
+      ->default_val("realtime");
+  r->add_option("--link", run.link, "Where views connect: unix:/path or tcp:HOST:PORT (default: $XDG_RUNTIME_DIR/meter.sock)");
+  r->add_option("--state-dir", run.state_dir, "Directory for the persisted odometer (atomic writes); none = not persisted");
+  r->add_flag("--exit-at-end", run.exit_at_end, "Exit when the log ends (default: keep serving the final state)");
+  r->add_option("--linger", run.linger_s, "With --exit-at-end: keep serving the final state this many seconds first")
+      ->check(CLI::NonNegativeNumber);
+  r->add_flag("-v,--verbose", run.verbose, "Print what is connected to what");
+
+  std::string dbc, log, map;
+  auto* d = app.add_subcommand("decode", "Decode a candump -L log with a DBC to CSV: timestamp,message,signal,raw,physical,unit,status.");
+  d->add_option("--dbc", dbc, "DBC file")->required()->check(CLI::ExistingFile);
+  d->add_option("LOG", log, "candump -L log file")->required()->check(CLI::ExistingFile);
+  d->add_option("--map", map, "Only the signals this mapping uses")->check(CLI::ExistingFile);
+
+  std::string check;
+  auto* c = app.add_subcommand("check-dbc", "Parse a DBC, summarise what it contains and list problems (file:line).");
+  c->add_option("DBC", check, "DBC file")->required()->check(CLI::ExistingFile);
+
+  CLI11_PARSE(app, argc, argv);
+  if (*r) return run_command(run, std::cout, std::cerr);
+  if (*d) return decode_command(dbc, log, map, std::cout, std::cerr);
+  return check_dbc_command(check, std::cout, std::cerr);
+}

@@ -1,0 +1,35 @@
+// The meter-controller subcommands as library functions, so tests and benches can call them
+// without a process, and app/main.cpp stays a thin CLI11 front end.
+#pragma once
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace meter::controller {
+
+struct RunOptions {
+  std::string dbc;         // may be empty for a Modbus-only mapping
+  std::string map;
+  std::string input;       // log:FILE | can:IFACE | modbus-tcp:HOST:PORT | modbus-rtu:DEV:BAUD[:8N1]
+  std::string replay = "realtime";
+  std::string link;        // empty: protocol::default_endpoint()
+  std::string state_dir;   // empty: odometer not persisted
+  bool exit_at_end = false;
+  double linger_s = 0.0;
+  bool verbose = false;
+};
+
+// Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;
+// errors are printed to err with what was expected.
+int run_command(const RunOptions& options, std::ostream& out, std::ostream& err);
+
+// decode: a candump log + DBC -> CSV rows "timestamp,message,signal,raw,physical,unit,status".
+// With a mapping, only the signals the mapping uses are written.
+int decode_command(const std::string& dbc, const std::string& log, const std::string& map, std::ostream& out,
+                   std::ostream& err);
+
+// check-dbc: parse a DBC, summarise it and list the problems found.
+int check_dbc_command(const std::string& dbc, std::ostream& out, std::ostream& err);
+
+}  // namespace meter::controller

@@ -1,0 +1,119 @@
+#include <time.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "meter/controller/input.hpp"
+
+namespace meter::controller {
+namespace {
+std::int64_t mono_ns() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+}  // namespace
+
+ParsedLog parse_candump_log(std::string_view text) {
+  ParsedLog log;
+  std::size_t pos = 0;
+  std::string why;
+  while (pos < text.size()) {
+    std::size_t nl = text.find('\n', pos);
+    std::string_view line = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
+    pos = nl == std::string_view::npos ? text.size() : nl + 1;
+    ++log.lines;
+    std::string_view t = line;
+    while (!t.empty() && (t.back() == '\r' || t.back() == ' ' || t.back() == '\t')) t.remove_suffix(1);
+    if (t.empty()) continue;  // blank lines are not errors
+    auto r = parse_candump_line(t, &why);
+    if (!r) {
+      log.bad_lines.push_back({log.lines, why});
+      continue;
+    }
+    log.frames.push_back(r->frame);
+  }
+  return log;
+}
+
+ParsedLog load_candump_log(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the log for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_candump_log(ss.str());
+}
+
+ReplayOptions parse_replay(std::string_view text) {
+  ReplayOptions o;
+  if (text == "realtime") {
+    o.mode = ReplayMode::Realtime;
+  } else if (text == "fast") {
+    o.mode = ReplayMode::Fast;
+  } else if (text.rfind("scale:", 0) == 0) {
+    std::string v(text.substr(6));
+    char* end = nullptr;
+    double s = std::strtod(v.c_str(), &end);
+    if (v.empty() || end != v.c_str() + v.size() || !(s > 0) || !std::isfinite(s))
+      throw std::invalid_argument("--replay scale:N: expected a factor > 0, got '" + v + "'");
+    o.mode = ReplayMode::Scaled;
+    o.scale = s;
+  } else {
+    throw std::invalid_argument("--replay: expected realtime, fast or scale:N, got '" + std::string(text) + "'");
+  }
+  return o;
+}
+
+LogReplay::LogReplay(ParsedLog log, ReplayOptions options) : log_(std::move(log)), opt_(options) {
+  if (opt_.mode == ReplayMode::Realtime) opt_.scale = 1.0;
+  if (!log_.frames.empty()) {
+    log_start_ = log_.frames.front().timestamp_ns;
+    sim_now_ = log_start_;
+  }
+}
+
+std::int64_t LogReplay::now_ns() const {
+  if (opt_.mode == ReplayMode::Fast || !begun_) return sim_now_;
+  return log_start_ + static_cast<std::int64_t>(static_cast<double>(mono_ns() - wall_start_) * opt_.scale);
+}
+
+bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
+  const auto& frames = log_.frames;
+  if (!begun_) {
+    begun_ = true;
+    wall_start_ = mono_ns();
+  }
+  if (opt_.mode == ReplayMode::Fast) {
+    // Simulated clock: advance one step and hand over everything due by then. No sleeping.
+    sim_now_ += std::chrono::duration_cast<std::chrono::nanoseconds>(opt_.fast_step).count();
+    while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) sink.on_frame(frames[next_++]);
+    return next_ < frames.size();
+  }
+  const std::int64_t deadline = mono_ns() + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+  for (;;) {
+    const std::int64_t now = now_ns();
+    bool any = false;
+    while (next_ < frames.size() && frames[next_].timestamp_ns <= now) {
+      sink.on_frame(frames[next_++]);
+      any = true;
+    }
+    if (next_ >= frames.size()) return false;
+    if (any) return true;
+    const std::int64_t wall_left = deadline - mono_ns();
+    if (wall_left <= 0) return true;
+    const auto due_wall = static_cast<std::int64_t>(static_cast<double>(frames[next_].timestamp_ns - now) / opt_.scale);
+    std::this_thread::sleep_for(std::chrono::nanoseconds(std::max<std::int64_t>(0, std::min(wall_left, due_wall))));
+  }
+}
+
+std::string LogReplay::describe() const {
+  std::string mode = opt_.mode == ReplayMode::Fast ? "fast" : opt_.mode == ReplayMode::Realtime ? "realtime" : "scale:" + std::to_string(opt_.scale);
+  return "candump log (" + std::to_string(log_.frames.size()) + " frames, " + std::to_string(log_.bad_lines.size()) +
+         " bad lines, replay " + mode + ")";
+}
+
+}  // namespace meter::controller

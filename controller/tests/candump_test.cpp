@@ -1,0 +1,101 @@
+#include <gtest/gtest.h>
+
+#include "meter/controller/can_frame.hpp"
+
+using namespace meter::controller;
+
+namespace {
+CanFrame parse_ok(std::string_view line) {
+  std::string why;
+  auto r = parse_candump_line(line, &why);
+  EXPECT_TRUE(r.has_value()) << line << ": " << why;
+  return r ? r->frame : CanFrame{};
+}
+std::string parse_err(std::string_view line) {
+  std::string why;
+  auto r = parse_candump_line(line, &why);
+  EXPECT_FALSE(r.has_value()) << line;
+  return why;
+}
+}  // namespace
+
+TEST(Candump, StandardFrame) {
+  auto f = parse_ok("(1631416514.717133) can0 0D2#0000FFFF10000000");
+  EXPECT_EQ(f.timestamp_ns, 1631416514717133000LL);
+  EXPECT_EQ(f.id, 0xD2u);
+  EXPECT_FALSE(f.extended);
+  EXPECT_EQ(f.len, 8);
+  EXPECT_EQ(f.data[2], 0xFF);
+  EXPECT_EQ(f.data[4], 0x10);
+}
+
+TEST(Candump, ExtendedRtrDlcFdError) {
+  auto e = parse_ok("(0000000001.000000) vcan0 1F334455#1122334455667788_B");
+  EXPECT_TRUE(e.extended);
+  EXPECT_EQ(e.id, 0x1F334455u);
+  EXPECT_EQ(e.len8_dlc, 0xB);
+  auto r = parse_ok("(1.5) can0 00000123#R3");
+  EXPECT_TRUE(r.rtr);
+  EXPECT_TRUE(r.extended);
+  EXPECT_EQ(r.len, 3);
+  EXPECT_EQ(r.timestamp_ns, 1500000000LL);
+  auto r0 = parse_ok("(1.0) can0 123#R");
+  EXPECT_TRUE(r0.rtr);
+  EXPECT_EQ(r0.len, 0);
+  auto r8 = parse_ok("(1.0) can0 333#R8_E");
+  EXPECT_EQ(r8.len, 8);
+  EXPECT_EQ(r8.len8_dlc, 0xE);
+  auto fd = parse_ok("(1.0) can0 123##1112233445566778899AABBCC");
+  EXPECT_TRUE(fd.fd);
+  EXPECT_EQ(fd.fd_flags, 1);
+  EXPECT_EQ(fd.len, 12);
+  EXPECT_EQ(fd.data[11], 0xCC);
+  auto fd0 = parse_ok("(1.0) can0 123##1");
+  EXPECT_TRUE(fd0.fd);
+  EXPECT_EQ(fd0.len, 0);
+  auto dots = parse_ok("(1.0) can0 5A1#11.2233.44556677.88");
+  EXPECT_EQ(dots.len, 8);
+  EXPECT_EQ(dots.data[7], 0x88);
+  auto empty = parse_ok("(1.0) can0 5AA#");
+  EXPECT_EQ(empty.len, 0);
+  auto err = parse_ok("(1.0) can0 20000080#0000000000000000");
+  EXPECT_TRUE(err.error);
+  EXPECT_EQ(err.id, 0x80u);
+  auto dir = parse_ok("(1.0) can0 123#11 R\r\n");
+  EXPECT_EQ(dir.len, 1);
+}
+
+TEST(Candump, BadLinesSayWhatWasExpected) {
+  EXPECT_NE(parse_err("").find("timestamp"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0 can0 123#00").find(")"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 12#00").find("3 hex digits"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 800#00").find("0x7FF"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 123#0").find("two hex digits"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 123#001122334455667788").find("more than 8"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 123##1001122334455667788").find("valid FD length"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 123#0011_9").find("_9"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 123#R9").find("0..8"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0 123#00 junk").find("direction"), std::string::npos);
+  EXPECT_NE(parse_err("(x.0) can0 123#00").find("digits"), std::string::npos);
+  EXPECT_NE(parse_err("(1.0) can0").find("frame"), std::string::npos);
+}
+
+TEST(Candump, FormatRoundTrips) {
+  for (std::string_view line : {"(1631416514.717133) can0 0D2#0000FFFF10000000",
+                                "(0000000001.500000) vcan0 00000123#R3", "(0000000001.000000) can0 333#R8_E",
+                                "(0000000001.000000) can0 123##1112233445566778899AABBCC",
+                                "(0000000001.000000) can0 1F334455#1122334455667788_B",
+                                "(0000000002.000001) can0 20000080#0000000000000000",
+                                "(0000000002.000001) can0 5AA#"}) {
+    std::string why;
+    auto r = parse_candump_line(line, &why);
+    ASSERT_TRUE(r) << why;
+    std::string out = format_candump_line(r->frame, r->interface);
+    auto again = parse_candump_line(out, &why);
+    ASSERT_TRUE(again) << out << ": " << why;
+    EXPECT_EQ(format_candump_line(again->frame, again->interface), out);
+    if (line[11] == '.') {
+      EXPECT_EQ(out, line);
+    }
+  }
+}
