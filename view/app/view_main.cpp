@@ -1,0 +1,321 @@
+// meter-view: the graphics-MCU process. Renders a scene package offscreen (EGL or OSMesa).
+//
+//   offline:  meter-view --scene S.msp --set Vehicle.Speed=100 [--values v.csv --at 12.5s] --out DIR
+//             renders that one state to DIR/frame.png and exits;
+//   live:     meter-view --scene S.msp --link unix:/run/meter.sock --fps 30 --dump-every 30 --out DIR
+//             renders at its own rate, decoupled from message arrival, dumping PNGs + frames.csv.
+#include <csignal>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+
+#include "meter/engine/bindings.hpp"
+#include "meter/engine/package.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/platform/backend.hpp"
+#include "meter/platform/image.hpp"
+#include "meter/protocol/catalog.hpp"
+#include "meter/protocol/link.hpp"
+
+namespace {
+
+using namespace meter;
+using Clock = std::chrono::steady_clock;
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+struct Failure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// "12.5s", "12.5", "250ms" -> seconds.
+double parse_time(const std::string& text) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    throw Failure("--at: \"" + text + "\" is not a time (examples: 12.5s, 250ms)");
+  }
+  const std::string unit = text.substr(used);
+  if (unit == "ms") v /= 1000.0;
+  else if (!unit.empty() && unit != "s") throw Failure("--at: unknown unit \"" + unit + "\" (use s or ms)");
+  if (!std::isfinite(v) || v < 0) throw Failure("--at: time must be finite and >= 0");
+  return v;
+}
+
+const protocol::SignalInfo& signal_named(const std::string& name, const std::string& where) {
+  const auto* info = protocol::find_signal(name);
+  if (!info) throw Failure(where + ": \"" + name + "\" is not in the signal catalog");
+  return *info;
+}
+
+// NAME=VALUE (VALUE a number, or any text for Text signals), optionally NAME=VALUE@status.
+void parse_set(const std::string& arg, std::map<int, engine::SignalValue>& values, const std::string& where) {
+  auto eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0) throw Failure(where + ": expected NAME=VALUE, got \"" + arg + "\"");
+  const auto& info = signal_named(arg.substr(0, eq), where);
+  std::string value = arg.substr(eq + 1);
+  engine::SignalValue sv;
+  sv.status = protocol::SignalStatus::Valid;
+  auto at = value.rfind('@');
+  if (at != std::string::npos) {
+    auto st = protocol::status_from_string(value.substr(at + 1));
+    if (!st) throw Failure(where + ": unknown status \"" + value.substr(at + 1) + "\" (valid, timed_out, invalid, not_available)");
+    sv.status = *st;
+    value = value.substr(0, at);
+  }
+  if (info.kind == protocol::SignalKind::Text) {
+    sv.text = value;
+  } else {
+    std::size_t used = 0;
+    try {
+      sv.value = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size() || !std::isfinite(sv.value)) {
+      throw Failure(where + ": value \"" + value + "\" for " + std::string(info.name) + " is not a finite number");
+    }
+  }
+  values[info.id] = sv;
+}
+
+// CSV rows "time,signal,value[,status]" (a header row is allowed); the state at `t` is, per signal,
+// the last row with time <= t.
+void load_values_csv(const std::string& path, double t, std::map<int, engine::SignalValue>& values) {
+  std::ifstream in(path);
+  if (!in) throw Failure(path + ": cannot open values CSV");
+  std::string line;
+  int lineno = 0;
+  std::map<int, double> row_time;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) f.push_back(cell);
+    const std::string where = path + ":" + std::to_string(lineno);
+    double rt = 0;
+    std::size_t used = 0;
+    try {
+      rt = std::stod(f.empty() ? "" : f[0], &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0) {
+      if (lineno == 1) continue;  // header
+      throw Failure(where + ": first column must be a time in seconds");
+    }
+    if (f.size() < 3 || f.size() > 4) throw Failure(where + ": expected time,signal,value[,status]");
+    if (rt > t) continue;
+    std::string set = f[1] + "=" + f[2] + (f.size() == 4 ? "@" + f[3] : "");
+    std::map<int, engine::SignalValue> one;
+    parse_set(set, one, where);
+    for (auto& [id, v] : one) {
+      if (!row_time.count(id) || row_time[id] <= rt) {
+        row_time[id] = rt;
+        values[id] = v;
+      }
+    }
+  }
+}
+
+std::pair<int, int> parse_size(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 16 || h < 16 || w > 8192 || h > 8192) {
+    throw Failure("--size: expected WxH with 16..8192 each, got \"" + s + "\"");
+  }
+  return {w, h};
+}
+
+// frames.csv: one line per dumped PNG with the bound signals as drawn.
+class FramesCsv {
+ public:
+  FramesCsv(const std::filesystem::path& file, const engine::BindingEvaluator& ev) : ev_(ev), out_(file) {
+    if (!out_) throw Failure(file.string() + ": cannot write");
+    out_ << "frame,time_s,png,link_up,drawn";
+    for (std::size_t i = 0; i < ev.bindings().size(); ++i) {
+      const auto& b = ev.bindings()[i];
+      if (seen_.insert(b.signal).second) {
+        columns_.push_back(i);
+        out_ << "," << b.signal << "," << b.signal << ".status," << b.signal << ".failsafe";
+      }
+    }
+    out_ << "\n";
+  }
+  void row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn) {
+    out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << png << "," << link_up << "," << drawn;
+    for (std::size_t i : columns_) {
+      const auto& s = ev_.states()[i];
+      out_ << "," << std::setprecision(6) << s.value << "," << protocol::to_string(s.status) << "," << s.failsafe;
+    }
+    out_ << "\n";
+    out_.flush();
+  }
+
+ private:
+  const engine::BindingEvaluator& ev_;
+  std::ofstream out_;
+  std::set<std::string> seen_;
+  std::vector<std::size_t> columns_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"meter-view: instrument-cluster view (graphics MCU). Renders a scene package offscreen with EGL or OSMesa.\n"
+               "Offline: --set/--values/--at render one state to <out>/frame.png. Live: --link ENDPOINT renders at --fps."};
+  std::string scene_path, backend_name = "egl", size_text, out_dir = ".", link, values_csv, at_text, timing_csv, png_name = "frame.png";
+  std::vector<std::string> sets;
+  int msaa = 4, dump_every = 0;
+  double fps = 30.0, duration = 0.0;
+  bool dump_last = false, link_lost = false, info = false;
+  app.add_option("--scene", scene_path, "scene package written by meter-convert (.msp)")->required();
+  app.add_option("--backend", backend_name, "egl (Mesa surfaceless / EGL device, GLES 3) or osmesa (software)")
+      ->check(CLI::IsMember({"egl", "osmesa"}))->capture_default_str();
+  app.add_option("--size", size_text, "render size WxH (default: the scene config's size)");
+  app.add_option("--msaa", msaa, "MSAA samples: 1, 2, 4 or 8")->check(CLI::IsMember({1, 2, 4, 8}))->capture_default_str();
+  app.add_option("--out", out_dir, "output directory for PNGs, frames.csv")->capture_default_str();
+  auto* set_opt = app.add_option("--set", sets, "offline: signal value NAME=VALUE[@status] (repeatable)");
+  auto* values_opt = app.add_option("--values", values_csv, "offline: CSV of time,signal,value[,status] rows")->check(CLI::ExistingFile);
+  app.add_option("--at", at_text, "offline: time in --values to render (12.5s, 250ms)")->needs(values_opt);
+  app.add_option("--png", png_name, "offline: file name of the PNG inside --out")->capture_default_str();
+  app.add_flag("--link-lost", link_lost, "offline: render the link-loss (failsafe) look");
+  auto* link_opt = app.add_option("--link", link, "live: controller endpoint unix:/path | tcp:host:port | default");
+  link_opt->excludes(set_opt)->excludes(values_opt);
+  app.add_option("--fps", fps, "live: render rate")->check(CLI::Range(1.0, 240.0))->capture_default_str();
+  app.add_option("--dump-every", dump_every, "live: write every Nth frame as PNG (0 = none)")->check(CLI::NonNegativeNumber);
+  app.add_option("--duration", duration, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM)")->check(CLI::NonNegativeNumber);
+  app.add_flag("--dump-last", dump_last, "live: write the final frame on exit");
+  app.add_option("--timing-csv", timing_csv, "per-frame timing by stage (update, submit, GPU+readback) to this CSV");
+  app.add_flag("--info", info, "print the GL renderer line and scene statistics to stderr");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    namespace fs = std::filesystem;
+    const auto process_start = Clock::now();
+    engine::Scene scene = engine::read_package(scene_path);
+    auto kind = platform::parse_backend_kind(backend_name);
+    auto backend = platform::create_backend(*kind);
+    engine::RendererOptions ro;
+    ro.msaa = msaa;
+    if (!size_text.empty()) std::tie(ro.width, ro.height) = parse_size(size_text);
+    engine::Renderer renderer(*backend, scene, ro);
+    engine::BindingEvaluator evaluator(scene);
+    if (info) std::cerr << "meter-view: " << renderer.backend_info() << "; " << scene.draws.size() << " draws, " << scene.programs.size() << " programs\n";
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    if (ec) throw Failure(out_dir + ": cannot create output directory: " + ec.message());
+    std::ofstream timing;
+    if (!timing_csv.empty()) {
+      timing.open(timing_csv);
+      if (!timing) throw Failure(timing_csv + ": cannot write");
+      timing << "frame,time_s,update_ms,submit_ms,gpu_readback_ms,drawn\n";
+    }
+    auto log_timing = [&](std::uint64_t frame, double t, const engine::FrameTiming& ft) {
+      if (timing.is_open()) {
+        timing << frame << "," << std::fixed << std::setprecision(4) << t << "," << ft.update_ms << "," << ft.submit_ms << ","
+               << ft.gpu_readback_ms << "," << ft.drawn << "\n";
+      }
+    };
+
+    if (link.empty()) {
+      // Offline: one state, straight to PNG.
+      std::map<int, engine::SignalValue> values;
+      if (!values_csv.empty()) load_values_csv(values_csv, at_text.empty() ? 1e300 : parse_time(at_text), values);
+      for (const auto& s : sets) parse_set(s, values, "--set");
+      auto lookup = [&](int id) -> const engine::SignalValue* {
+        auto it = values.find(id);
+        return it == values.end() ? nullptr : &it->second;
+      };
+      evaluator.update(lookup, !link_lost, -1.0);  // negative dt: no smoothing, the state itself
+      renderer.apply(evaluator.outputs());
+      auto ft = renderer.render(true, true);
+      log_timing(0, 0.0, ft);
+      const fs::path png = fs::path(out_dir) / png_name;
+      platform::write_png(renderer.last_image(), png);
+      FramesCsv csv(fs::path(out_dir) / "frames.csv", evaluator);
+      csv.row(0, 0.0, png.filename().string(), !link_lost, true);
+      if (info) {
+        std::cerr << "meter-view: wrote " << png.string() << " in "
+                  << std::chrono::duration<double, std::milli>(Clock::now() - process_start).count() << " ms\n";
+      }
+      return 0;
+    }
+
+    // Live.
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    protocol::LinkOptions lo;
+    lo.name = "meter-view";
+    protocol::Subscriber sub(link == "default" ? protocol::default_endpoint() : protocol::Endpoint::parse(link), lo);
+    FramesCsv csv(fs::path(out_dir) / "frames.csv", evaluator);
+    std::map<int, engine::SignalValue> cache;
+    auto lookup = [&](int id) -> const engine::SignalValue* {
+      const auto& s = sub.get(static_cast<protocol::SignalId>(id));
+      auto& v = cache[id];
+      v.value = s.value;
+      v.status = s.status;
+      v.text = s.text;
+      return &v;
+    };
+    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
+    const auto start = Clock::now();
+    auto next = start;
+    auto last = start;
+    std::uint64_t frame = 0;
+    auto dump = [&](std::uint64_t n, double t) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(n));
+      platform::write_png(renderer.last_image(), fs::path(out_dir) / name);
+      csv.row(n, t, name, sub.link_up(), true);
+    };
+    while (!g_stop) {
+      const auto now0 = Clock::now();
+      if (duration > 0 && now0 - start >= std::chrono::duration<double>(duration)) break;
+      // Messages are consumed whenever they arrive; frames happen on the render clock only.
+      while (!g_stop) {
+        const auto now = Clock::now();
+        if (now >= next) break;
+        sub.poll(std::chrono::duration_cast<std::chrono::milliseconds>(next - now) + std::chrono::milliseconds(0));
+        if (Clock::now() < next && next - Clock::now() < std::chrono::milliseconds(1)) std::this_thread::sleep_until(next);
+      }
+      const auto now = Clock::now();
+      const double dt = std::chrono::duration<double>(now - last).count();
+      last = now;
+      const double t = std::chrono::duration<double>(now - start).count();
+      evaluator.update(lookup, sub.link_up(), dt);
+      renderer.apply(evaluator.outputs());
+      const bool want = dump_every > 0 && frame % static_cast<std::uint64_t>(dump_every) == 0;
+      auto ft = renderer.render(false, want);
+      log_timing(frame, t, ft);
+      if (want) dump(frame, t);
+      sub.send_status(renderer.stats().drawn, 0);
+      ++frame;
+      next += period;
+      if (next < Clock::now()) next = Clock::now();  // late: do not burst to catch up
+    }
+    if (dump_last && frame > 0) {
+      renderer.read();
+      dump(frame - 1, std::chrono::duration<double>(Clock::now() - start).count());
+    }
+    const auto& st = renderer.stats();
+    std::cerr << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped << " skipped (inputs unchanged)\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "meter-view: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,43 @@
+// Keyframe sampling (glTF 2.0 semantics) and pose evaluation. Pure functions on plain data.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meter/engine/scene.hpp"
+
+namespace meter::engine {
+
+// Samples `s` at time t (seconds) into out[0 .. s.components). Rules:
+//  - t before the first key / after the last key: clamped to that key's value;
+//  - a single key: that value for every t;
+//  - duplicate key times (zero-length interval): the later key wins, no division by zero;
+//  - LINEAR: lerp; for rotations (rotation = true) shortest-path slerp (q and -q are the same
+//    orientation, so the interpolation never takes the long way round), result normalised;
+//  - STEP: the value of the key at or before t;
+//  - CUBICSPLINE: Hermite with the stored tangents scaled by the key interval (glTF spec), rotation
+//    result normalised.
+// Time is double so long-running loops keep sub-millisecond resolution.
+void sample(const AnimSampler& s, double t, std::span<float> out, bool rotation = false);
+
+// Local TRS + morph weights of every node, the state animations write into.
+struct Pose {
+  std::vector<glm::vec3> translation;
+  std::vector<glm::quat> rotation;
+  std::vector<glm::vec3> scale;
+  std::vector<std::vector<float>> weights;
+  static Pose rest(const Scene& scene);
+};
+
+// Writes every channel of animation `index` sampled at time t into the pose. Returns the set of
+// nodes it touched (their world matrices need recomputing).
+void apply_animation(const Scene& scene, int index, double t, Pose& pose, std::vector<int>* touched = nullptr);
+
+glm::mat4 local_matrix(const glm::vec3& t, const glm::quat& r, const glm::vec3& s);
+
+// World matrices of all nodes (parents before children via the node tree).
+void world_matrices(const Scene& scene, const Pose& pose, std::vector<glm::mat4>& world);
+
+}  // namespace meter::engine

@@ -1,0 +1,101 @@
+// Bindings: signal values -> scene effects (animation time, visibility, material colours, morph
+// weights, text). Pure: no GL, no sockets; the renderer consumes BindingOutputs.
+//
+// Per binding, each update():
+//   target = the signal value when it is Valid and the link is up, else the failsafe value (when the
+//            binding has one), else the last value drawn (hold);
+//   drawn  = target, approached with first-order smoothing (time constant smoothing_ms) and snapped
+//            once within 1e-4 of the input span, so a settled needle stops producing new frames;
+//   effect = a function of drawn only (so equal inputs give equal outputs: the renderer can skip).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meter/engine/scene.hpp"
+#include "meter/protocol/catalog.hpp"
+
+namespace meter::engine {
+
+struct SignalValue {
+  double value = 0.0;
+  protocol::SignalStatus status = protocol::SignalStatus::NotAvailable;
+  std::string text;
+};
+
+// Returns the current state of a signal id, or nullptr when nothing is known (treated as NotAvailable).
+using SignalLookup = std::function<const SignalValue*(int signal_id)>;
+
+struct TextItem {
+  int node = -1;
+  std::string text;
+  int size_px = 24;
+  glm::vec4 color{1.0f};  // sRGB-encoded, straight alpha (designer colour)
+  TextAlign align = TextAlign::Left;
+  bool operator==(const TextItem&) const = default;
+};
+
+struct MorphOverride {
+  int node = -1, target = 0;
+  float weight = 0.0f;
+  bool operator==(const MorphOverride&) const = default;
+};
+
+struct BindingOutputs {
+  std::vector<double> animation_time;            // per animation; config.time when not driven
+  std::vector<signed char> node_visible;         // per node: -1 no override, 0 hidden, 1 shown
+  std::vector<std::optional<glm::vec3>> emissive;  // per material
+  std::vector<std::optional<glm::vec4>> base_color;
+  std::vector<MorphOverride> morph;
+  std::vector<TextItem> texts;
+  bool link_lost = false;
+  bool operator==(const BindingOutputs&) const = default;
+};
+
+// What each binding showed in the last update (for frames.csv: values as drawn).
+struct BindingState {
+  double value = 0.0;        // smoothed value used for the effect
+  double target = 0.0;       // value being approached
+  protocol::SignalStatus status = protocol::SignalStatus::NotAvailable;
+  bool failsafe = false;     // the failsafe look is applied
+  bool has_value = false;    // false until the first value (or failsafe) arrived
+  std::string text;          // text bindings: the text drawn
+};
+
+class BindingEvaluator {
+ public:
+  // Resolves names against the scene (throws SceneError like resolve_config).
+  explicit BindingEvaluator(const Scene& scene);
+
+  // One step. dt_seconds: time since the previous step (smoothing); pass a negative dt to jump
+  // straight to the targets (offline rendering of a state). Returns true when the outputs changed.
+  bool update(const SignalLookup& signals, bool link_up, double dt_seconds);
+
+  const BindingOutputs& outputs() const { return out_; }
+  const std::vector<BindingState>& states() const { return state_; }
+  const std::vector<Binding>& bindings() const { return bindings_; }
+  // True while some smoothed value is still moving towards its target.
+  bool animating() const { return animating_; }
+
+ private:
+  struct Resolved {
+    int animation = -1, node = -1, material = -1;
+  };
+  const Scene& scene_;
+  std::vector<Binding> bindings_;
+  std::vector<Resolved> resolved_;
+  std::vector<BindingState> state_;
+  BindingOutputs out_;
+  int link_loss_node_ = -1;
+  bool first_ = true;
+  bool animating_ = false;
+};
+
+// The text a text binding shows for a value: the map entry for an integral value, else the format.
+std::string binding_text(const Binding& b, double value);
+
+}  // namespace meter::engine

@@ -1,0 +1,49 @@
+// glTF 2.0 (+ scene config) -> Scene with generated programs: what meter-convert does.
+//
+// Validation names the element and the problem ("nodes[3].rotation: quaternion not unit length
+// (|q| = 1.2)"). Problems with one obviously right answer are repaired and reported as warnings
+// (docs/engine.md, "Repairs"); everything else is an error and nothing is written.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "meter/engine/config.hpp"
+#include "meter/engine/scene.hpp"
+
+namespace meter::engine {
+
+struct Diagnostic {
+  std::string path;     // JSON-ish element path: "meshes[0].primitives[0].attributes.NORMAL"
+  std::string message;  // what is wrong and, for repairs, what was done
+};
+
+// All errors found in one file (validation keeps going after the first so an artist sees them all).
+struct ConvertError : SceneError {
+  ConvertError(const std::string& file, std::vector<Diagnostic> errs);
+  std::vector<Diagnostic> errors;
+};
+
+struct ConvertOptions {
+  bool optimize = true;  // run shadergen::optimize() with the scene's constants (issue #11)
+};
+
+struct ConvertResult {
+  Scene scene;
+  std::vector<Diagnostic> repairs;  // warnings: what was repaired and how
+};
+
+// Loads, validates, converts; resolves the config against the scene (every binding's node /
+// material / animation must exist) and generates one program per distinct draw. Throws
+// ConvertError (validation), SceneError (unreadable file, config does not match the scene).
+ConvertResult convert_gltf(const std::string& gltf_path, const SceneConfig& config,
+                           const ConvertOptions& options = {});
+
+// Checks that every name the config refers to exists in the scene. Throws SceneError.
+void resolve_config(const Scene& scene, const SceneConfig& config, const std::string& origin);
+
+// The `meter-convert --report` text: one block per program (features, instruction and uniform
+// counts, draws using it).
+std::string program_report(const Scene& scene);
+
+}  // namespace meter::engine

@@ -1,0 +1,110 @@
+// The runtime renderer: GPU resources for a Scene (created through the platform Gl table), pose
+// evaluation driven by BindingOutputs, sorted draws, text overlay.
+//
+// What is computed when:
+//   construction  programs compiled, buffers/VAOs/textures uploaded, uniform locations looked up;
+//   apply()       only animations whose time changed are re-sampled; world matrices recomputed only
+//                 when some node moved; a frame is marked dirty only when an output differs;
+//   draw()        sorts (opaque front-to-back, blended back-to-front) and submits; skipped by the
+//                 caller (render_if_dirty) when nothing changed since the last drawn frame.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meter/engine/animation.hpp"
+#include "meter/engine/bindings.hpp"
+#include "meter/engine/scene.hpp"
+#include "meter/platform/backend.hpp"
+#include "meter/platform/image.hpp"
+#include "meter/platform/render_target.hpp"
+#include "meter/platform/text.hpp"
+
+namespace meter::engine {
+
+struct RendererOptions {
+  int width = 0, height = 0;  // 0 = the scene config's size
+  int msaa = 4;
+  std::string font_file;      // empty = METER_FONT_FILE
+};
+
+struct FrameTiming {
+  double update_ms = 0.0;        // bindings -> pose -> world matrices
+  double submit_ms = 0.0;        // CPU time issuing GL calls
+  double gpu_readback_ms = 0.0;  // glFinish (+ resolve and readback when the frame is read)
+  bool drawn = false;            // false: frame skipped (inputs unchanged)
+};
+
+struct RendererStats {
+  std::uint64_t frames = 0, drawn = 0, skipped = 0;
+  std::uint64_t animation_samples = 0;  // animations re-sampled (only on time change)
+  std::uint64_t world_updates = 0;      // world-matrix recomputations
+  std::uint64_t draw_calls = 0;         // total submitted draws
+};
+
+class Renderer {
+ public:
+  // Throws SceneError / platform::GlError with a clear message (e.g. a program that fails to
+  // compile on this backend names the program and the driver log).
+  Renderer(platform::GpuBackend& backend, const Scene& scene, const RendererOptions& options);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Applies binding outputs to the pose/overrides. Marks the frame dirty when anything changed.
+  void apply(const BindingOutputs& outputs);
+  bool dirty() const { return dirty_; }
+
+  // Draws when dirty (or `force`), then waits for the GPU; with `read` also resolves and reads the
+  // frame into last_image(). Returns the frame's timing; FrameTiming::drawn says whether it drew.
+  FrameTiming render(bool force = false, bool read = false);
+  const platform::Image& last_image() const { return image_; }
+  // Resolves and reads the current contents of the target (the last drawn frame).
+  const platform::Image& read();
+
+  const RendererStats& stats() const { return stats_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  std::string backend_info() const;
+  // Pixel position (origin top-left) of a node's world origin, for text anchors and tests.
+  glm::vec2 project(int node) const;
+
+ private:
+  struct GpuProgram;
+  struct GpuDraw;
+  void build();
+  void update_world();
+  void draw_scene();
+  void draw_text();
+  glm::mat4 view_projection(glm::vec3* eye) const;
+
+  platform::GpuBackend& backend_;
+  const platform::Gl& gl_;
+  const Scene& scene_;
+  RendererOptions options_;
+  int width_ = 0, height_ = 0;
+  std::unique_ptr<platform::RenderTarget> target_;
+  std::vector<std::unique_ptr<GpuProgram>> programs_;
+  std::vector<std::unique_ptr<GpuDraw>> draws_;
+  std::vector<GLuint> textures_;
+  GLuint white_texture_ = 0;
+  std::vector<GLuint> buffers_;
+  std::map<int, std::unique_ptr<platform::TextRenderer>> text_;
+  Pose pose_;
+  std::vector<glm::mat4> world_;
+  std::vector<char> visible_;
+  std::vector<double> anim_time_;
+  BindingOutputs outputs_;
+  bool have_outputs_ = false;
+  bool dirty_ = true;
+  bool world_dirty_ = true;
+  int camera_node_ = -1;
+  platform::Image image_;
+  RendererStats stats_;
+};
+
+}  // namespace meter::engine

@@ -1,0 +1,349 @@
+#include "meter/engine/config.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "meter/protocol/catalog.hpp"
+
+namespace meter::engine {
+namespace {
+
+using nlohmann::json;
+
+struct Ctx {
+  std::string origin;
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+    throw std::invalid_argument(origin + ": " + path + ": " + what);
+  }
+};
+
+double number(const Ctx& c, const json& j, const std::string& path) {
+  if (!j.is_number()) c.fail(path, "expected a number, got " + std::string(j.type_name()));
+  double v = j.get<double>();
+  if (!std::isfinite(v)) c.fail(path, "expected a finite number");
+  return v;
+}
+
+std::string string(const Ctx& c, const json& j, const std::string& path) {
+  if (!j.is_string()) c.fail(path, "expected a string, got " + std::string(j.type_name()));
+  return j.get<std::string>();
+}
+
+bool boolean(const Ctx& c, const json& j, const std::string& path) {
+  if (!j.is_boolean()) c.fail(path, "expected true or false, got " + std::string(j.type_name()));
+  return j.get<bool>();
+}
+
+template <std::size_t N>
+std::array<double, N> numbers(const Ctx& c, const json& j, const std::string& path,
+                              std::size_t min_count = N) {
+  if (!j.is_array() || j.size() < min_count || j.size() > N) {
+    c.fail(path, "expected an array of " +
+                     (min_count == N ? std::to_string(N) : std::to_string(min_count) + ".." +
+                                                               std::to_string(N)) +
+                     " numbers");
+  }
+  std::array<double, N> out{};
+  if (N == 4) out[N - 1] = 1.0;  // colours: alpha defaults to 1 when only rgb is given
+  for (std::size_t i = 0; i < j.size(); ++i) out[i] = number(c, j[i], path + "[" + std::to_string(i) + "]");
+  return out;
+}
+
+void check_keys(const Ctx& c, const json& obj, const std::string& path,
+                const std::set<std::string>& allowed) {
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    if (!allowed.count(it.key())) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      c.fail(path + "." + it.key(), "unknown key (expected one of: " + list + ")");
+    }
+  }
+}
+
+TextAlign parse_align(const Ctx& c, const json& j, const std::string& path) {
+  std::string s = string(c, j, path);
+  if (s == "left") return TextAlign::Left;
+  if (s == "center" || s == "centre") return TextAlign::Center;
+  if (s == "right") return TextAlign::Right;
+  c.fail(path, "expected \"left\", \"center\" or \"right\", got \"" + s + "\"");
+}
+
+std::array<double, 4> colour(const Ctx& c, const json& j, const std::string& path) {
+  auto v = numbers<4>(c, j, path, 3);
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (v[i] < 0.0) c.fail(path + "[" + std::to_string(i) + "]", "colour components must be >= 0");
+  }
+  return v;
+}
+
+std::array<double, 2> range(const Ctx& c, const json& j, const std::string& path) {
+  auto r = numbers<2>(c, j, path);
+  if (r[0] == r[1]) c.fail(path, "the two ends of the range must differ");
+  return r;
+}
+
+Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
+  if (!b.is_object()) c.fail(path, "expected an object");
+  Binding out;
+  if (!b.contains("signal")) c.fail(path + ".signal", "missing (a catalog signal name)");
+  out.signal = string(c, b["signal"], path + ".signal");
+  const auto* info = protocol::find_signal(out.signal);
+  if (!info) c.fail(path + ".signal", "\"" + out.signal + "\" is not in the signal catalog");
+  out.signal_id = info->id;
+  if (!b.contains("kind")) c.fail(path + ".kind", "missing");
+  std::string kind = string(c, b["kind"], path + ".kind");
+  auto need = [&](const char* key) -> const json& {
+    if (!b.contains(key)) c.fail(path + "." + key, "missing (required for kind \"" + kind + "\")");
+    return b[key];
+  };
+  std::set<std::string> keys{"signal", "kind", "failsafe", "comment"};
+  auto failsafe_keys = std::set<std::string>{"value"};
+  if (kind == "animation") {
+    out.kind = BindingKind::Animation;
+    keys.insert({"animation", "input", "time", "smoothing_ms"});
+    out.animation = string(c, need("animation"), path + ".animation");
+    out.input = range(c, need("input"), path + ".input");
+    out.has_input = true;
+    out.time = numbers<2>(c, need("time"), path + ".time");
+  } else if (kind == "visibility") {
+    out.kind = BindingKind::Visibility;
+    keys.insert({"node", "threshold", "invert"});
+    failsafe_keys.insert("visible");
+    out.node = string(c, need("node"), path + ".node");
+    if (b.contains("invert")) out.invert = boolean(c, b["invert"], path + ".invert");
+  } else if (kind == "emissive" || kind == "color" || kind == "colour") {
+    out.kind = kind == "emissive" ? BindingKind::Emissive : BindingKind::Color;
+    keys.insert({"material", "off", "on", "input", "threshold", "smoothing_ms"});
+    out.material = string(c, need("material"), path + ".material");
+    out.off = colour(c, need("off"), path + ".off");
+    out.on = colour(c, need("on"), path + ".on");
+    if (b.contains("input")) {
+      out.input = range(c, b["input"], path + ".input");
+      out.has_input = true;
+    }
+  } else if (kind == "morph") {
+    out.kind = BindingKind::Morph;
+    keys.insert({"node", "target", "input", "weight", "smoothing_ms"});
+    out.node = string(c, need("node"), path + ".node");
+    double t = number(c, need("target"), path + ".target");
+    if (t < 0 || t != std::floor(t) || t > 255) c.fail(path + ".target", "expected a morph target index 0..255");
+    out.morph_target = static_cast<int>(t);
+    out.input = range(c, need("input"), path + ".input");
+    out.has_input = true;
+    if (b.contains("weight")) out.weight = numbers<2>(c, b["weight"], path + ".weight");
+  } else if (kind == "text") {
+    out.kind = BindingKind::Text;
+    keys.insert({"node", "format", "size_px", "color", "colour", "align", "map"});
+    failsafe_keys = {"text"};
+    out.node = string(c, need("node"), path + ".node");
+    if (b.contains("format")) {
+      out.format = string(c, b["format"], path + ".format");
+      std::string why;
+      if (!valid_number_format(out.format, &why)) c.fail(path + ".format", why);
+    }
+    if (b.contains("size_px")) {
+      out.size_px = number(c, b["size_px"], path + ".size_px");
+      if (out.size_px < 4 || out.size_px > 512) c.fail(path + ".size_px", "expected 4..512 pixels");
+    }
+    if (b.contains("color")) out.color = colour(c, b["color"], path + ".color");
+    if (b.contains("colour")) out.color = colour(c, b["colour"], path + ".colour");
+    if (b.contains("align")) out.align = parse_align(c, b["align"], path + ".align");
+    if (b.contains("map")) {
+      const json& m = b["map"];
+      if (!m.is_object()) c.fail(path + ".map", "expected an object {\"value\": \"text\"}");
+      for (auto it = m.begin(); it != m.end(); ++it) {
+        const std::string kp = path + ".map." + it.key();
+        long long k = 0;
+        std::size_t used = 0;
+        try {
+          k = std::stoll(it.key(), &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != it.key().size()) c.fail(kp, "map keys must be integers");
+        out.map[k] = string(c, it.value(), kp);
+      }
+    }
+  } else {
+    c.fail(path + ".kind",
+           "unknown kind \"" + kind + "\" (expected animation, visibility, emissive, color, morph or text)");
+  }
+  if (b.contains("threshold")) out.threshold = number(c, b["threshold"], path + ".threshold");
+  if (b.contains("smoothing_ms")) {
+    out.smoothing_ms = number(c, b["smoothing_ms"], path + ".smoothing_ms");
+    if (out.smoothing_ms < 0 || out.smoothing_ms > 10000) c.fail(path + ".smoothing_ms", "expected 0..10000");
+  }
+  check_keys(c, b, path, keys);
+  if (b.contains("failsafe")) {
+    const json& f = b["failsafe"];
+    const std::string fp = path + ".failsafe";
+    if (!f.is_object()) c.fail(fp, "expected an object");
+    check_keys(c, f, fp, failsafe_keys);
+    if (f.contains("value")) out.failsafe_value = number(c, f["value"], fp + ".value");
+    if (f.contains("visible")) out.failsafe_visible = boolean(c, f["visible"], fp + ".visible");
+    if (f.contains("text")) out.failsafe_text = string(c, f["text"], fp + ".text");
+  }
+  return out;
+}
+
+}  // namespace
+
+const char* to_string(BindingKind kind) {
+  switch (kind) {
+    case BindingKind::Animation: return "animation";
+    case BindingKind::Visibility: return "visibility";
+    case BindingKind::Emissive: return "emissive";
+    case BindingKind::Color: return "color";
+    case BindingKind::Morph: return "morph";
+    case BindingKind::Text: return "text";
+  }
+  return "?";
+}
+
+bool valid_number_format(std::string_view f, std::string* why) {
+  int conversions = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f[i] != '%') continue;
+    ++i;
+    if (i < f.size() && f[i] == '%') continue;
+    while (i < f.size() && std::string_view("-+ #0").find(f[i]) != std::string_view::npos) ++i;
+    int width_digits = 0;
+    while (i < f.size() && f[i] >= '0' && f[i] <= '9') ++i, ++width_digits;
+    if (i < f.size() && f[i] == '.') {
+      ++i;
+      int prec_digits = 0;
+      while (i < f.size() && f[i] >= '0' && f[i] <= '9') ++i, ++prec_digits;
+      if (prec_digits > 2) width_digits = 99;
+    }
+    if (width_digits > 2) {
+      if (why) *why = "width/precision must be at most two digits";
+      return false;
+    }
+    if (i >= f.size() || std::string_view("feEgGF").find(f[i]) == std::string_view::npos) {
+      if (why) *why = "only %f %e %g (with flags, width, precision) and %% are allowed in \"" + std::string(f) + "\"";
+      return false;
+    }
+    ++conversions;
+  }
+  if (conversions != 1) {
+    if (why) *why = "expected exactly one number conversion (e.g. \"%.0f km\") in \"" + std::string(f) + "\"";
+    return false;
+  }
+  return true;
+}
+
+std::string format_number(const std::string& format, double value) {
+  char buf[256];
+  // The format was checked by valid_number_format (one float conversion, widths <= 99).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+  int n = std::snprintf(buf, sizeof buf, format.c_str(), value);
+#pragma GCC diagnostic pop
+  if (n < 0) return {};
+  return std::string(buf, static_cast<std::size_t>(std::min<int>(n, sizeof buf - 1)));
+}
+
+SceneConfig parse_scene_config(std::string_view text, const std::string& origin) {
+  Ctx c{origin};
+  json j;
+  try {
+    j = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    throw std::invalid_argument(origin + ": not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) c.fail("$", "expected a JSON object");
+  check_keys(c, j, "$",
+             {"format", "size", "camera", "clear_color", "time", "ambient", "exposure", "bindings",
+              "link_loss", "groups", "materials", "comment"});
+  SceneConfig out;
+  out.source_json = std::string(text);
+  if (!j.contains("format")) c.fail("$.format", "missing (expected \"meter-scene-config/1\")");
+  std::string format = string(c, j["format"], "$.format");
+  if (format != "meter-scene-config/1") {
+    c.fail("$.format", "unsupported format \"" + format + "\" (this build reads \"meter-scene-config/1\")");
+  }
+  if (j.contains("size")) {
+    auto s = numbers<2>(c, j["size"], "$.size");
+    for (int i = 0; i < 2; ++i) {
+      if (s[i] < 16 || s[i] > 8192 || s[i] != std::floor(s[i])) {
+        c.fail("$.size[" + std::to_string(i) + "]", "expected an integer 16..8192");
+      }
+      out.size[i] = static_cast<int>(s[i]);
+    }
+  }
+  if (j.contains("camera")) out.camera = string(c, j["camera"], "$.camera");
+  if (j.contains("clear_color")) out.clear_color = colour(c, j["clear_color"], "$.clear_color");
+  if (j.contains("time")) {
+    out.time = number(c, j["time"], "$.time");
+  }
+  if (j.contains("ambient")) out.ambient = numbers<3>(c, j["ambient"], "$.ambient");
+  if (j.contains("exposure")) out.exposure = number(c, j["exposure"], "$.exposure");
+  if (j.contains("bindings")) {
+    const json& bs = j["bindings"];
+    if (!bs.is_array()) c.fail("$.bindings", "expected an array");
+    for (std::size_t i = 0; i < bs.size(); ++i) {
+      out.bindings.push_back(parse_binding(c, bs[i], "$.bindings[" + std::to_string(i) + "]"));
+    }
+  }
+  if (j.contains("link_loss")) {
+    const json& l = j["link_loss"];
+    if (!l.is_object()) c.fail("$.link_loss", "expected an object");
+    check_keys(c, l, "$.link_loss", {"text_node", "text", "size_px", "color", "align"});
+    if (l.contains("text_node")) out.link_loss.text_node = string(c, l["text_node"], "$.link_loss.text_node");
+    if (l.contains("text")) out.link_loss.text = string(c, l["text"], "$.link_loss.text");
+    if (l.contains("size_px")) out.link_loss.size_px = number(c, l["size_px"], "$.link_loss.size_px");
+    if (l.contains("color")) out.link_loss.color = colour(c, l["color"], "$.link_loss.color");
+    if (l.contains("align")) out.link_loss.align = parse_align(c, l["align"], "$.link_loss.align");
+  }
+  if (j.contains("groups")) {
+    const json& gs = j["groups"];
+    if (!gs.is_array()) c.fail("$.groups", "expected an array");
+    for (std::size_t i = 0; i < gs.size(); ++i) {
+      const std::string gp = "$.groups[" + std::to_string(i) + "]";
+      if (!gs[i].is_object()) c.fail(gp, "expected an object");
+      check_keys(c, gs[i], gp, {"name", "members"});
+      Group g;
+      if (!gs[i].contains("name")) c.fail(gp + ".name", "missing");
+      g.name = string(c, gs[i]["name"], gp + ".name");
+      if (!gs[i].contains("members") || !gs[i]["members"].is_array()) c.fail(gp + ".members", "expected an array of node names");
+      for (std::size_t k = 0; k < gs[i]["members"].size(); ++k) {
+        g.members.push_back(string(c, gs[i]["members"][k], gp + ".members[" + std::to_string(k) + "]"));
+      }
+      out.groups.push_back(std::move(g));
+    }
+  }
+  if (j.contains("materials")) {
+    const json& ms = j["materials"];
+    if (!ms.is_object()) c.fail("$.materials", "expected an object {\"MaterialName\": {...}}");
+    for (auto it = ms.begin(); it != ms.end(); ++it) {
+      const std::string mp = "$.materials." + it.key();
+      if (!it.value().is_object()) c.fail(mp, "expected an object");
+      check_keys(c, it.value(), mp, {"shading"});
+      MaterialOverride o;
+      if (it.value().contains("shading")) {
+        std::string s = string(c, it.value()["shading"], mp + ".shading");
+        static const std::set<std::string> ok{"unlit", "flat", "gouraud", "blinn-phong", "pbr"};
+        if (!ok.count(s)) c.fail(mp + ".shading", "expected unlit, flat, gouraud, blinn-phong or pbr");
+        o.shading = s;
+      }
+      out.materials[it.key()] = o;
+    }
+  }
+  return out;
+}
+
+SceneConfig load_scene_config(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot open scene config");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_scene_config(ss.str(), path);
+}
+
+}  // namespace meter::engine

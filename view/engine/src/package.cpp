@@ -1,0 +1,587 @@
+#include "meter/engine/package.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <type_traits>
+
+namespace meter::engine {
+namespace {
+
+std::uint64_t fnv1a(std::span<const std::uint8_t> data) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::uint8_t b : data) {
+    h ^= b;
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+class Writer {
+ public:
+  std::vector<std::uint8_t> buf;
+  template <typename T>
+  void pod(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+    buf.insert(buf.end(), p, p + sizeof(T));
+  }
+  void u32(std::uint32_t v) { pod(v); }
+  void i32(std::int32_t v) { pod(v); }
+  void f32(float v) { pod(v); }
+  void f64(double v) { pod(v); }
+  void boolean(bool v) { pod(static_cast<std::uint8_t>(v ? 1 : 0)); }
+  void str(const std::string& s) {
+    u32(static_cast<std::uint32_t>(s.size()));
+    buf.insert(buf.end(), s.begin(), s.end());
+  }
+  template <typename T>
+  void vec(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    u32(static_cast<std::uint32_t>(v.size()));
+    const auto* p = reinterpret_cast<const std::uint8_t*>(v.data());
+    buf.insert(buf.end(), p, p + v.size() * sizeof(T));
+  }
+  void v3(const glm::vec3& v) { f32(v.x), f32(v.y), f32(v.z); }
+  void v4(const glm::vec4& v) { f32(v.x), f32(v.y), f32(v.z), f32(v.w); }
+};
+
+class Reader {
+ public:
+  Reader(std::span<const std::uint8_t> d, const std::string& origin) : data_(d), origin_(origin) {}
+  [[noreturn]] void fail(const std::string& what) const {
+    throw SceneError(origin_ + ": corrupt package at byte " + std::to_string(pos_) + ": " + what);
+  }
+  void need(std::size_t n, const char* what) {
+    if (n > data_.size() - pos_) fail(std::string("truncated while reading ") + what);
+  }
+  template <typename T>
+  T pod(const char* what) {
+    need(sizeof(T), what);
+    T v;
+    std::memcpy(&v, data_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  std::uint32_t u32(const char* what) { return pod<std::uint32_t>(what); }
+  std::int32_t i32(const char* what) { return pod<std::int32_t>(what); }
+  float f32(const char* what) {
+    float v = pod<float>(what);
+    if (!std::isfinite(v)) fail(std::string("non-finite float in ") + what);
+    return v;
+  }
+  double f64(const char* what) {
+    double v = pod<double>(what);
+    if (!std::isfinite(v)) fail(std::string("non-finite double in ") + what);
+    return v;
+  }
+  bool boolean(const char* what) { return pod<std::uint8_t>(what) != 0; }
+  std::uint32_t count(const char* what, std::size_t element_size) {
+    std::uint32_t n = u32(what);
+    if (element_size && n > (data_.size() - pos_) / element_size) fail(std::string("count too large for ") + what);
+    return n;
+  }
+  std::string str(const char* what) {
+    std::uint32_t n = count(what, 1);
+    std::string s(reinterpret_cast<const char*>(data_.data() + pos_), n);
+    pos_ += n;
+    return s;
+  }
+  template <typename T>
+  std::vector<T> vec(const char* what) {
+    std::uint32_t n = count(what, sizeof(T));
+    std::vector<T> v(n);
+    if (n) std::memcpy(v.data(), data_.data() + pos_, n * sizeof(T));
+    pos_ += n * sizeof(T);
+    if constexpr (std::is_floating_point_v<T>) {
+      for (T x : v) {
+        if (!std::isfinite(x)) fail(std::string("non-finite value in ") + what);
+      }
+    }
+    return v;
+  }
+  glm::vec3 v3(const char* what) { return {f32(what), f32(what), f32(what)}; }
+  glm::vec4 v4(const char* what) { return {f32(what), f32(what), f32(what), f32(what)}; }
+  bool at_end() const { return pos_ == data_.size(); }
+
+ private:
+  std::span<const std::uint8_t> data_;
+  std::size_t pos_ = 0;
+  std::string origin_;
+};
+
+template <typename E>
+E enum_in(Reader& r, int max, const char* what) {
+  std::int32_t v = r.i32(what);
+  if (v < 0 || v > max) r.fail(std::string("bad enum value for ") + what);
+  return static_cast<E>(v);
+}
+
+void write_features(Writer& w, const shadergen::MaterialFeatures& f) {
+  w.i32(int(f.shading)), w.i32(int(f.alpha)), w.i32(int(f.precision));
+  w.boolean(f.base_color_texture), w.boolean(f.metallic_roughness_texture), w.boolean(f.normal_texture);
+  w.boolean(f.emissive_texture), w.boolean(f.occlusion_texture);
+  w.u32(f.texcoord1_slots);
+  w.boolean(f.texture_transform), w.boolean(f.vertex_colors), w.boolean(f.vertex_alpha);
+  w.boolean(f.double_sided);
+  w.i32(f.skin_joints), w.i32(f.morph_targets);
+  w.boolean(f.morph_normals);
+  w.i32(f.lights.directional), w.i32(f.lights.point), w.i32(f.lights.spot);
+  w.boolean(f.environment_map_2d), w.boolean(f.has_tangents);
+}
+
+shadergen::MaterialFeatures read_features(Reader& r) {
+  using namespace shadergen;
+  MaterialFeatures f;
+  f.shading = enum_in<ShadingModel>(r, 4, "features.shading");
+  f.alpha = enum_in<AlphaMode>(r, 2, "features.alpha");
+  f.precision = enum_in<Precision>(r, 1, "features.precision");
+  f.base_color_texture = r.boolean("features");
+  f.metallic_roughness_texture = r.boolean("features");
+  f.normal_texture = r.boolean("features");
+  f.emissive_texture = r.boolean("features");
+  f.occlusion_texture = r.boolean("features");
+  f.texcoord1_slots = r.u32("features");
+  f.texture_transform = r.boolean("features");
+  f.vertex_colors = r.boolean("features");
+  f.vertex_alpha = r.boolean("features");
+  f.double_sided = r.boolean("features");
+  f.skin_joints = r.i32("features");
+  f.morph_targets = r.i32("features");
+  f.morph_normals = r.boolean("features");
+  f.lights.directional = r.i32("features");
+  f.lights.point = r.i32("features");
+  f.lights.spot = r.i32("features");
+  f.environment_map_2d = r.boolean("features");
+  f.has_tangents = r.boolean("features");
+  return f;
+}
+
+void write_program(Writer& w, const ProgramEntry& e) {
+  const auto& p = e.program;
+  w.str(p.vertex_source), w.str(p.fragment_source);
+  w.u32(static_cast<std::uint32_t>(p.attributes.size()));
+  for (const auto& a : p.attributes) w.str(a.name), w.i32(int(a.semantic)), w.i32(a.index), w.i32(a.location), w.i32(a.components);
+  w.u32(static_cast<std::uint32_t>(p.uniforms.size()));
+  for (const auto& u : p.uniforms) w.str(u.name), w.str(u.glsl_type), w.i32(int(u.semantic)), w.i32(u.index), w.i32(u.array_size);
+  w.u32(static_cast<std::uint32_t>(p.samplers.size()));
+  for (const auto& s : p.samplers) w.str(s.name), w.i32(int(s.slot)), w.i32(s.unit);
+  write_features(w, p.features);
+  w.boolean(p.blend), w.boolean(p.cull_back_faces), w.boolean(p.optimized), w.boolean(p.uber);
+  const auto& o = e.optimize_report;
+  for (std::size_t v : {o.source_bytes_before, o.source_bytes_after, o.spirv_instructions_before,
+                        o.spirv_instructions_after, o.uniforms_before, o.uniforms_after,
+                        o.varyings_before, o.varyings_after, o.samplers_before, o.samplers_after}) {
+    w.pod(static_cast<std::uint64_t>(v));
+  }
+  w.u32(static_cast<std::uint32_t>(o.folded.size()));
+  for (const auto& f : o.folded) w.str(f);
+}
+
+ProgramEntry read_program(Reader& r) {
+  using namespace shadergen;
+  ProgramEntry e;
+  auto& p = e.program;
+  p.vertex_source = r.str("program.vertex_source");
+  p.fragment_source = r.str("program.fragment_source");
+  for (std::uint32_t n = r.count("program.attributes", 20), i = 0; i < n; ++i) {
+    AttributeInfo a;
+    a.name = r.str("attribute.name");
+    a.semantic = enum_in<AttributeSemantic>(r, int(AttributeSemantic::VertexAlpha), "attribute.semantic");
+    a.index = r.i32("attribute.index");
+    a.location = r.i32("attribute.location");
+    a.components = r.i32("attribute.components");
+    if (a.location < 0 || a.location > 15 || a.components < 1 || a.components > 4) r.fail("attribute location/components out of range");
+    p.attributes.push_back(a);
+  }
+  for (std::uint32_t n = r.count("program.uniforms", 20), i = 0; i < n; ++i) {
+    UniformInfo u;
+    u.name = r.str("uniform.name");
+    u.glsl_type = r.str("uniform.glsl_type");
+    u.semantic = enum_in<UniformSemantic>(r, int(UniformSemantic::UberLightCounts), "uniform.semantic");
+    u.index = r.i32("uniform.index");
+    u.array_size = r.i32("uniform.array_size");
+    if (u.array_size < 1 || u.array_size > 1024) r.fail("uniform array size out of range");
+    p.uniforms.push_back(u);
+  }
+  for (std::uint32_t n = r.count("program.samplers", 12), i = 0; i < n; ++i) {
+    SamplerInfo s;
+    s.name = r.str("sampler.name");
+    s.slot = enum_in<TextureSlot>(r, int(TextureSlot::Environment), "sampler.slot");
+    s.unit = r.i32("sampler.unit");
+    if (s.unit < 0 || s.unit > 15) r.fail("sampler unit out of range");
+    p.samplers.push_back(s);
+  }
+  p.features = read_features(r);
+  p.blend = r.boolean("program.blend");
+  p.cull_back_faces = r.boolean("program.cull");
+  p.optimized = r.boolean("program.optimized");
+  p.uber = r.boolean("program.uber");
+  auto& o = e.optimize_report;
+  for (std::size_t* v : {&o.source_bytes_before, &o.source_bytes_after, &o.spirv_instructions_before,
+                         &o.spirv_instructions_after, &o.uniforms_before, &o.uniforms_after,
+                         &o.varyings_before, &o.varyings_after, &o.samplers_before, &o.samplers_after}) {
+    *v = static_cast<std::size_t>(r.pod<std::uint64_t>("optimize report"));
+  }
+  for (std::uint32_t n = r.count("optimize.folded", 4), i = 0; i < n; ++i) o.folded.push_back(r.str("folded"));
+  return e;
+}
+
+void check_index(Reader& r, int v, std::size_t size, bool allow_none, const char* what) {
+  if ((v == -1 && allow_none) || (v >= 0 && static_cast<std::size_t>(v) < size)) return;
+  r.fail(std::string(what) + " index " + std::to_string(v) + " out of range (" + std::to_string(size) + ")");
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> serialize_scene(const Scene& s) {
+  Writer w;
+  w.str(s.source_name);
+  w.u32(static_cast<std::uint32_t>(s.nodes.size()));
+  for (const auto& n : s.nodes) {
+    w.str(n.name), w.i32(n.parent);
+    w.vec(n.children);
+    w.v3(n.translation);
+    w.v4(glm::vec4(n.rotation.x, n.rotation.y, n.rotation.z, n.rotation.w));
+    w.v3(n.scale);
+    w.i32(n.mesh), w.i32(n.camera), w.i32(n.light), w.i32(n.skin);
+    w.vec(n.weights);
+  }
+  w.vec(s.roots);
+  w.u32(static_cast<std::uint32_t>(s.meshes.size()));
+  for (const auto& m : s.meshes) {
+    w.str(m.name);
+    w.vec(m.weights);
+    w.u32(static_cast<std::uint32_t>(m.primitives.size()));
+    for (const auto& p : m.primitives) {
+      w.i32(p.material), w.u32(p.vertex_count), w.i32(p.stride), w.i32(p.morph_targets);
+      w.u32(static_cast<std::uint32_t>(p.layout.size()));
+      for (const auto& a : p.layout) w.i32(int(a.semantic)), w.i32(a.index), w.i32(a.components), w.i32(a.offset);
+      w.vec(p.vertices);
+      w.vec(p.indices);
+      w.v3(p.bounds_min), w.v3(p.bounds_max);
+    }
+  }
+  w.u32(static_cast<std::uint32_t>(s.materials.size()));
+  for (const auto& m : s.materials) {
+    w.str(m.name), w.i32(int(m.shading)), w.i32(int(m.alpha)), w.boolean(m.double_sided);
+    w.v4(m.base_color), w.v3(m.emissive);
+    w.f32(m.metallic), w.f32(m.roughness), w.f32(m.normal_scale), w.f32(m.occlusion_strength), w.f32(m.alpha_cutoff);
+    w.v3(m.specular_color), w.f32(m.shininess);
+    for (int i = 0; i < 6; ++i) {
+      w.i32(m.texture[i]), w.i32(m.texcoord[i]);
+      for (int c = 0; c < 3; ++c) w.v3(m.uv_transform[i][c]);
+    }
+    w.boolean(m.has_uv_transform);
+  }
+  w.u32(static_cast<std::uint32_t>(s.textures.size()));
+  for (const auto& t : s.textures) {
+    w.str(t.name), w.i32(t.width), w.i32(t.height), w.vec(t.rgba), w.boolean(t.srgb);
+    w.i32(t.min_filter), w.i32(t.mag_filter), w.i32(t.wrap_s), w.i32(t.wrap_t);
+  }
+  w.u32(static_cast<std::uint32_t>(s.cameras.size()));
+  for (const auto& c : s.cameras) {
+    w.str(c.name), w.boolean(c.perspective), w.f32(c.yfov), w.f32(c.znear), w.f32(c.zfar), w.f32(c.xmag), w.f32(c.ymag);
+  }
+  w.u32(static_cast<std::uint32_t>(s.lights.size()));
+  for (const auto& l : s.lights) {
+    w.str(l.name), w.i32(int(l.type)), w.v3(l.color), w.f32(l.intensity), w.f32(l.range), w.f32(l.inner_cone), w.f32(l.outer_cone);
+  }
+  w.u32(static_cast<std::uint32_t>(s.skins.size()));
+  for (const auto& k : s.skins) {
+    w.str(k.name), w.vec(k.joints);
+    w.u32(static_cast<std::uint32_t>(k.inverse_bind.size()));
+    for (const auto& m : k.inverse_bind) {
+      for (int c = 0; c < 4; ++c) w.v4(m[c]);
+    }
+  }
+  w.u32(static_cast<std::uint32_t>(s.animations.size()));
+  for (const auto& a : s.animations) {
+    w.str(a.name), w.f32(a.start), w.f32(a.end);
+    w.u32(static_cast<std::uint32_t>(a.samplers.size()));
+    for (const auto& sm : a.samplers) w.i32(int(sm.interpolation)), w.i32(sm.components), w.vec(sm.input), w.vec(sm.output);
+    w.u32(static_cast<std::uint32_t>(a.channels.size()));
+    for (const auto& ch : a.channels) w.i32(ch.sampler), w.i32(ch.node), w.i32(int(ch.path));
+  }
+  w.u32(static_cast<std::uint32_t>(s.programs.size()));
+  for (const auto& p : s.programs) write_program(w, p);
+  w.u32(static_cast<std::uint32_t>(s.draws.size()));
+  for (const auto& d : s.draws) w.i32(d.node), w.i32(d.mesh), w.i32(d.primitive), w.i32(d.program);
+  w.str(s.config.source_json);
+
+  Writer out;
+  out.buf.insert(out.buf.end(), std::begin(kPackageMagic), std::end(kPackageMagic));
+  out.u32(kPackageVersion);
+  out.u32(0);
+  out.pod(static_cast<std::uint64_t>(w.buf.size()));
+  out.pod(fnv1a(w.buf));
+  out.buf.insert(out.buf.end(), w.buf.begin(), w.buf.end());
+  return std::move(out.buf);
+}
+
+Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& origin) {
+  constexpr std::size_t kHeader = 8 + 4 + 4 + 8 + 8;
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), kPackageMagic, 8) != 0) {
+    throw SceneError(origin + ": not a meter scene package (bad magic; expected \"METERSCN\" — convert the "
+                     "glTF with meter-convert first)");
+  }
+  if (bytes.size() < kHeader) throw SceneError(origin + ": truncated package header");
+  Reader h(bytes.first(kHeader), origin);
+  for (int i = 0; i < 8; ++i) h.pod<char>("magic");
+  std::uint32_t version = h.u32("version");
+  if (version != kPackageVersion) {
+    throw SceneError(origin + ": scene package format version " + std::to_string(version) +
+                     " is not supported by this build (it reads version " + std::to_string(kPackageVersion) +
+                     "); re-run meter-convert on the source glTF");
+  }
+  h.u32("reserved");
+  auto size = h.pod<std::uint64_t>("payload size");
+  auto hash = h.pod<std::uint64_t>("payload hash");
+  if (size != bytes.size() - kHeader) {
+    throw SceneError(origin + ": package payload is " + std::to_string(bytes.size() - kHeader) +
+                     " bytes but the header says " + std::to_string(size) + " (truncated or padded file)");
+  }
+  auto payload = bytes.subspan(kHeader);
+  if (fnv1a(payload) != hash) throw SceneError(origin + ": package checksum mismatch (file corrupted)");
+
+  Reader r(payload, origin);
+  Scene s;
+  s.source_name = r.str("source name");
+  for (std::uint32_t n = r.count("nodes", 60), i = 0; i < n; ++i) {
+    Node nd;
+    nd.name = r.str("node.name");
+    nd.parent = r.i32("node.parent");
+    nd.children = r.vec<int>("node.children");
+    nd.translation = r.v3("node.translation");
+    glm::vec4 q = r.v4("node.rotation");
+    nd.rotation = glm::quat(q.w, q.x, q.y, q.z);
+    nd.scale = r.v3("node.scale");
+    nd.mesh = r.i32("node.mesh");
+    nd.camera = r.i32("node.camera");
+    nd.light = r.i32("node.light");
+    nd.skin = r.i32("node.skin");
+    nd.weights = r.vec<float>("node.weights");
+    s.nodes.push_back(std::move(nd));
+  }
+  s.roots = r.vec<int>("roots");
+  for (std::uint32_t n = r.count("meshes", 8), i = 0; i < n; ++i) {
+    Mesh m;
+    m.name = r.str("mesh.name");
+    m.weights = r.vec<float>("mesh.weights");
+    for (std::uint32_t np = r.count("primitives", 40), k = 0; k < np; ++k) {
+      Primitive p;
+      p.material = r.i32("primitive.material");
+      p.vertex_count = r.u32("primitive.vertex_count");
+      p.stride = r.i32("primitive.stride");
+      p.morph_targets = r.i32("primitive.morph_targets");
+      for (std::uint32_t na = r.count("layout", 16), a = 0; a < na; ++a) {
+        VertexAttribute va;
+        va.semantic = enum_in<shadergen::AttributeSemantic>(r, int(shadergen::AttributeSemantic::VertexAlpha), "layout.semantic");
+        va.index = r.i32("layout.index");
+        va.components = r.i32("layout.components");
+        va.offset = r.i32("layout.offset");
+        if (va.components < 1 || va.components > 4 || va.offset < 0 || va.offset + va.components > p.stride) {
+          r.fail("vertex attribute outside the vertex record");
+        }
+        p.layout.push_back(va);
+      }
+      p.vertices = r.vec<float>("primitive.vertices");
+      p.indices = r.vec<std::uint32_t>("primitive.indices");
+      if (p.stride <= 0 || p.vertices.size() != std::size_t(p.vertex_count) * std::size_t(p.stride)) {
+        r.fail("vertex data size does not match vertex_count * stride");
+      }
+      for (auto idx : p.indices) {
+        if (idx >= p.vertex_count) r.fail("index out of range of the vertex data");
+      }
+      p.bounds_min = r.v3("primitive.bounds");
+      p.bounds_max = r.v3("primitive.bounds");
+      m.primitives.push_back(std::move(p));
+    }
+    s.meshes.push_back(std::move(m));
+  }
+  for (std::uint32_t n = r.count("materials", 40), i = 0; i < n; ++i) {
+    Material m;
+    m.name = r.str("material.name");
+    m.shading = enum_in<shadergen::ShadingModel>(r, 4, "material.shading");
+    m.alpha = enum_in<shadergen::AlphaMode>(r, 2, "material.alpha");
+    m.double_sided = r.boolean("material.double_sided");
+    m.base_color = r.v4("material.base_color");
+    m.emissive = r.v3("material.emissive");
+    m.metallic = r.f32("material");
+    m.roughness = r.f32("material");
+    m.normal_scale = r.f32("material");
+    m.occlusion_strength = r.f32("material");
+    m.alpha_cutoff = r.f32("material");
+    m.specular_color = r.v3("material");
+    m.shininess = r.f32("material");
+    for (int t = 0; t < 6; ++t) {
+      m.texture[t] = r.i32("material.texture");
+      m.texcoord[t] = r.i32("material.texcoord");
+      for (int c = 0; c < 3; ++c) m.uv_transform[t][c] = r.v3("material.uv_transform");
+    }
+    m.has_uv_transform = r.boolean("material");
+    s.materials.push_back(std::move(m));
+  }
+  for (std::uint32_t n = r.count("textures", 20), i = 0; i < n; ++i) {
+    Texture t;
+    t.name = r.str("texture.name");
+    t.width = r.i32("texture.width");
+    t.height = r.i32("texture.height");
+    t.rgba = r.vec<std::uint8_t>("texture.rgba");
+    if (t.width <= 0 || t.height <= 0 || t.width > 16384 || t.height > 16384 ||
+        t.rgba.size() != std::size_t(t.width) * std::size_t(t.height) * 4) {
+      r.fail("texture size does not match its pixel data");
+    }
+    t.srgb = r.boolean("texture.srgb");
+    t.min_filter = r.i32("texture");
+    t.mag_filter = r.i32("texture");
+    t.wrap_s = r.i32("texture");
+    t.wrap_t = r.i32("texture");
+    s.textures.push_back(std::move(t));
+  }
+  for (std::uint32_t n = r.count("cameras", 20), i = 0; i < n; ++i) {
+    Camera c;
+    c.name = r.str("camera.name");
+    c.perspective = r.boolean("camera");
+    c.yfov = r.f32("camera"), c.znear = r.f32("camera"), c.zfar = r.f32("camera");
+    c.xmag = r.f32("camera"), c.ymag = r.f32("camera");
+    s.cameras.push_back(std::move(c));
+  }
+  for (std::uint32_t n = r.count("lights", 20), i = 0; i < n; ++i) {
+    Light l;
+    l.name = r.str("light.name");
+    l.type = enum_in<LightType>(r, 2, "light.type");
+    l.color = r.v3("light.color");
+    l.intensity = r.f32("light"), l.range = r.f32("light"), l.inner_cone = r.f32("light"), l.outer_cone = r.f32("light");
+    s.lights.push_back(std::move(l));
+  }
+  for (std::uint32_t n = r.count("skins", 8), i = 0; i < n; ++i) {
+    Skin k;
+    k.name = r.str("skin.name");
+    k.joints = r.vec<int>("skin.joints");
+    for (std::uint32_t nm = r.count("skin.inverse_bind", 64), j = 0; j < nm; ++j) {
+      glm::mat4 m;
+      for (int c = 0; c < 4; ++c) m[c] = r.v4("skin.inverse_bind");
+      k.inverse_bind.push_back(m);
+    }
+    if (k.inverse_bind.size() != k.joints.size()) r.fail("skin has a different number of joints and matrices");
+    s.skins.push_back(std::move(k));
+  }
+  for (std::uint32_t n = r.count("animations", 20), i = 0; i < n; ++i) {
+    Animation a;
+    a.name = r.str("animation.name");
+    a.start = r.f32("animation.start");
+    a.end = r.f32("animation.end");
+    for (std::uint32_t ns = r.count("samplers", 16), k = 0; k < ns; ++k) {
+      AnimSampler sm;
+      sm.interpolation = enum_in<Interpolation>(r, 2, "sampler.interpolation");
+      sm.components = r.i32("sampler.components");
+      sm.input = r.vec<float>("sampler.input");
+      sm.output = r.vec<float>("sampler.output");
+      std::size_t per_key = std::size_t(sm.components) * (sm.interpolation == Interpolation::CubicSpline ? 3 : 1);
+      if (sm.components < 1 || sm.components > 256 || sm.input.empty() || sm.output.size() != sm.input.size() * per_key) {
+        r.fail("animation sampler output size does not match its keys");
+      }
+      a.samplers.push_back(std::move(sm));
+    }
+    for (std::uint32_t nc = r.count("channels", 12), k = 0; k < nc; ++k) {
+      AnimChannel ch;
+      ch.sampler = r.i32("channel.sampler");
+      ch.node = r.i32("channel.node");
+      ch.path = enum_in<TargetPath>(r, 3, "channel.path");
+      a.channels.push_back(ch);
+    }
+    s.animations.push_back(std::move(a));
+  }
+  for (std::uint32_t n = r.count("programs", 40), i = 0; i < n; ++i) s.programs.push_back(read_program(r));
+  for (std::uint32_t n = r.count("draws", 16), i = 0; i < n; ++i) {
+    DrawItem d;
+    d.node = r.i32("draw.node"), d.mesh = r.i32("draw.mesh"), d.primitive = r.i32("draw.primitive"), d.program = r.i32("draw.program");
+    s.draws.push_back(d);
+  }
+  std::string config_json = r.str("config");
+  if (!r.at_end()) r.fail("trailing bytes after the last section");
+
+  // Cross-references: a package that passed the checksum but was written by a buggy converter
+  // must still never index out of range at runtime.
+  const auto nn = s.nodes.size();
+  for (const auto& nd : s.nodes) {
+    check_index(r, nd.parent, nn, true, "node.parent");
+    for (int c : nd.children) check_index(r, c, nn, false, "node.children");
+    check_index(r, nd.mesh, s.meshes.size(), true, "node.mesh");
+    check_index(r, nd.camera, s.cameras.size(), true, "node.camera");
+    check_index(r, nd.light, s.lights.size(), true, "node.light");
+    check_index(r, nd.skin, s.skins.size(), true, "node.skin");
+  }
+  for (int root : s.roots) check_index(r, root, nn, false, "roots");
+  for (const auto& m : s.meshes) {
+    for (const auto& p : m.primitives) check_index(r, p.material, s.materials.size(), false, "primitive.material");
+  }
+  for (const auto& m : s.materials) {
+    for (int t : m.texture) check_index(r, t, s.textures.size(), true, "material.texture");
+  }
+  for (const auto& k : s.skins) {
+    for (int j : k.joints) check_index(r, j, nn, false, "skin.joints");
+  }
+  for (const auto& a : s.animations) {
+    for (const auto& ch : a.channels) {
+      check_index(r, ch.sampler, a.samplers.size(), false, "channel.sampler");
+      check_index(r, ch.node, nn, false, "channel.node");
+    }
+  }
+  for (const auto& d : s.draws) {
+    check_index(r, d.node, nn, false, "draw.node");
+    check_index(r, d.mesh, s.meshes.size(), false, "draw.mesh");
+    check_index(r, d.primitive, s.meshes[std::size_t(d.mesh)].primitives.size(), false, "draw.primitive");
+    check_index(r, d.program, s.programs.size(), false, "draw.program");
+  }
+  try {
+    s.config = parse_scene_config(config_json, origin + " (embedded scene config)");
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(e.what());
+  }
+  s.ambient = glm::vec3(s.config.ambient[0], s.config.ambient[1], s.config.ambient[2]);
+  return s;
+}
+
+void write_package(const Scene& scene, const std::string& path) {
+  auto bytes = serialize_scene(scene);
+  std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw SceneError(path + ": cannot open for writing");
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw SceneError(path + ": write failed");
+  }
+  // Rename so a viewer never sees a half-written package.
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw SceneError(path + ": cannot rename " + tmp);
+}
+
+Scene read_package(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open scene package");
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return deserialize_scene(bytes, path);
+}
+
+int Scene::find_node(std::string_view name) const {
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+int Scene::find_material(std::string_view name) const {
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    if (materials[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+int Scene::find_animation(std::string_view name) const {
+  for (std::size_t i = 0; i < animations.size(); ++i) {
+    if (animations[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+}  // namespace meter::engine

@@ -1,0 +1,506 @@
+#include "meter/engine/renderer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "meter/platform/gl_api.hpp"
+
+#ifndef METER_FONT_FILE
+#define METER_FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+#endif
+
+namespace meter::engine {
+
+using shadergen::AttributeSemantic;
+using shadergen::UniformSemantic;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+}  // namespace
+
+struct Renderer::GpuProgram {
+  GLuint program = 0;
+  const shadergen::Program* info = nullptr;
+  struct Uniform {
+    GLint location = -1;
+    UniformSemantic semantic{};
+    int index = -1, array_size = 1;
+  };
+  std::vector<Uniform> uniforms;
+  struct Sampler {
+    GLint location = -1;
+    shadergen::TextureSlot slot{};
+    int unit = 0;
+  };
+  std::vector<Sampler> samplers;
+};
+
+struct Renderer::GpuDraw {
+  const DrawItem* item = nullptr;
+  const Primitive* prim = nullptr;
+  GpuProgram* program = nullptr;
+  GLuint vao = 0;
+  GLsizei index_count = 0;
+  // Program attributes the primitive lacks: constant values set before the draw.
+  std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
+  float sort_depth = 0.0f;
+};
+
+Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const RendererOptions& options)
+    : backend_(backend), gl_(backend.gl()), scene_(scene), options_(options) {
+  width_ = options.width > 0 ? options.width : scene.config.size[0];
+  height_ = options.height > 0 ? options.height : scene.config.size[1];
+  platform::RenderTargetOptions rt;
+  rt.width = width_;
+  rt.height = height_;
+  rt.samples = std::max(1, options.msaa);
+  rt.depth = platform::DepthFormat::Depth24;
+  target_ = std::make_unique<platform::RenderTarget>(backend, rt);
+  pose_ = Pose::rest(scene);
+  anim_time_.assign(scene.animations.size(), std::nan(""));
+  visible_.assign(scene.nodes.size(), 1);
+  build();
+  // Animations nobody drives sit at config.time from the start.
+  BindingOutputs initial;
+  initial.animation_time.assign(scene.animations.size(), scene.config.time);
+  initial.node_visible.assign(scene.nodes.size(), -1);
+  initial.emissive.assign(scene.materials.size(), std::nullopt);
+  initial.base_color.assign(scene.materials.size(), std::nullopt);
+  apply(initial);
+}
+
+Renderer::~Renderer() {
+  backend_.make_current();
+  for (auto& d : draws_) gl_.DeleteVertexArrays(1, &d->vao);
+  if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
+  if (!textures_.empty()) gl_.DeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+  if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
+  for (auto& p : programs_) gl_.DeleteProgram(p->program);
+}
+
+std::string Renderer::backend_info() const { return backend_.renderer_info(); }
+
+void Renderer::build() {
+  // Programs.
+  for (std::size_t i = 0; i < scene_.programs.size(); ++i) {
+    const auto& p = scene_.programs[i].program;
+    auto gp = std::make_unique<GpuProgram>();
+    gp->info = &p;
+    gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source,
+                                            scene_.source_name + " program " + std::to_string(i));
+    for (const auto& u : p.uniforms) {
+      GpuProgram::Uniform gu;
+      gu.location = gl_.GetUniformLocation(gp->program, u.name.c_str());
+      gu.semantic = u.semantic;
+      gu.index = u.index;
+      gu.array_size = u.array_size;
+      if (gu.location >= 0) gp->uniforms.push_back(gu);  // the driver may drop unused uniforms
+    }
+    for (const auto& s : p.samplers) {
+      GpuProgram::Sampler gs{gl_.GetUniformLocation(gp->program, s.name.c_str()), s.slot, s.unit};
+      if (gs.location >= 0) gp->samplers.push_back(gs);
+    }
+    programs_.push_back(std::move(gp));
+  }
+  // Textures.
+  for (const auto& t : scene_.textures) {
+    GLuint tex = 0;
+    gl_.GenTextures(1, &tex);
+    gl_.BindTexture(GL_TEXTURE_2D, tex);
+    gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl_.TexImage2D(GL_TEXTURE_2D, 0, t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
+    const bool mip = t.min_filter == GL_NEAREST_MIPMAP_NEAREST || t.min_filter == GL_LINEAR_MIPMAP_NEAREST ||
+                     t.min_filter == GL_NEAREST_MIPMAP_LINEAR || t.min_filter == GL_LINEAR_MIPMAP_LINEAR;
+    if (mip) gl_.GenerateMipmap(GL_TEXTURE_2D);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, t.min_filter);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, t.wrap_s);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, t.wrap_t);
+    textures_.push_back(tex);
+  }
+  {
+    const std::uint8_t white[4] = {255, 255, 255, 255};
+    gl_.GenTextures(1, &white_texture_);
+    gl_.BindTexture(GL_TEXTURE_2D, white_texture_);
+    gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, white);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  // Vertex/index buffers, one pair per primitive, shared by every draw of it.
+  std::map<std::pair<int, int>, std::pair<GLuint, GLuint>> vbos;
+  for (const auto& d : scene_.draws) {
+    const Primitive& prim = scene_.meshes[static_cast<std::size_t>(d.mesh)].primitives[static_cast<std::size_t>(d.primitive)];
+    auto key = std::make_pair(d.mesh, d.primitive);
+    if (!vbos.count(key)) {
+      GLuint b[2];
+      gl_.GenBuffers(2, b);
+      gl_.BindBuffer(GL_ARRAY_BUFFER, b[0]);
+      gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.vertices.size() * sizeof(float)), prim.vertices.data(), GL_STATIC_DRAW);
+      gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b[1]);
+      gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.indices.size() * sizeof(std::uint32_t)), prim.indices.data(), GL_STATIC_DRAW);
+      buffers_.insert(buffers_.end(), {b[0], b[1]});
+      vbos[key] = {b[0], b[1]};
+    }
+    auto gd = std::make_unique<GpuDraw>();
+    gd->item = &d;
+    gd->prim = &prim;
+    gd->program = programs_[static_cast<std::size_t>(d.program)].get();
+    gd->index_count = static_cast<GLsizei>(prim.indices.size());
+    gl_.GenVertexArrays(1, &gd->vao);
+    gl_.BindVertexArray(gd->vao);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, vbos[key].first);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, vbos[key].second);
+    for (const auto& a : gd->program->info->attributes) {
+      auto it = std::find_if(prim.layout.begin(), prim.layout.end(), [&](const VertexAttribute& v) {
+        return v.semantic == a.semantic && (v.index == a.index || (v.index < 0 && a.index < 0));
+      });
+      const auto loc = static_cast<GLuint>(a.location);
+      if (it == prim.layout.end()) {
+        // Missing data gets the neutral value: white vertex colour, full vertex alpha, zero otherwise.
+        glm::vec4 c(0.0f, 0.0f, 0.0f, 1.0f);
+        if (a.semantic == AttributeSemantic::Color0 || a.semantic == AttributeSemantic::VertexAlpha) c = glm::vec4(1.0f);
+        if (a.semantic == AttributeSemantic::Weights0) c = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+        gd->constant_attributes.emplace_back(loc, c);
+        continue;
+      }
+      gl_.EnableVertexAttribArray(loc);
+      gl_.VertexAttribPointer(loc, it->components, GL_FLOAT, GL_FALSE, prim.stride * static_cast<GLsizei>(sizeof(float)),
+                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(it->offset) * sizeof(float)));
+    }
+    gl_.BindVertexArray(0);
+    draws_.push_back(std::move(gd));
+  }
+  platform::check_gl(gl_, scene_.source_name + ": uploading the scene");
+  // Camera: the configured one, else the first camera node reachable from the roots.
+  for (std::size_t i = 0; i < scene_.nodes.size(); ++i) {
+    const Node& n = scene_.nodes[i];
+    if (n.camera < 0) continue;
+    if (scene_.config.camera.empty() || n.name == scene_.config.camera ||
+        scene_.cameras[static_cast<std::size_t>(n.camera)].name == scene_.config.camera) {
+      camera_node_ = static_cast<int>(i);
+      break;
+    }
+  }
+}
+
+void Renderer::apply(const BindingOutputs& o) {
+  // Animations: re-sample only those whose time changed.
+  std::vector<int> touched;
+  for (std::size_t a = 0; a < scene_.animations.size() && a < o.animation_time.size(); ++a) {
+    if (anim_time_[a] == o.animation_time[a]) continue;
+    anim_time_[a] = o.animation_time[a];
+    apply_animation(scene_, static_cast<int>(a), anim_time_[a], pose_, &touched);
+    ++stats_.animation_samples;
+  }
+  if (!touched.empty()) world_dirty_ = true, dirty_ = true;
+  if (!have_outputs_ || !(o.node_visible == outputs_.node_visible && o.emissive == outputs_.emissive &&
+                          o.base_color == outputs_.base_color && o.morph == outputs_.morph && o.texts == outputs_.texts &&
+                          o.link_lost == outputs_.link_lost)) {
+    dirty_ = true;
+    if (!have_outputs_ || o.node_visible != outputs_.node_visible) {
+      // Effective visibility: a hidden node hides its subtree.
+      visible_.assign(scene_.nodes.size(), 1);
+      std::vector<std::pair<int, bool>> stack;
+      for (int r : scene_.roots) stack.emplace_back(r, true);
+      while (!stack.empty()) {
+        auto [n, parent_visible] = stack.back();
+        stack.pop_back();
+        const auto i = static_cast<std::size_t>(n);
+        bool v = parent_visible && (i >= o.node_visible.size() || o.node_visible[i] != 0);
+        visible_[i] = v;
+        for (int c : scene_.nodes[i].children) stack.emplace_back(c, v);
+      }
+    }
+    outputs_ = o;
+    have_outputs_ = true;
+  }
+}
+
+void Renderer::update_world() {
+  if (!world_dirty_) return;
+  world_matrices(scene_, pose_, world_);
+  world_dirty_ = false;
+  ++stats_.world_updates;
+}
+
+glm::mat4 Renderer::view_projection(glm::vec3* eye) const {
+  const float aspect = float(width_) / float(height_);
+  if (camera_node_ >= 0) {
+    const Camera& c = scene_.cameras[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(camera_node_)].camera)];
+    glm::mat4 w = world_[static_cast<std::size_t>(camera_node_)];
+    // Cameras ignore scale (glTF): orthonormalise the axes.
+    for (int k = 0; k < 3; ++k) w[k] = glm::vec4(glm::normalize(glm::vec3(w[k])), 0.0f);
+    if (eye) *eye = glm::vec3(w[3]);
+    glm::mat4 view = glm::inverse(w);
+    glm::mat4 proj;
+    if (c.perspective) {
+      proj = c.zfar > 0 ? glm::perspective(c.yfov, aspect, c.znear, c.zfar) : glm::infinitePerspective(c.yfov, aspect, c.znear);
+    } else {
+      proj = glm::ortho(-c.xmag, c.xmag, -c.ymag, c.ymag, c.znear, c.zfar);
+    }
+    return proj * view;
+  }
+  // No camera in the scene: frame the bounds of everything drawn, looking down -Z.
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& d : draws_) {
+    const glm::mat4& w = world_[static_cast<std::size_t>(d->item->node)];
+    for (int k = 0; k < 8; ++k) {
+      glm::vec3 p((k & 1) ? d->prim->bounds_max.x : d->prim->bounds_min.x, (k & 2) ? d->prim->bounds_max.y : d->prim->bounds_min.y,
+                  (k & 4) ? d->prim->bounds_max.z : d->prim->bounds_min.z);
+      glm::vec3 q(w * glm::vec4(p, 1.0f));
+      lo = glm::min(lo, q), hi = glm::max(hi, q);
+    }
+  }
+  if (draws_.empty()) lo = glm::vec3(-1.0f), hi = glm::vec3(1.0f);
+  const glm::vec3 centre = (lo + hi) * 0.5f;
+  const float radius = std::max(1e-3f, glm::length(hi - lo) * 0.5f);
+  const float yfov = 0.8f;
+  const float dist = radius / std::sin(yfov * 0.5f) * 1.05f;
+  const glm::vec3 e = centre + glm::vec3(0.0f, 0.0f, dist);
+  if (eye) *eye = e;
+  return glm::perspective(yfov, aspect, std::max(1e-3f, dist - radius * 2.0f), dist + radius * 2.0f) *
+         glm::lookAt(e, centre, glm::vec3(0.0f, 1.0f, 0.0f));
+}
+
+glm::vec2 Renderer::project(int node) const {
+  if (node < 0 || static_cast<std::size_t>(node) >= world_.size()) return glm::vec2(0.0f);
+  glm::vec4 clip = view_projection(nullptr) * glm::vec4(glm::vec3(world_[static_cast<std::size_t>(node)][3]), 1.0f);
+  if (std::abs(clip.w) < 1e-9f) return glm::vec2(-1e6f);
+  glm::vec2 ndc(clip.x / clip.w, clip.y / clip.w);
+  return glm::vec2((ndc.x * 0.5f + 0.5f) * float(width_), (1.0f - (ndc.y * 0.5f + 0.5f)) * float(height_));
+}
+
+void Renderer::draw_scene() {
+  const auto& gl = gl_;
+  target_->bind();
+  const auto& cc = scene_.config.clear_color;
+  gl.ClearColor(float(cc[0]), float(cc[1]), float(cc[2]), float(cc[3]));
+  gl.ClearDepthf(1.0f);
+  gl.DepthMask(GL_TRUE);
+  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LEQUAL);
+  glm::vec3 eye(0.0f);
+  const glm::mat4 vp = view_projection(&eye);
+
+  // Light list in shadergen order: preorder from the roots, then stable by type.
+  std::vector<int> lights;
+  {
+    std::vector<int> stack(scene_.roots.rbegin(), scene_.roots.rend());
+    while (!stack.empty()) {
+      int n = stack.back();
+      stack.pop_back();
+      const Node& nd = scene_.nodes[static_cast<std::size_t>(n)];
+      if (nd.light >= 0) lights.push_back(n);
+      stack.insert(stack.end(), nd.children.rbegin(), nd.children.rend());
+    }
+    std::stable_sort(lights.begin(), lights.end(), [&](int a, int b) {
+      return int(scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(a)].light)].type) <
+             int(scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(b)].light)].type);
+    });
+  }
+
+  // Sort: opaque/mask front-to-back (early depth reject), blended back-to-front (correct over).
+  std::vector<GpuDraw*> opaque, blended;
+  for (auto& d : draws_) {
+    if (!visible_[static_cast<std::size_t>(d->item->node)]) continue;
+    const glm::vec3 c = (d->prim->bounds_min + d->prim->bounds_max) * 0.5f;
+    glm::vec4 clip = vp * world_[static_cast<std::size_t>(d->item->node)] * glm::vec4(c, 1.0f);
+    d->sort_depth = clip.w;
+    (d->program->info->blend ? blended : opaque).push_back(d.get());
+  }
+  std::stable_sort(opaque.begin(), opaque.end(), [](auto* a, auto* b) { return a->sort_depth < b->sort_depth; });
+  std::stable_sort(blended.begin(), blended.end(), [](auto* a, auto* b) { return a->sort_depth > b->sort_depth; });
+
+  std::vector<float> scratch;
+  GpuProgram* current = nullptr;
+  auto draw_one = [&](GpuDraw* d) {
+    GpuProgram* gp = d->program;
+    const auto& info = *gp->info;
+    const auto node_index = static_cast<std::size_t>(d->item->node);
+    const Node& node = scene_.nodes[node_index];
+    const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
+    const glm::mat4& model = world_[node_index];
+    if (gp != current) {
+      gl.UseProgram(gp->program);
+      current = gp;
+    }
+    if (info.blend) {
+      gl.Enable(GL_BLEND);
+      gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+      gl.DepthMask(GL_FALSE);
+    } else {
+      gl.Disable(GL_BLEND);
+      gl.DepthMask(GL_TRUE);
+    }
+    if (info.cull_back_faces) {
+      gl.Enable(GL_CULL_FACE);
+      gl.CullFace(GL_BACK);
+    } else {
+      gl.Disable(GL_CULL_FACE);
+    }
+    // A mirroring transform flips the winding.
+    gl.FrontFace(glm::determinant(glm::mat3(model)) < 0 ? GL_CW : GL_CCW);
+    const auto mi = static_cast<std::size_t>(d->prim->material);
+    const glm::vec4 base = outputs_.base_color.size() > mi && outputs_.base_color[mi] ? *outputs_.base_color[mi] : mat.base_color;
+    const glm::vec3 emissive = outputs_.emissive.size() > mi && outputs_.emissive[mi] ? *outputs_.emissive[mi] : mat.emissive;
+    for (const auto& u : gp->uniforms) {
+      const GLint l = u.location;
+      switch (u.semantic) {
+        case UniformSemantic::ModelMatrix: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(model)); break;
+        case UniformSemantic::ViewProjection: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(vp)); break;
+        case UniformSemantic::NormalMatrix: {
+          glm::mat3 n = glm::inverseTranspose(glm::mat3(model));
+          gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(n));
+          break;
+        }
+        case UniformSemantic::CameraPosition: gl.Uniform3f(l, eye.x, eye.y, eye.z); break;
+        case UniformSemantic::BaseColorFactor: gl.Uniform4f(l, base.r, base.g, base.b, base.a); break;
+        case UniformSemantic::EmissiveFactor: gl.Uniform3f(l, emissive.r, emissive.g, emissive.b); break;
+        case UniformSemantic::MetallicFactor: gl.Uniform1f(l, mat.metallic); break;
+        case UniformSemantic::RoughnessFactor: gl.Uniform1f(l, mat.roughness); break;
+        case UniformSemantic::NormalScale: gl.Uniform1f(l, mat.normal_scale); break;
+        case UniformSemantic::OcclusionStrength: gl.Uniform1f(l, mat.occlusion_strength); break;
+        case UniformSemantic::AlphaCutoff: gl.Uniform1f(l, mat.alpha_cutoff); break;
+        case UniformSemantic::SpecularColor: gl.Uniform3f(l, mat.specular_color.r, mat.specular_color.g, mat.specular_color.b); break;
+        case UniformSemantic::Shininess: gl.Uniform1f(l, mat.shininess); break;
+        case UniformSemantic::AmbientLight: gl.Uniform3f(l, scene_.ambient.r, scene_.ambient.g, scene_.ambient.b); break;
+        case UniformSemantic::Exposure: gl.Uniform1f(l, static_cast<float>(std::exp2(scene_.config.exposure))); break;
+        case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, 1.0f); break;
+        case UniformSemantic::LightColor:
+        case UniformSemantic::LightIntensity:
+        case UniformSemantic::LightPosition:
+        case UniformSemantic::LightDirection:
+        case UniformSemantic::LightRange:
+        case UniformSemantic::LightInnerConeCos:
+        case UniformSemantic::LightOuterConeCos: {
+          if (u.index < 0 || static_cast<std::size_t>(u.index) >= lights.size()) break;
+          const int ln = lights[static_cast<std::size_t>(u.index)];
+          const Light& li = scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(ln)].light)];
+          const glm::mat4& lw = world_[static_cast<std::size_t>(ln)];
+          if (u.semantic == UniformSemantic::LightColor) gl.Uniform3f(l, li.color.r, li.color.g, li.color.b);
+          if (u.semantic == UniformSemantic::LightIntensity) gl.Uniform1f(l, li.intensity);
+          if (u.semantic == UniformSemantic::LightRange) gl.Uniform1f(l, li.range);
+          if (u.semantic == UniformSemantic::LightInnerConeCos) gl.Uniform1f(l, std::cos(li.inner_cone));
+          if (u.semantic == UniformSemantic::LightOuterConeCos) gl.Uniform1f(l, std::cos(li.outer_cone));
+          if (u.semantic == UniformSemantic::LightPosition) gl.Uniform3f(l, lw[3].x, lw[3].y, lw[3].z);
+          if (u.semantic == UniformSemantic::LightDirection) {
+            glm::vec3 dir = glm::normalize(glm::vec3(lw * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+            gl.Uniform3f(l, dir.x, dir.y, dir.z);
+          }
+          break;
+        }
+        case UniformSemantic::JointMatrices: {
+          if (node.skin < 0) break;
+          const Skin& skin = scene_.skins[static_cast<std::size_t>(node.skin)];
+          const glm::mat4 inv_model = glm::inverse(model);
+          scratch.assign(static_cast<std::size_t>(u.array_size) * 16, 0.0f);
+          for (std::size_t j = 0; j < skin.joints.size() && j < static_cast<std::size_t>(u.array_size); ++j) {
+            glm::mat4 jm = inv_model * world_[static_cast<std::size_t>(skin.joints[j])] * skin.inverse_bind[j];
+            std::copy(glm::value_ptr(jm), glm::value_ptr(jm) + 16, scratch.begin() + static_cast<std::ptrdiff_t>(j * 16));
+          }
+          gl.UniformMatrix4fv(l, u.array_size, GL_FALSE, scratch.data());
+          break;
+        }
+        case UniformSemantic::MorphWeights: {
+          scratch.assign(static_cast<std::size_t>(u.array_size), 0.0f);
+          const auto& w = pose_.weights[node_index];
+          for (std::size_t k = 0; k < w.size() && k < scratch.size(); ++k) scratch[k] = w[k];
+          for (const auto& m : outputs_.morph) {
+            if (m.node == d->item->node && m.target >= 0 && static_cast<std::size_t>(m.target) < scratch.size()) scratch[static_cast<std::size_t>(m.target)] = m.weight;
+          }
+          gl.Uniform1fv(l, u.array_size, scratch.data());
+          break;
+        }
+        case UniformSemantic::TextureTransform:
+          if (u.index >= 0 && u.index < 6) gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(mat.uv_transform[static_cast<std::size_t>(u.index)]));
+          break;
+        case UniformSemantic::UberSwitches:
+        case UniformSemantic::UberLightCounts: break;  // uber baseline only; never in a package
+      }
+    }
+    for (const auto& s : gp->samplers) {
+      const int tex = mat.texture[static_cast<std::size_t>(s.slot)];
+      gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + s.unit));
+      gl.BindTexture(GL_TEXTURE_2D, tex >= 0 ? textures_[static_cast<std::size_t>(tex)] : white_texture_);
+      gl.Uniform1i(s.location, s.unit);
+    }
+    gl.BindVertexArray(d->vao);
+    for (const auto& [loc, v] : d->constant_attributes) gl.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
+    gl.DrawElements(GL_TRIANGLES, d->index_count, GL_UNSIGNED_INT, nullptr);
+    ++stats_.draw_calls;
+  };
+  for (auto* d : opaque) draw_one(d);
+  for (auto* d : blended) draw_one(d);
+  gl.BindVertexArray(0);
+  gl.DepthMask(GL_TRUE);
+  gl.Disable(GL_BLEND);
+  gl.UseProgram(0);
+}
+
+void Renderer::draw_text() {
+  for (const auto& t : outputs_.texts) {
+    if (t.node < 0 || !visible_[static_cast<std::size_t>(t.node)] || t.text.empty()) continue;
+    const int size = std::clamp(t.size_px, 4, 256);
+    auto it = text_.find(size);
+    if (it == text_.end()) {
+      const std::string font = options_.font_file.empty() ? std::string(METER_FONT_FILE) : options_.font_file;
+      it = text_.emplace(size, std::make_unique<platform::TextRenderer>(backend_, font, size)).first;
+    }
+    const glm::vec2 p = project(t.node);
+    const platform::Align align = t.align == TextAlign::Left ? platform::Align::Left : t.align == TextAlign::Center ? platform::Align::Center : platform::Align::Right;
+    try {
+      it->second->draw(*target_, t.text, static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)), align,
+                       platform::Color{t.color.r, t.color.g, t.color.b, t.color.a});
+    } catch (const platform::TextError&) {
+      // Invalid UTF-8 from a signal: draw the placeholder rather than nothing.
+      it->second->draw(*target_, "?", static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)), align,
+                       platform::Color{t.color.r, t.color.g, t.color.b, t.color.a});
+    }
+  }
+}
+
+FrameTiming Renderer::render(bool force, bool read_back) {
+  FrameTiming t;
+  ++stats_.frames;
+  auto t0 = Clock::now();
+  update_world();
+  t.update_ms = ms_since(t0);
+  if (!dirty_ && !force) {
+    ++stats_.skipped;
+    if (read_back) {
+      auto t2 = Clock::now();
+      read();
+      t.gpu_readback_ms = ms_since(t2);
+    }
+    return t;
+  }
+  auto t1 = Clock::now();
+  draw_scene();
+  draw_text();
+  t.submit_ms = ms_since(t1);
+  auto t2 = Clock::now();
+  gl_.Finish();
+  if (read_back) image_ = target_->resolve_and_read();
+  t.gpu_readback_ms = ms_since(t2);
+  platform::check_gl(gl_, scene_.source_name + ": drawing a frame");
+  t.drawn = true;
+  dirty_ = false;
+  ++stats_.drawn;
+  return t;
+}
+
+const platform::Image& Renderer::read() {
+  image_ = target_->resolve_and_read();
+  return image_;
+}
+
+}  // namespace meter::engine

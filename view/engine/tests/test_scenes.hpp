@@ -1,0 +1,21 @@
+// Small test scenes written with tinygltf's writer, so the tests do not depend on Blender exports.
+#pragma once
+
+#include <string>
+
+namespace meter::engine::test {
+
+// A dial: dark unlit face, red unlit needle on node "Needle" driven by animation "SpeedNeedle"
+// (value v km/h keyed at time v/24 s, angle 130 - v degrees about +Z), a lit PBR telltale quad
+// "TT_ABS" (material "TT_ABS_On", emissive bound), a morphing fuel bar "FuelBar" (one target),
+// text anchors "Text_Speed" and "Text_Status", a directional light and the camera "Camera".
+// Writes dir/dial.gltf (buffers embedded) and returns its path.
+std::string write_dial_scene(const std::string& dir);
+
+// The matching scene config (320x160, bindings for speed, ABS, fuel, speed text, link loss).
+std::string dial_config_json();
+
+// A fresh empty directory under the build tree for one test.
+std::string scratch_dir(const std::string& name);
+
+}  // namespace meter::engine::test
