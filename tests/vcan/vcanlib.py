@@ -97,3 +97,26 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def canmatrix_series(dbc_path, frames, wanted):
+    """Independent reference: decodes frames with python3-canmatrix (not the project's decoder).
+    wanted: iterable of (message_name, signal_name). Returns {(msg, sig): [(t_us, physical), ...]}."""
+    import canmatrix.formats
+    db = next(iter(canmatrix.formats.loadp(dbc_path).values()))
+    by_id = {}
+    for msg_name, sig_name in wanted:
+        frame = db.frame_by_name(msg_name)
+        if frame is None:
+            raise KeyError(f"{dbc_path}: no message {msg_name}")
+        by_id.setdefault(frame.arbitration_id.id, (frame, []))[1].append(sig_name)
+    out = {w: [] for w in wanted}
+    for fr in frames:
+        hit = by_id.get(int(fr.can_id, 16))
+        if hit is None or fr.data.startswith("R"):
+            continue
+        frame, sigs = hit
+        decoded = frame.decode(bytes.fromhex(fr.data))
+        for s in sigs:
+            out[(frame.name, s)].append((fr.t_us, float(decoded[s].phys_value)))
+    return out

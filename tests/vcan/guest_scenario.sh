@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# The guest half of the end-to-end tests (runs where vcan0 exists: in the VM or on a CAN-capable
+# host). Starts meter-controller on SocketCAN, serving the protocol over TCP, then executes PHASES
+# in order. Everything it observes goes to OUT (a writable share): controller.log, events.log
+# (phase timestamps), rss.txt, result.txt.
+#
+# Usage: guest_scenario.sh OUT BIN_DIR PORT GO_PORT DBC MAP LOG PHASE...
+# Phases:
+#   go                    wait until the host connects to GO_PORT (the view is up): aligns clocks
+#   replay:START:DUR      vcan/replay LOG from START s for DUR s, real time, in the foreground
+#   replay-bg:START:DUR   the same in the background (joined at the end)
+#   sleep:SEC             bus silence / waiting
+#   kill-controller       SIGKILL the controller (a crashed vehicle-control MCU)
+#   start-controller      start it again (same state dir: odometer persisted)
+#   flood:SEC             cangen at full rate (-g 0) for SEC s on an id the gauges do not use
+#   rss:LABEL             record the controller's VmRSS (kB) under LABEL
+set -uo pipefail
+out=$1 bin=$2 port=$3 go_port=$4 dbc=$5 map=$6 log=$7; shift 7
+root=$(cd "$(dirname "$0")/../.." && pwd)
+mkdir -p "$out/state"
+ctrl=""
+bg=()
+event() { echo "$(date +%s.%N) $*" >>"$out/events.log"; }
+fail() { event "FAIL $*"; echo "guest_scenario: $*" >&2; echo "fail $*" >"$out/result.txt"; exit 1; }
+
+start_controller() {
+  "$bin/meter-controller" run --input can:vcan0 --dbc "$dbc" --map "$map" \
+      --link "tcp:0.0.0.0:$port" --state-dir "$out/state" >>"$out/controller.log" 2>&1 &
+  ctrl=$!
+  event "controller started pid $ctrl"
+  sleep 0.5
+  kill -0 "$ctrl" 2>/dev/null || fail "meter-controller exited at start (see controller.log)"
+}
+
+start_controller
+for phase in "$@"; do
+  event "phase $phase"
+  case "$phase" in
+    go) echo go | timeout 90 busybox nc -l -p "$go_port" >/dev/null || fail "no go from the host"
+       event "go received" ;;
+    replay:*:*|replay-bg:*:*)
+      IFS=: read -r kind start dur <<<"$phase"
+      if [[ $kind == replay ]]; then
+        "$root/vcan/replay" -i vcan0 --start "$start" --duration "$dur" "$log" || fail "replay failed"
+      else
+        "$root/vcan/replay" -i vcan0 --start "$start" --duration "$dur" "$log" & bg+=($!)
+      fi ;;
+    sleep:*) sleep "${phase#sleep:}" ;;
+    kill-controller) kill -KILL "$ctrl"; wait "$ctrl" 2>/dev/null; ctrl="" ;;
+    start-controller) start_controller ;;
+    flood:*)
+      # 0x0D0 is ID_D0 (steering/yaw/accelerations) in the ft86 DBC: decoded by the controller,
+      # drawn by no gauge. Random payloads, no gap: as fast as the kernel takes them (-i: keep going
+      # on ENOBUFS; no -x, since on vcan a frame without local loopback reaches no reader at all).
+      timeout "${phase#flood:}" cangen vcan0 -g 0 -i -I 0D0 -L 8 -D r 2>>"$out/cangen.log"
+      rc=$?; ((rc == 124)) || fail "cangen exited with $rc before its time was up" ;;
+    rss:*)
+      [[ -n $ctrl ]] || fail "rss: no controller running"
+      echo "${phase#rss:} $(awk '/^VmRSS:/ {print $2}' "/proc/$ctrl/status")" >>"$out/rss.txt" ;;
+    *) fail "unknown phase '$phase'" ;;
+  esac
+done
+for p in "${bg[@]}"; do wait "$p" || fail "background replay failed"; done
+
+# The controller must have survived everything after its last (re)start, and stop cleanly.
+[[ -n $ctrl ]] && { kill -0 "$ctrl" 2>/dev/null || fail "meter-controller died during the run (see controller.log)"; }
+if [[ -n $ctrl ]]; then
+  kill -TERM "$ctrl"
+  for _ in $(seq 50); do kill -0 "$ctrl" 2>/dev/null || break; sleep 0.1; done
+  kill -0 "$ctrl" 2>/dev/null && { kill -KILL "$ctrl"; fail "meter-controller ignored SIGTERM for 5 s"; }
+  wait "$ctrl"; rc=$?
+  ((rc == 0)) || fail "meter-controller exited with $rc on SIGTERM"
+fi
+event done
+echo ok >"$out/result.txt"
