@@ -109,11 +109,14 @@ void FuelFilter::step(double level, bool valid, double speed, double dt) {
 
 void Odometer::add_speed(double speed_kmh, std::int64_t dt_ns) {
   if (!(speed_kmh > 0) || !std::isfinite(speed_kmh) || dt_ns <= 0) return;
-  // km/h * ns / 3600 = micrometres.
-  double um = speed_kmh * static_cast<double>(dt_ns) / 3600.0 + carry_;
-  double whole = std::floor(um);
-  carry_ = um - whole;
-  auto add = static_cast<std::int64_t>(whole);
+  // km/h * ns / 3600 = micrometres. The product v * dt is an integer for any speed with the
+  // resolution a DBC gives it (0.01 km/h * 1e6 ns...), so it is counted in integer units of 1/3600
+  // um and carried exactly: no rounding drift however long the car drives.
+  const double product = std::nearbyint(speed_kmh * static_cast<double>(dt_ns));
+  if (!(product < 9.0e18)) return;  // a glitch of absurd size: refuse rather than overflow
+  const std::int64_t units = static_cast<std::int64_t>(product) + rem_;
+  const std::int64_t add = units / 3600;
+  rem_ = units % 3600;
   odo_um_ += add;
   trip_um_ += add;
 }

@@ -86,7 +86,8 @@ class Odometer {
 
  private:
   std::int64_t odo_um_ = 0, trip_um_ = 0;
-  double carry_ = 0;  // in micrometres, |carry| < 1
+  std::int64_t rem_ = 0;  // speed integration remainder, in 1/3600 um
+  double carry_ = 0;      // counter integration remainder, in um (< 1)
   std::optional<std::uint64_t> last_counter_;
 };
 
