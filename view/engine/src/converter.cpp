@@ -96,7 +96,11 @@ class Converter {
 
   ConvertResult run() {
     validate();
-    if (!errors_.empty()) throw ConvertError(file_, errors_);
+    if (!errors_.empty()) {
+      ConvertError e(file_, errors_);
+      e.repairs = repairs_;
+      throw e;
+    }
     ConvertResult r;
     r.scene = build();
     r.repairs = repairs_;
@@ -639,9 +643,22 @@ class Converter {
       for (const auto* s : sets) {
         for (std::size_t c = 0; c < 4 && v * 4 + c < s->size(); ++c) sum += (*s)[v * 4 + c];
       }
-      if (std::abs(sum - 1.0) > 2e-3 * double(sets.size() * 4)) {
-        for (const auto& n : names) {
-          repair(pp + ".attributes." + n, "weights of element " + std::to_string(v) + " sum to " + fmt(sum) + ": renormalised to 1");
+      bool negative = false;
+      for (const auto* st : sets) {
+        for (std::size_t c = 0; c < 4 && v * 4 + c < st->size(); ++c) negative = negative || (*st)[v * 4 + c] < 0;
+      }
+      if (negative) {  // the sum of a set with a negative weight is meaningless: no repair possible
+        for (const auto& n : names) error(pp + ".attributes." + n, "weights of element " + std::to_string(v) + " are not normalised (a weight is negative)");
+        continue;
+      }
+      const bool total_off = std::abs(sum - 1.0) > 2e-3 * double(sets.size() * 4);
+      for (std::size_t k = 0; k < sets.size(); ++k) {
+        double own = 0;
+        for (std::size_t c = 0; c < 4 && v * 4 + c < sets[k]->size(); ++c) own += (*sets[k])[v * 4 + c];
+        // One set alone above 1 is wrong whatever the other sets hold.
+        if (total_off || own > 1.0 + 8e-3) {
+          repair(pp + ".attributes." + names[k], "weights of element " + std::to_string(v) + " sum to " + fmt(total_off ? sum : own) +
+                                                  ": renormalised to 1");
         }
       }
     }

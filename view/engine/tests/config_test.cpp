@@ -1,1 +1,58 @@
 #include <gtest/gtest.h>
+
+#include "meter/engine/config.hpp"
+#include "test_scenes.hpp"
+
+using namespace meter::engine;
+
+namespace {
+std::string error_of(const std::string& json) {
+  try {
+    parse_scene_config(json, "t.json");
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(SceneConfig, ParsesTheDocumentedShape) {
+  auto c = parse_scene_config(test::dial_config_json(), "dial.json");
+  EXPECT_EQ(c.size[0], 320);
+  EXPECT_EQ(c.camera, "Camera");
+  ASSERT_EQ(c.bindings.size(), 4u);
+  EXPECT_EQ(c.bindings[0].kind, BindingKind::Animation);
+  EXPECT_EQ(c.bindings[0].signal_id, 1);
+  EXPECT_DOUBLE_EQ(c.bindings[0].time[1], 10.8333333);
+  EXPECT_EQ(c.bindings[0].failsafe_value.value(), 0.0);
+  EXPECT_EQ(c.bindings[3].kind, BindingKind::Text);
+  EXPECT_EQ(c.bindings[3].align, TextAlign::Center);
+  EXPECT_EQ(*c.bindings[3].failsafe_text, "---");
+  EXPECT_EQ(c.link_loss.text_node, "Text_Status");
+}
+
+TEST(SceneConfig, ErrorsNameTheFileAndJsonPath) {
+  EXPECT_NE(error_of(R"({"format": "meter-scene-config/2"})").find("t.json: $.format: unsupported format"), std::string::npos);
+  EXPECT_NE(error_of(R"({"format": "meter-scene-config/1", "bindings": [{"signal": "Vehicle.Nope", "kind": "text", "node": "x"}]})")
+                .find("$.bindings[0].signal: \"Vehicle.Nope\" is not in the signal catalog"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"format": "meter-scene-config/1", "bindings": [{"signal": "Vehicle.Speed", "kind": "animation", "animation": "A", "input": [0, 0], "time": [0, 1]}]})")
+                .find("$.bindings[0].input: the two ends of the range must differ"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"format": "meter-scene-config/1", "sise": [1, 2]})").find("$.sise: unknown key"), std::string::npos);
+  EXPECT_NE(error_of(R"({"format": "meter-scene-config/1", "size": [1280]})").find("$.size"), std::string::npos);
+  EXPECT_NE(error_of("{not json").find("t.json: not valid JSON"), std::string::npos);
+  EXPECT_NE(error_of(R"({"format": "meter-scene-config/1", "bindings": [{"signal": "Vehicle.Speed", "kind": "text", "node": "T", "format": "%s"}]})")
+                .find("$.bindings[0].format"),
+            std::string::npos);
+}
+
+TEST(SceneConfig, NumberFormatsAreCheckedSoFormattingCannotBeUndefined) {
+  EXPECT_TRUE(valid_number_format("%.0f km"));
+  EXPECT_TRUE(valid_number_format("%+5.1f%%"));
+  EXPECT_FALSE(valid_number_format("%d"));
+  EXPECT_FALSE(valid_number_format("%f %f"));
+  EXPECT_FALSE(valid_number_format("no conversion"));
+  EXPECT_FALSE(valid_number_format("%999f"));
+  EXPECT_EQ(format_number("%.1f km", 12.34), "12.3 km");
+}

@@ -1,5 +1,6 @@
 #include "test_scenes.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -84,11 +85,18 @@ struct Builder {
     p.indices = indices({0, 1, 2, 0, 2, 3});
     p.material = mat;
     p.mode = TINYGLTF_MODE_TRIANGLES;
-    if (morph) p.targets.push_back({{"POSITION", accessor(*morph, TINYGLTF_TYPE_VEC3, 3, true)}});
+    // Two targets (grow, and a sideways shift the bindings never drive): shadergen 1-target
+    // programs currently fail to compile (u_morph_weights declared without array).
+    if (morph) {
+      p.targets.push_back({{"POSITION", accessor(*morph, TINYGLTF_TYPE_VEC3, 3, true)}});
+      std::vector<float> shift(morph->size(), 0.0f);
+      for (std::size_t i = 0; i < shift.size(); i += 3) shift[i] = 0.1f;
+      p.targets.push_back({{"POSITION", accessor(shift, TINYGLTF_TYPE_VEC3, 3, true)}});
+    }
     tinygltf::Mesh mesh;
     mesh.name = name;
     mesh.primitives.push_back(p);
-    if (morph) mesh.weights = {0.0};
+    if (morph) mesh.weights = {0.0, 0.0};
     m.meshes.push_back(mesh);
     return static_cast<int>(m.meshes.size() - 1);
   }

@@ -22,6 +22,7 @@ struct Diagnostic {
 struct ConvertError : SceneError {
   ConvertError(const std::string& file, std::vector<Diagnostic> errs);
   std::vector<Diagnostic> errors;
+  std::vector<Diagnostic> repairs;  // repairs that would have been applied (not in what())
 };
 
 struct ConvertOptions {
