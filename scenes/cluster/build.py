@@ -475,6 +475,8 @@ def write_config(path, scene):
         "camera": "Camera",
         "clear_color": [0.0, 0.0, 0.0, 1.0],
         "time": 0.0,
+        # The world is black (strength 0): no ambient, only the punctual lights and emission.
+        "ambient": [0.0, 0.0, 0.0],
         "bindings": bindings,
         "link_loss": {"text_node": "Text_Status", "text": "NO SIGNAL"},
         "groups": groups,

@@ -144,6 +144,12 @@ def environment_image(path, width=512, height=256):
     im.colorspace_settings.name = "sRGB"
     # Values are display-referred (sRGB-encoded) 0..1, as an artist's 8-bit PNG would be.
     im.pixels.foreach_set(rgba.ravel())
+    # Mean linear radiance over the sphere (cos-latitude weighted): the engine's uniform ambient
+    # for the diffuse part when it lights with this map (docs/shaders.md, "Ambient").
+    q = np.round(img * 255.0) / 255.0  # what the 8-bit PNG holds
+    lin = np.where(q <= 0.04045, q / 12.92, ((q + 0.055) / 1.055) ** 2.4)
+    wgt = np.cos(lat)[..., None]
+    environment_image.mean = [round(float(x), 4) for x in (lin * wgt).sum((0, 1)) / wgt.sum()]
     im.filepath_raw = path
     im.file_format = "PNG"
     im.save()
@@ -198,15 +204,16 @@ def key_light(energy=3.0):
 
 def build_feature(name, outdir):
     extras = {}
-    notes = ""
+    ambient = [0.0, 0.0, 0.0]  # black world: no ambient unless the feature is world light
     config_time = 0.0
     base_orange = (0.8, 0.25, 0.05)
     if name == "ambient":
-        # Uniform world light = ambient term; a weak sun keeps the shape readable. The engine's
-        # ambient colour comes from scene extras meter_ambient (linear RGB radiance).
+        # Uniform world light = ambient term; a weak sun keeps the shape readable. The engine
+        # reads it from the config's "ambient" (also in the glTF scene extras, meter_ambient).
         ambient = (0.25, 0.25, 0.28)
         world_setup(color=ambient)
         extras["meter_ambient"] = list(ambient)
+        ambient = list(ambient)
         mat = b.principled("Teapot", base=base_orange, roughness=0.6)
         teapot("Teapot", mat)
         key_light(1.0)
@@ -252,6 +259,7 @@ def build_feature(name, outdir):
         world_setup(image=img, strength=1.0)
         extras["meter_environment"] = "environment.png"
         extras["meter_environment_strength"] = 1.0
+        ambient = environment_image.mean
         if name == "reflection":
             # Mirror chrome: the environment seen in the surface is the whole feature.
             mat = b.principled("Teapot", base=(0.95, 0.95, 0.95), metallic=1.0, roughness=0.05)
@@ -290,7 +298,7 @@ def build_feature(name, outdir):
         # A point light close to the teapot: inverse-square falloff across floor and body.
         no_shadow(b.light("Omni", "POINT", (0.9, -1.0, 0.9), energy=60.0, color=(1.0, 0.9, 0.75)))
     b.camera_persp("Camera", (0.0, -3.7, 1.5), (0.0, 0.0, -0.05), lens_mm=50.0)
-    return extras, config_time
+    return extras, ambient, config_time
 
 
 def skin(pot):
@@ -374,7 +382,7 @@ def main():
     scene = b.reset_scene(WIDTH, HEIGHT, FPS)
     scene.frame_start = 0
     scene.frame_end = ANIM_FRAMES
-    extras, config_time = build_feature(name, outdir)
+    extras, ambient, config_time = build_feature(name, outdir)
     for k, v in extras.items():
         scene[k] = v
     scene.frame_set(0)
@@ -388,6 +396,7 @@ def main():
         "camera": "Camera",
         "clear_color": [0.0, 0.0, 0.0, 1.0],
         "time": round(config_time, 6),
+        "ambient": ambient,
         "bindings": [],
         "groups": [],
     })
