@@ -276,11 +276,11 @@ int main(int argc, char** argv) {
     auto next = start;
     auto last = start;
     std::uint64_t frame = 0;
-    auto dump = [&](std::uint64_t n, double t) {
+    auto dump = [&](std::uint64_t n, double t, bool drawn) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(n));
       platform::write_png(renderer.last_image(), fs::path(out_dir) / name);
-      csv.row(n, t, name, sub.link_up(), true);
+      csv.row(n, t, name, sub.link_up(), drawn);
     };
     while (!g_stop) {
       const auto now0 = Clock::now();
@@ -301,7 +301,7 @@ int main(int argc, char** argv) {
       const bool want = dump_every > 0 && frame % static_cast<std::uint64_t>(dump_every) == 0;
       auto ft = renderer.render(false, want);
       log_timing(frame, t, ft);
-      if (want) dump(frame, t);
+      if (want) dump(frame, t, ft.drawn);
       sub.send_status(renderer.stats().drawn, 0);
       ++frame;
       next += period;
@@ -309,7 +309,7 @@ int main(int argc, char** argv) {
     }
     if (dump_last && frame > 0) {
       renderer.read();
-      dump(frame - 1, std::chrono::duration<double>(Clock::now() - start).count());
+      dump(frame - 1, std::chrono::duration<double>(Clock::now() - start).count(), false);
     }
     const auto& st = renderer.stats();
     std::cerr << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped << " skipped (inputs unchanged)\n";
