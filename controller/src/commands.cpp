@@ -237,6 +237,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
     }
     model.persist_now();
+    if (o.verbose) {
+      for (const auto& x : model.outputs())
+        err << "  final " << protocol::find_signal(x.id)->name << " = " << fmt_double(x.value) << " ("
+            << protocol::to_string(x.status) << ")\n";
+    }
     if (!g_stop && o.linger_s > 0) {
       const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.linger_s);
       while (!g_stop && std::chrono::steady_clock::now() < until) pub.poll(std::chrono::milliseconds(20));

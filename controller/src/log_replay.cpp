@@ -95,7 +95,15 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   }
   const std::int64_t deadline = mono_ns() + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
   for (;;) {
-    const std::int64_t now = now_ns();
+    std::int64_t now = now_ns();
+    if (next_ < frames.size() && now - frames[next_].timestamp_ns > kMaxLagNs) {
+      // We fell behind (descheduled, a slow disk): let the replay clock slip instead of handing
+      // over a burst of stale frames, as canplayer does. Gaps between frames stay as recorded.
+      const std::int64_t behind = now - frames[next_].timestamp_ns;
+      wall_start_ += static_cast<std::int64_t>(static_cast<double>(behind) / opt_.scale);
+      now -= behind;
+      ++slips_;
+    }
     bool any = false;
     while (next_ < frames.size() && frames[next_].timestamp_ns <= now) {
       sink.on_frame(frames[next_++]);

@@ -66,6 +66,8 @@ class LogReplay : public Input {
   std::string describe() const override;
   const ParsedLog& log() const { return log_; }
   std::size_t delivered() const { return next_; }
+  std::size_t slips() const { return slips_; }  // times the replay clock slipped (we fell behind)
+  static constexpr std::int64_t kMaxLagNs = 20000000;  // 20 ms of log time
 
  private:
   ParsedLog log_;
@@ -75,6 +77,7 @@ class LogReplay : public Input {
   std::int64_t log_start_ = 0;      // first frame's timestamp
   std::int64_t wall_start_ = 0;     // CLOCK_MONOTONIC at the first poll (realtime / scaled)
   bool begun_ = false;
+  std::size_t slips_ = 0;
 };
 
 // ---------------------------------------------------------------- SocketCAN
