@@ -4,6 +4,7 @@ transport through qemu's hostfwd — two chips on a link. Judges what the view d
 whose rows are proven against the pixels by re-rendering them offline) against an independent
 decode of the same log by python3-canmatrix."""
 import csv
+import json
 import os
 import signal
 import socket
@@ -31,6 +32,9 @@ SPEED = "Vehicle.Speed"
 RPM = "Vehicle.Powertrain.CombustionEngine.Speed"
 ECT = "Vehicle.Powertrain.CombustionEngine.ECT"
 FPS = 10            # the view's render rate in these runs: enough samples, little CPU next to TCG
+# Half-size, no MSAA: the view shares 2 cores with the TCG guest; a frame (and its PNG) must stay
+# well inside the link's 300 ms heartbeat-loss window. Offline renders use the same options.
+VIEW_RENDER_OPTS = ["--size", "640x240", "--msaa", "1"]
 
 
 def require(*paths):
@@ -53,20 +57,32 @@ def scene_package():
 
 
 # ---- frames.csv: what the view drew, one row per dumped PNG ---------------------------------
-class Row:
-    __slots__ = ("frame", "time", "values", "status", "link")
+def norm_status(text):
+    """'timed-out', 'TimedOut', 'timed_out' -> 'timedout' (protocol::to_string spells them
+    valid, timed-out, invalid, not-available)."""
+    return text.strip().lower().replace("-", "").replace("_", "")
 
-    def __init__(self, frame, t, values, status, link):
-        self.frame, self.time, self.values, self.status, self.link = frame, t, values, status, link
+
+class Row:
+    __slots__ = ("frame", "time", "values", "status", "raw_status", "failsafe", "link")
+
+    def __init__(self, frame, t, values, status, link, failsafe=None):
+        self.frame, self.time, self.values, self.link = frame, t, values, link
+        self.raw_status = dict(status)
+        self.status = {k: norm_status(x) for k, x in status.items()}
+        self.failsafe = failsafe or {}
 
     def valid(self, sig):
-        return self.status.get(sig, "Valid") == "Valid" and sig in self.values and self.link is not False
+        return (sig in self.values and self.status.get(sig, "valid") == "valid"
+                and not self.failsafe.get(sig, False) and self.link is not False)
+
+
+META = {"png", "drawn"}
 
 
 def read_frames_csv(path):
-    """Reads meter-view's frames.csv. Columns: frame index, time (s), then per bound signal its
-    value (column named by the signal) and optionally its status ("<signal>.status"), and
-    optionally the link state ("link": up/down or 1/0)."""
+    """Reads meter-view's frames.csv: frame, time_s, png, link_up, drawn, then per bound signal
+    "<signal>" (value as drawn), "<signal>.status" and "<signal>.failsafe"."""
     rows = []
     with open(path, newline="") as f:
         reader = csv.DictReader(f)
@@ -77,13 +93,15 @@ def read_frames_csv(path):
             raise AssertionError(f"{path}:1: expected frame and time columns, got {cols}")
         lcol = next((c for c in cols if c.lower() in ("link", "link_up")), None)
         for n, r in enumerate(reader, 2):
-            values, status = {}, {}
+            values, status, failsafe = {}, {}, {}
             for c in cols:
-                if c in (fcol, tcol, lcol):
+                if c in (fcol, tcol, lcol) or c.lower() in META:
                     continue
                 base, _, suffix = c.rpartition(".")
-                if suffix.lower() == "status" and base:
+                if suffix == "status" and base:
                     status[base] = r[c]
+                elif suffix == "failsafe" and base:
+                    failsafe[base] = r[c].strip() in ("1", "true")
                 elif r[c] not in ("", None):
                     try:
                         values[c] = float(r[c])
@@ -93,9 +111,11 @@ def read_frames_csv(path):
             if lcol:
                 link = r[lcol].strip().lower() in ("1", "up", "true", "yes")
             try:
-                rows.append(Row(int(r[fcol]), float(r[tcol]), values, status, link))
+                rows.append(Row(int(r[fcol]), float(r[tcol]), values, status, link, failsafe))
             except ValueError as e:
                 raise AssertionError(f"{path}:{n}: bad frame/time field: {e}") from e
+    if not rows:
+        raise AssertionError(f"{path}: no frames")
     return rows
 
 
@@ -140,39 +160,68 @@ def ft86_envelopes(frames):
     }
 
 
-def align(rows, envs, t_go, start_s, search=(-1.0, 3.0), step=0.02):
-    """Maps view time to log time: tau = row.time - t_go + start_s + d. t_go (view clock at the
-    host's go) fixes it to within the view's start-up lag and the link latency; the single scalar d
-    is fitted in a bounded range by maximising the share of rows inside every envelope. Returns
-    (d, share)."""
-    cand = [r for r in rows if all(r.valid(s) for s in envs)]
-    if not cand:
-        raise AssertionError("no frame drew valid values for " + ", ".join(envs))
+# Where the view's clock sits against the log: tau = row.time - t_go + start_s - lag, with t_go
+# the view-clock time of the host's go. The lag is the view's own start-up offset plus link latency
+# plus how far the replay has fallen behind real time: under TCG on a loaded 2-core host canplayer
+# can fall seconds behind over a 25 s window (measured: 25 s of log took 30.8 s with the view and
+# six builds competing). So the lag is fitted per WINDOW of log time, within LAG_RANGE. A wrong
+# unit, scale, signal or a stuck needle cannot be fitted away: no lag puts those inside the band.
+WINDOW_S = 5.0
+LAG_RANGE = (-2.0, 8.0)     # the view never runs ahead by > 2 s nor behind by > 8 s
+SETTLE_AFTER_LINK_S = 2.0   # after a (re)connect the view's needle smoothing starts from failsafe
+
+
+def judged_rows(rows, envs):
+    """Rows that draw live, valid values for every judged signal, excluding the settle time after
+    each link-up (a snapshot after a reconnect is animated in from the failsafe position)."""
+    out, up_since = [], None
+    for r in rows:
+        if r.link is False:
+            up_since = None
+            continue
+        if up_since is None:
+            up_since = r.time
+        if r.time - up_since >= SETTLE_AFTER_LINK_S and all(r.valid(s) for s in envs):
+            out.append(r)
+    return out
+
+
+def fit_lag(rows, envs, base, step=0.02):
+    """Best lag for rows (base = start_s - t_go), as the middle of the optimal plateau."""
     shares = []
-    for d in np.arange(search[0], search[1] + 1e-9, step):
-        ok = sum(all(e.holds(r.time - t_go + start_s + d, r.values[s]) for s, e in envs.items()) for r in cand)
-        shares.append((float(d), ok / len(cand)))
+    for lag in np.arange(LAG_RANGE[0], LAG_RANGE[1] + 1e-9, step):
+        ok = sum(all(e.holds(r.time + base - lag, r.values[s]) for s, e in envs.items()) for r in rows)
+        shares.append((float(lag), ok / len(rows)))
     best = max(x for _, x in shares)
-    # The envelope's windows make the optimum a plateau; its middle is the robust estimate.
     plateau = [d for d, x in shares if x >= best - 1e-12]
     return plateau[len(plateau) // 2], best
 
 
-def tracking_report(rows, envs, t_go, start_s, d, t_from, t_to):
-    """Per signal: rows judged and rows outside the envelope in log window [t_from, t_to)."""
-    out = {}
-    for s, e in envs.items():
-        judged = bad = 0
-        worst = None
-        for r in rows:
-            tau = r.time - t_go + start_s + d
-            if not (t_from <= tau < t_to) or not r.valid(s):
-                continue
-            judged += 1
-            if not e.holds(tau, r.values[s]):
-                bad += 1
-                worst = worst or (round(tau, 2), r.values[s], e.bounds(tau))
-        out[s] = (judged, bad, worst)
+def judge(rows, envs, t_go, start_s, t_from, t_to):
+    """Per WINDOW_S of log time in [t_from, t_to): frames the view dumped there, the judged rows
+    among them, the fitted lag and, per signal, rows outside its envelope with the worst example.
+    Returns a list of dicts."""
+    base = start_s - t_go
+    cand = judged_rows(rows, envs)
+    # One coarse global lag cuts the rows into log-time windows; each window then fits its own.
+    global_lag = fit_lag(cand, envs, base, step=0.1)[0] if cand else 0.0
+    out = []
+    w0 = t_from
+    while w0 < t_to - 1e-9:
+        w1 = min(w0 + WINDOW_S, t_to)
+        win = [r for r in cand if w0 <= r.time + base - global_lag < w1]
+        frames = sum(1 for r in rows if w0 <= r.time + base - global_lag < w1)
+        entry = {"window": (round(w0, 1), round(w1, 1)), "frames": frames, "rows": len(win),
+                 "lag": None, "bad": {}}
+        if win:
+            lag, _ = fit_lag(win, envs, base)
+            entry["lag"] = round(lag, 2)
+            for s, e in envs.items():
+                bad = [(round(r.time + base - lag, 2), r.values[s], e.bounds(r.time + base - lag))
+                       for r in win if not e.holds(r.time + base - lag, r.values[s])]
+                entry["bad"][s] = (len(bad), bad[0] if bad else None)
+        out.append(entry)
+        w0 = w1
     return out
 
 
@@ -189,9 +238,12 @@ def psnr(a, b):
 def offline_render(pkg, row, outdir):
     """meter-view's offline path (--set SIGNAL=VALUE ...) renders exactly the state of row."""
     os.makedirs(outdir, exist_ok=True)
-    args = [VIEW, "--scene", pkg, "--out", outdir]
+    args = [VIEW, "--scene", pkg, "--out", outdir] + VIEW_RENDER_OPTS
     for s, x in sorted(row.values.items()):
-        args += ["--set", f"{s}={x!r}"]
+        st = row.raw_status.get(s)
+        args += ["--set", f"{s}={x!r}" + (f"@{st}" if st else "")]
+    if row.link is False:
+        args.append("--link-lost")
     subprocess.run(args, check=True, timeout=60, capture_output=True)
     pngs = sorted(p for p in os.listdir(outdir) if p.endswith(".png"))
     if len(pngs) != 1:
@@ -217,10 +269,10 @@ class Run:
         outdir = os.path.join(self.out, tag)
         os.makedirs(outdir)
         pkg = scene_package()
-        p = subprocess.Popen([VIEW, "--link", f"tcp:127.0.0.1:{self.port}", "--scene", pkg,
-                              "--out", outdir, "--fps", str(FPS), "--dump-every", "1",
-                              "--duration", str(self.timeout)],
-                             stdout=open(os.path.join(outdir, "view.log"), "w"), stderr=subprocess.STDOUT)
+        with open(os.path.join(outdir, "view.log"), "w") as log:
+            p = subprocess.Popen([VIEW, "--link", f"tcp:127.0.0.1:{self.port}", "--scene", pkg,
+                                  "--out", outdir, "--fps", str(FPS), "--dump-every", "1", *VIEW_RENDER_OPTS,
+                                  "--duration", str(self.timeout)], stdout=log, stderr=subprocess.STDOUT)
         self.views.append((outdir, p, time.monotonic()))
         return outdir, p
 
@@ -259,8 +311,15 @@ class Run:
             if p.poll() is None:
                 p.send_signal(signal.SIGTERM)
         view_rcs = [p.wait(timeout=20) for _, p, _ in self.views]
-        result = open(os.path.join(self.out, "result.txt")).read().strip() \
-            if os.path.exists(os.path.join(self.out, "result.txt")) else "no result.txt"
+        result = "no result.txt"
+        if os.path.exists(os.path.join(self.out, "result.txt")):
+            with open(os.path.join(self.out, "result.txt")) as f:
+                result = f.read().strip()
+        # For post-mortems: the go in each view's clock.
+        with open(os.path.join(self.out, "run.json"), "w") as f:
+            json.dump({"t_go_view": [self.view_time(i, self.t_go) if self.t_go else None
+                                     for i in range(len(self.views))],
+                       "vm_rc": rc, "view_rcs": view_rcs, "result": result}, f)
         return rc, view_rcs, result
 
     def rss(self):

@@ -18,7 +18,7 @@ import vcanlib as v  # noqa: E402
 # (needle smoothing in flight, blink phase of a telltale). 30 dB on a 1280x480 cluster still
 # fails for a needle off by a few degrees or a wrong digit.
 PIXEL_PSNR_DB = 30.0
-MAX_OUTSIDE_SHARE = 0.03     # rows allowed outside the envelope (frames caught mid-transition)
+MAX_OUTSIDE_SHARE = 0.05     # rows allowed outside the envelope (frames caught mid-transition)
 
 
 def guest_events(run):
@@ -45,17 +45,31 @@ class E2eBase(unittest.TestCase):
         for r in view_rcs:
             self.assertIn(r, (0, -signal.SIGTERM, 128 + signal.SIGTERM), "meter-view crashed")
 
-    def check_tracking(self, run, rows, envs, view_idx, start_s, t_from, t_to, min_rows):
+    def check_tracking(self, run, rows, envs, view_idx, start_s, t_from, t_to, min_share=0.4):
+        """In every WINDOW_S of log time in [t_from, t_to) the view lived through: at least half the
+        nominal frame count dumped, at least min_share of them drawing live valid values (link
+        losses under TCG load cost some), and at most MAX_OUTSIDE_SHARE of those outside a
+        signal's envelope."""
         t_go_view = run.view_time(view_idx, run.t_go)
-        d, share = e2e.align(rows, envs, t_go_view, start_s)
-        report = e2e.tracking_report(rows, envs, t_go_view, start_s, d, t_from, t_to)
-        print(f"{run.name}: alignment d = {d:+.2f} s, share inside = {share:.3f}; {report}")
-        for s, (judged, bad, worst) in report.items():
-            self.assertGreaterEqual(judged, min_rows, f"{s}: only {judged} valid frames in the window")
-            self.assertLessEqual(bad, MAX_OUTSIDE_SHARE * judged,
-                                 f"{s}: {bad}/{judged} frames outside the reference envelope, e.g. "
-                                 f"(log time, drawn, allowed) = {worst}")
-        return d
+        rep = e2e.judge(rows, envs, t_go_view, start_s, t_from, t_to)
+        print(f"{run.name}: " + "; ".join(
+            f"{w['window']}: {w['rows']} rows, lag {w['lag']} s, outside "
+            f"{ {k.rsplit('.', 1)[-1]: n for k, (n, _) in w['bad'].items()} }" for w in rep))
+        self.assertGreater(sum(w["rows"] for w in rep), 20, "almost nothing to judge")
+        for w in rep:
+            if w["frames"] == 0:
+                continue        # a window the view did not live through (started later)
+            span = w["window"][1] - w["window"][0]
+            self.assertGreaterEqual(w["frames"], 0.5 * span * e2e.FPS,
+                                    f"log window {w['window']}: the view dumped only {w['frames']} frames")
+            self.assertGreaterEqual(w["rows"], min_share * w["frames"],
+                                    f"log window {w['window']}: only {w['rows']} of {w['frames']} frames "
+                                    "drew live valid values")
+            for s, (bad, worst) in w["bad"].items():
+                self.assertLessEqual(bad, MAX_OUTSIDE_SHARE * w["rows"],
+                                     f"{s} in log window {w['window']}: {bad}/{w['rows']} frames outside "
+                                     f"the reference envelope, e.g. (log time, drawn, allowed) = {worst}")
+        return rep
 
     def check_pixels(self, run, viewdir, rows, n=4):
         pkg = e2e.scene_package()
@@ -84,8 +98,7 @@ class Ft86OverVcan(E2eBase):
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
         envs = e2e.ft86_envelopes(v.parse_candump(v.FT86_LOG))
         # Judge from 1.5 s after the replay starts (the needles' settle time) to its end.
-        self.check_tracking(run, rows, envs, 0, self.START, self.START + 1.5, self.START + self.DUR,
-                            min_rows=int(0.6 * (self.DUR - 1.5) * e2e.FPS))
+        self.check_tracking(run, rows, envs, 0, self.START, self.START + 1.5, self.START + self.DUR)
         self.check_pixels(run, viewdir, rows)
         subprocess.run([os.path.join(v.SOURCE_DIR, "scripts", "make-video"), viewdir], check=True)
 
@@ -137,8 +150,7 @@ class DemoOverVcan(E2eBase):
         run.go(time.monotonic() + 90)
         self.check_run(run, run.finish())
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
-        self.check_tracking(run, rows, envs, 0, self.START, self.START + 3.0, self.START + self.DUR,
-                            min_rows=int(0.6 * (self.DUR - 3.0) * e2e.FPS))
+        self.check_tracking(run, rows, envs, 0, self.START, self.START + 3.0, self.START + self.DUR)
         self.check_pixels(run, viewdir, rows)
         self.check_golden(run, viewdir, rows)
         subprocess.run([os.path.join(v.SOURCE_DIR, "scripts", "make-video"), viewdir], check=True)
@@ -193,12 +205,8 @@ class Faults(E2eBase):
         # Recovery: reconnect backoff (<= 2 s) + snapshot; from then on values track the log again.
         after = [r for r in rows if r.time >= t_back + 3.0]
         self.assertTrue(after and all(r.valid(e2e.SPEED) for r in after[:5]), "no recovery after restart")
-        t_go_view = run.view_time(0, run.t_go)
-        d, _ = e2e.align([r for r in rows if r.time < t_kill], self.envs(), t_go_view, self.START)
-        report = e2e.tracking_report(after, self.envs(), t_go_view, self.START, d, 0, 1e12)
-        for s, (judged, bad, worst) in report.items():
-            self.assertGreater(judged, 20, s)
-            self.assertLessEqual(bad, MAX_OUTSIDE_SHARE * judged, f"{s} after recovery: {worst}")
+        # Judge the log time from the restart (+3 s) to the end of the replay.
+        self.check_tracking(run, after, self.envs(), 0, self.START, self.START, self.START + 20)
 
     def test_view_killed_and_restarted(self):
         run = e2e.Run("e2e_view_restart", ["go", f"replay:{self.START}:18", "sleep:1"],
@@ -221,7 +229,8 @@ class Faults(E2eBase):
         first_valid = next((r for r in rows if r.valid(e2e.SPEED)), None)
         self.assertIsNotNone(first_valid, "the restarted view never showed a valid speed")
         self.assertLess(first_valid.time, 3.0, "the restarted view took too long to get its snapshot")
-        self.check_tracking(run, rows, self.envs(), 1, self.START, 0, 1e12, min_rows=40)
+        # The new view's whole life during the replay (judged_rows skips its settle time).
+        self.check_tracking(run, rows, self.envs(), 1, self.START, self.START, self.START + 18)
 
     def test_bus_silence(self):
         run = e2e.Run("e2e_bus_silence", ["go", f"replay:{self.START}:8", "sleep:5"],
@@ -242,7 +251,7 @@ class Faults(E2eBase):
         for r in quiet:
             self.assertNotEqual(r.link, False, f"frame {r.frame}: link lost during bus silence")
             for s in (e2e.SPEED, e2e.RPM):
-                self.assertEqual(r.status.get(s), "TimedOut", f"frame {r.frame}: {s} not timed out")
+                self.assertEqual(r.status.get(s), "timedout", f"frame {r.frame}: {s} not timed out")
 
     def test_cangen_flood(self):
         run = e2e.Run("e2e_flood", ["go", f"replay-bg:{self.START}:16", "sleep:3", "rss:before",
@@ -257,8 +266,7 @@ class Faults(E2eBase):
         self.assertLess(rss["after"] - rss["before"], 2048)
         # Keeping up: the gauges keep tracking the log during the flood.
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
-        self.check_tracking(run, rows, self.envs(), 0, self.START, self.START + 3.5, self.START + 11,
-                            min_rows=int(0.6 * 7.5 * e2e.FPS))
+        self.check_tracking(run, rows, self.envs(), 0, self.START, self.START + 3.5, self.START + 11)
 
 
 if __name__ == "__main__":
