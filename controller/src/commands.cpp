@@ -1,5 +1,7 @@
 #include "meter/controller/commands.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <ostream>
@@ -223,13 +225,22 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     };
 
     ModelSink sink(model);
-    const auto period = std::chrono::milliseconds(std::max(1, static_cast<int>(map.update_period_s * 1000)));
+    // The model ticks every update period of input time; inputs are polled until the next tick.
+    const auto period_ns = static_cast<std::int64_t>(map.update_period_s * 1e9);
     model.start(input->now_ns());
+    std::int64_t next_tick = input->now_ns() + period_ns;
     bool more = true;
     while (!g_stop && more) {
-      more = input->poll(sink, period);
-      model.update(input->now_ns());
-      publish();
+      const double wait_wall_ns = static_cast<double>(next_tick - input->now_ns()) / input->rate();
+      // Rounded up: a 0 ms wait while the tick is still ahead would spin.
+      const auto wait = std::chrono::milliseconds(std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil(wait_wall_ns / 1e6)), 1, 100));
+      more = input->poll(sink, wait);
+      const std::int64_t t = input->now_ns();
+      if (t >= next_tick || !more) {
+        model.update(t);
+        publish();
+        next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
+      }
       pub.poll(std::chrono::milliseconds(0));  // never waits for a view
       if (!more && !o.exit_at_end) {
         // Log ended: keep serving the final state until told to stop.

@@ -93,29 +93,32 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) sink.on_frame(frames[next_++]);
     return next_ < frames.size();
   }
-  const std::int64_t deadline = mono_ns() + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
-  for (;;) {
-    std::int64_t now = now_ns();
-    if (next_ < frames.size() && now - frames[next_].timestamp_ns > kMaxLagNs) {
-      // We fell behind (descheduled, a slow disk): let the replay clock slip instead of handing
-      // over a burst of stale frames, as canplayer does. Gaps between frames stay as recorded.
-      const std::int64_t behind = now - frames[next_].timestamp_ns;
-      wall_start_ += static_cast<std::int64_t>(static_cast<double>(behind) / opt_.scale);
-      now -= behind;
-      ++slips_;
-    }
-    bool any = false;
-    while (next_ < frames.size() && frames[next_].timestamp_ns <= now) {
-      sink.on_frame(frames[next_++]);
-      any = true;
-    }
-    if (next_ >= frames.size()) return false;
-    if (any) return true;
-    const std::int64_t wall_left = deadline - mono_ns();
-    if (wall_left <= 0) return true;
+  // Realtime / scaled: frames are handed over in batches at the caller's poll cadence (the model
+  // ticks at that cadence anyway), so the process wakes ~100 times a second, not once per frame.
+  const std::int64_t timeout_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+  const std::int64_t deadline = mono_ns() + timeout_ns;
+  std::int64_t now = now_ns();
+  if (next_ < frames.size() && frames[next_].timestamp_ns > now) {
     const auto due_wall = static_cast<std::int64_t>(static_cast<double>(frames[next_].timestamp_ns - now) / opt_.scale);
-    std::this_thread::sleep_for(std::chrono::nanoseconds(std::max<std::int64_t>(0, std::min(wall_left, due_wall))));
+    const std::int64_t wait = std::min(deadline - mono_ns(), due_wall);
+    if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+    if (mono_ns() < deadline) {
+      const std::int64_t rest = deadline - mono_ns();
+      if (rest > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(rest));
+    }
+    now = now_ns();
   }
+  // Fell behind by more than one batch (descheduled, a slow disk): let the replay clock slip
+  // instead of handing over a burst of stale frames, as canplayer does. Gaps stay as recorded.
+  const std::int64_t allowed = kMaxLagNs + static_cast<std::int64_t>(static_cast<double>(timeout_ns) * opt_.scale);
+  if (next_ < frames.size() && now - frames[next_].timestamp_ns > allowed) {
+    const std::int64_t behind = now - frames[next_].timestamp_ns;
+    wall_start_ += static_cast<std::int64_t>(static_cast<double>(behind) / opt_.scale);
+    now -= behind;
+    ++slips_;
+  }
+  while (next_ < frames.size() && frames[next_].timestamp_ns <= now) sink.on_frame(frames[next_++]);
+  return next_ < frames.size();
 }
 
 std::string LogReplay::describe() const {

@@ -99,3 +99,73 @@ TEST(Candump, FormatRoundTrips) {
     }
   }
 }
+
+#include <chrono>
+
+#include "meter/controller/input.hpp"
+
+TEST(CandumpLog, BadLinesAreSkippedAndCountedWithLineNumbers) {
+  ParsedLog log = parse_candump_log(
+      "(1.000000) can0 123#00\n"
+      "garbage\n"
+      "\n"
+      "(1.010000) can0 12#00\r\n"
+      "(1.020000) can0 124#0102\r\n");
+  EXPECT_EQ(log.frames.size(), 2u);
+  ASSERT_EQ(log.bad_lines.size(), 2u);
+  EXPECT_EQ(log.bad_lines[0].line, 2u);
+  EXPECT_EQ(log.bad_lines[1].line, 4u);
+  EXPECT_NE(log.bad_lines[1].why.find("3 hex digits"), std::string::npos);
+  EXPECT_THROW(load_candump_log("/nonexistent.log"), std::runtime_error);
+}
+
+namespace {
+struct Collect : InputSink {
+  std::vector<std::int64_t> ts;
+  void on_frame(const CanFrame& f) override { ts.push_back(f.timestamp_ns); }
+  void on_value(std::string_view, double, bool, std::int64_t) override {}
+};
+std::string log_text(int n, int step_ms) {
+  std::string s;
+  for (int i = 0; i < n; ++i) {
+    char b[64];
+    std::snprintf(b, sizeof b, "(100.%06d) can0 123#%02X\n", i * step_ms * 1000, i & 0xFF);
+    s += b;
+  }
+  return s;
+}
+}  // namespace
+
+TEST(Replay, ModesParseAndFastIsDeterministic) {
+  EXPECT_EQ(parse_replay("fast").mode, ReplayMode::Fast);
+  EXPECT_EQ(parse_replay("realtime").mode, ReplayMode::Realtime);
+  EXPECT_EQ(parse_replay("scale:2.5").scale, 2.5);
+  EXPECT_THROW(parse_replay("scale:0"), std::invalid_argument);
+  EXPECT_THROW(parse_replay("scale:x"), std::invalid_argument);
+  EXPECT_THROW(parse_replay("slow"), std::invalid_argument);
+  LogReplay r(parse_candump_log(log_text(50, 10)), parse_replay("fast"));
+  Collect c;
+  int polls = 0;
+  std::vector<std::int64_t> clock;
+  while (r.poll(c, std::chrono::milliseconds(10))) {
+    ++polls;
+    clock.push_back(r.now_ns());
+  }
+  EXPECT_EQ(c.ts.size(), 50u);
+  EXPECT_EQ(polls, 48);  // 10 ms of simulated time per poll; the 49th delivers the last frame and ends
+  EXPECT_EQ(clock.front(), 100010000000LL);
+  for (std::size_t i = 1; i < c.ts.size(); ++i) EXPECT_LT(c.ts[i - 1], c.ts[i]);
+}
+
+TEST(Replay, ScaledReplayKeepsTheRecordedTiming) {
+  // 300 ms of log at scale 3 takes ~100 ms of wall time.
+  LogReplay r(parse_candump_log(log_text(31, 10)), parse_replay("scale:3"));
+  Collect c;
+  auto t0 = std::chrono::steady_clock::now();
+  while (r.poll(c, std::chrono::milliseconds(5))) {
+  }
+  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(c.ts.size(), 31u);
+  EXPECT_GE(wall, 0.095);
+  EXPECT_LT(wall, 0.6);  // generous: the machine is shared
+}

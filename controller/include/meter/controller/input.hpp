@@ -31,6 +31,8 @@ class Input {
   virtual bool poll(InputSink& sink, std::chrono::milliseconds timeout) = 0;
   virtual std::int64_t now_ns() const = 0;  // current time on this input's clock
   virtual std::string describe() const = 0;
+  // Input-clock seconds per wall second (a scaled replay runs faster; live inputs are 1).
+  virtual double rate() const { return 1.0; }
 };
 
 // ---------------------------------------------------------------- candump -L logs
@@ -64,6 +66,7 @@ class LogReplay : public Input {
   bool poll(InputSink& sink, std::chrono::milliseconds timeout) override;
   std::int64_t now_ns() const override;
   std::string describe() const override;
+  double rate() const override { return opt_.mode == ReplayMode::Scaled ? opt_.scale : 1.0; }
   const ParsedLog& log() const { return log_; }
   std::size_t delivered() const { return next_; }
   std::size_t slips() const { return slips_; }  // times the replay clock slipped (we fell behind)
