@@ -127,6 +127,12 @@ void Odometer::add_counter(std::uint64_t counter, unsigned bits, double um_per_c
   if (last_counter_) {
     std::uint64_t delta = (counter - *last_counter_) & mask;  // wraps correctly
     double um = static_cast<double>(delta) * um_per_count + carry_;
+    // A NaN or negative scale, or a jump too large for int64, would reach an undefined double ->
+    // int64 conversion (or count backwards): latch the counter and add nothing.
+    if (!(um >= 0 && um < 9.0e18)) {
+      last_counter_ = counter;
+      return;
+    }
     double whole = std::floor(um);
     carry_ = um - whole;
     odo_um_ += static_cast<std::int64_t>(whole);
@@ -229,6 +235,7 @@ void OdometerStore::save(const OdometerRecord& r) {
 
 bool BlinkPattern::lit(std::int64_t t, std::int64_t t_on) const {
   if (t < t_on) return false;
+  if (!(period_s > 0) || period_s > 1e6) return true;  // no sensible period: steady
   const auto period = static_cast<std::int64_t>(period_s * 1e9);
   if (period <= 0) return true;
   const std::int64_t phase = (t - t_on) % period;

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "meter/controller/dbc.hpp"
@@ -239,21 +240,27 @@ std::size_t decode(const DbcMessage& m, std::span<const std::uint8_t> payload, s
 std::uint64_t physical_to_raw(const DbcSignal& s, double physical) {
   if (!std::isfinite(physical)) throw std::invalid_argument("signal " + s.name + ": value is not finite");
   double scaled = (physical - s.offset) / s.factor;
-  if (s.value_type == ValueType::Float32) return std::bit_cast<std::uint32_t>(static_cast<float>(scaled));
+  // A zero factor (or a huge value over a tiny factor) gives a non-finite raw; converting that to an
+  // integer or a float is undefined behaviour, so it is refused like any other value that does not fit.
+  if (!std::isfinite(scaled))
+    throw std::out_of_range("signal " + s.name + ": " + std::to_string(physical) + " gives raw " + std::to_string(scaled) +
+                            " with factor " + std::to_string(s.factor) + " and offset " + std::to_string(s.offset));
+  if (s.value_type == ValueType::Float32) {
+    if (std::fabs(scaled) > static_cast<double>(std::numeric_limits<float>::max()))
+      throw std::out_of_range("signal " + s.name + ": raw " + std::to_string(scaled) + " does not fit a 32-bit float");
+    return std::bit_cast<std::uint32_t>(static_cast<float>(scaled));
+  }
   if (s.value_type == ValueType::Float64) return std::bit_cast<std::uint64_t>(scaled);
   double r = std::nearbyint(scaled);
-  double lo = s.is_signed ? -std::ldexp(1.0, s.length - 1) : 0.0;
-  double hi = s.is_signed ? std::ldexp(1.0, s.length - 1) - 1.0 : std::ldexp(1.0, s.length) - 1.0;
-  if (r < lo || r > hi)
+  // Bounds as exact powers of two, upper one exclusive: 2^63 - 1 and 2^64 - 1 are not doubles (they
+  // round up to 2^63 / 2^64), so an inclusive "hi = 2^n - 1" let r = 2^63 through to an undefined
+  // int64 conversion and silently saturated 2^64.
+  const double lo = s.is_signed ? -std::ldexp(1.0, s.length - 1) : 0.0;
+  const double hi_excl = s.is_signed ? std::ldexp(1.0, s.length - 1) : std::ldexp(1.0, s.length);
+  if (r < lo || r >= hi_excl)
     throw std::out_of_range("signal " + s.name + ": " + std::to_string(physical) + " needs raw " + std::to_string(r) +
                             ", outside the " + std::to_string(s.length) + "-bit range");
-  std::uint64_t raw;
-  if (s.is_signed) {
-    // r == 2^63 cannot happen (hi bound), so the conversion is defined.
-    raw = static_cast<std::uint64_t>(static_cast<std::int64_t>(r));
-  } else {
-    raw = r >= 18446744073709551615.0 ? ~0ull : static_cast<std::uint64_t>(r);
-  }
+  const std::uint64_t raw = s.is_signed ? static_cast<std::uint64_t>(static_cast<std::int64_t>(r)) : static_cast<std::uint64_t>(r);
   return raw & mask_bits(s.length);
 }
 

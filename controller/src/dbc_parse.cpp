@@ -524,7 +524,9 @@ class Parser {
     }
     Pending p{kw_line, message_ref(), need_ident("a signal name"), {}, -1, "", {}, "", 'V'};
     while (skip_ws(), !eof() && peek() != ';') {
-      std::int64_t v = static_cast<std::int64_t>(number("value table entry"));
+      double raw = number("value table entry");
+      if (!(raw >= -9.2e18 && raw <= 9.2e18)) error("VAL_: value " + std::to_string(raw) + " does not fit 64 bits");
+      auto v = static_cast<std::int64_t>(raw);
       p.choices.emplace_back(v, string_lit());
     }
     expect(';');

@@ -56,7 +56,8 @@ struct Ctx {
       t.pop_back();
     }
     double v = number(t, key) * scale;
-    if (v < 0) fail(key + ": expected a duration >= 0, got '" + std::string(text) + "'");
+    // Bounded so every duration converts to int64 nanoseconds without overflow.
+    if (v < 0 || v > 1e6) fail(key + ": expected a duration from 0 to 1e6 s, got '" + std::string(text) + "'");
     return v;
   }
   bool boolean(std::string_view text, const std::string& key) const {
@@ -314,9 +315,17 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
       case Sec::Modbus:
         if (key == "poll") m.modbus->poll_s = c.seconds(value, key);
         else if (key == "timeout") m.modbus->response_timeout_s = c.seconds(value, key);
-        else if (key == "unit") m.modbus->unit_id = static_cast<int>(c.number(value, key));
+        else if (key == "unit") {
+          double u = c.number(value, key);
+          if (u < 0 || u > 247 || u != std::floor(u)) c.fail("unit: expected a Modbus unit id 0..247");
+          m.modbus->unit_id = static_cast<int>(u);
+        }
         else if (key == "heartbeat") m.modbus->heartbeat = std::string(value);
-        else if (key == "stale_after") m.modbus->stale_after_polls = static_cast<int>(c.number(value, key));
+        else if (key == "stale_after") {
+          double n = c.number(value, key);
+          if (n < 1 || n > 100000 || n != std::floor(n)) c.fail("stale_after: expected a poll count 1..100000");
+          m.modbus->stale_after_polls = static_cast<int>(n);
+        }
         else c.fail("unknown [modbus] key '" + key + "'; expected poll, timeout, unit, heartbeat or stale_after");
         if (m.modbus->poll_s <= 0 || m.modbus->response_timeout_s <= 0) c.fail(key + ": expected a duration > 0");
         break;
