@@ -18,11 +18,12 @@ class GlslBuilder {
   // Declares `uniform <type> <name>[array];` in one stage and records its metadata.
   void uniform(Stage stage, const std::string& name, const std::string& type,
                UniformSemantic semantic, int index = -1, int array_size = 1) {
+    const UniformInfo info{name, type, semantic, index, array_size};
     std::string line = "uniform " + type + " " + name;
-    if (array_size > 1) line += "[" + std::to_string(array_size) + "]";
+    if (info.is_array()) line += "[" + std::to_string(array_size) + "]";
     line += ";\n";
     (stage == Stage::Vertex ? vs_uniforms_ : fs_uniforms_) += line;
-    program_.uniforms.push_back({name, type, semantic, index, array_size});
+    program_.uniforms.push_back(info);
   }
 
   void sampler(const std::string& name, TextureSlot slot) {

@@ -85,7 +85,7 @@ std::string fold_initializer(const UniformInfo& u, const std::vector<float>& v) 
       throw std::invalid_argument("shadergen: constant for integer uniform " + u.name +
                                   " value " + std::to_string(i) + " is not an integer");
   }
-  if (u.array_size == 1) return constructor(u.glsl_type, v, 0, t.components, t.integer);
+  if (!u.is_array()) return constructor(u.glsl_type, v, 0, t.components, t.integer);
   std::string s = u.glsl_type + "[" + std::to_string(u.array_size) + "](";
   for (int i = 0; i < u.array_size; ++i) {
     if (i) s += ", ";
@@ -99,12 +99,12 @@ std::string fold_initializer(const UniformInfo& u, const std::vector<float>& v) 
 bool replace_uniform_declaration(std::string& source, const UniformInfo& u,
                                  const std::string& initializer) {
   std::string decl = "uniform " + u.glsl_type + " " + u.name;
-  if (u.array_size > 1) decl += "[" + std::to_string(u.array_size) + "]";
+  if (u.is_array()) decl += "[" + std::to_string(u.array_size) + "]";
   decl += ";\n";
   const auto pos = source.find("\n" + decl);
   if (pos == std::string::npos) return false;
   std::string repl = "const " + u.glsl_type + " " + u.name;
-  if (u.array_size > 1) repl += "[" + std::to_string(u.array_size) + "]";
+  if (u.is_array()) repl += "[" + std::to_string(u.array_size) + "]";
   repl += " = " + initializer + ";\n";
   source.replace(pos + 1, decl.size(), repl);
   return true;

@@ -414,6 +414,36 @@ TEST(Limits, LargestValidProgramsCompile) {
   EXPECT_TRUE(compiles(p));
 }
 
+// One joint / one morph target: still GLSL arrays, because the body indexes them. A scalar
+// declaration (`uniform float u_morph_weights;`) once broke scenes/features/morphing.
+TEST(Limits, SingleJointAndSingleMorphTargetAreArrays) {
+  for (const bool morph_normals : {false, true}) {
+    MaterialFeatures m = lit_pbr();
+    m.morph_targets = 1;
+    m.morph_normals = morph_normals;
+    const Program p = generate(m);
+    EXPECT_TRUE(compiles(p));
+    EXPECT_TRUE(contains(p.vertex_source, "uniform float u_morph_weights[1];")) << p.vertex_source;
+    const UniformInfo* w = p.find_uniform(UniformSemantic::MorphWeights);
+    ASSERT_NE(w, nullptr);
+    EXPECT_EQ(w->array_size, 1);
+    EXPECT_TRUE(w->is_array());
+  }
+  MaterialFeatures s = lit_pbr();
+  s.skin_joints = 1;
+  const Program p = generate(s);
+  EXPECT_TRUE(compiles(p));
+  EXPECT_TRUE(contains(p.vertex_source, "uniform mat4 u_joint_matrices[1];")) << p.vertex_source;
+  EXPECT_TRUE(contains(p.vertex_source, "ivec4(0)")) << p.vertex_source;  // clamp to the only joint
+  const UniformInfo* j = p.find_uniform(UniformSemantic::JointMatrices);
+  ASSERT_NE(j, nullptr);
+  EXPECT_TRUE(j->is_array());
+  MaterialFeatures both = lit_pbr();
+  both.skin_joints = 1;
+  both.morph_targets = 1;
+  EXPECT_TRUE(compiles(generate(both)));
+}
+
 TEST(Uber, CompilesAndCarriesEveryFeature) {
   const Program p = generate_uber();
   EXPECT_TRUE(p.uber);

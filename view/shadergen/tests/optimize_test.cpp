@@ -179,6 +179,38 @@ TEST(Optimize, ArraysSkinningAndMorphFold) {
   expect_metadata_true(o);
 }
 
+// One-element arrays go through both paths: kept dynamic (the morphing feature scene animates its
+// single weight) and folded (a const float[1] initializer).
+TEST(Optimize, SingleElementArraysStayArraysAndFold) {
+  MaterialFeatures f = pbr();
+  f.skin_joints = 1;
+  f.morph_targets = 1;
+  f.morph_normals = true;
+  const Program p = generate(f);
+  const Program dynamic = optimize(p, {});
+  ASSERT_TRUE(compiles(dynamic));
+  const UniformInfo* w = dynamic.find_uniform(UniformSemantic::MorphWeights);
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->array_size, 1);
+  EXPECT_TRUE(declares_any_uniform(dynamic, "u_morph_weights")) << dynamic.vertex_source;
+  EXPECT_NE(dynamic.find_uniform(UniformSemantic::JointMatrices), nullptr);
+  expect_metadata_true(dynamic);
+
+  ConstantValues c;
+  std::vector<float> identity(16, 0.0f);
+  for (int d = 0; d < 4; ++d) identity[static_cast<std::size_t>(d * 5)] = 1.0f;
+  c.set(UniformSemantic::JointMatrices, identity);
+  c.set(UniformSemantic::MorphWeights, {0.5f});
+  OptimizeReport r;
+  const Program folded = optimize(p, c, &r);
+  ASSERT_TRUE(compiles(folded));
+  EXPECT_EQ(folded.find_uniform(UniformSemantic::MorphWeights), nullptr);
+  EXPECT_EQ(folded.find_uniform(UniformSemantic::JointMatrices), nullptr);
+  EXPECT_NE(folded.find_attribute(AttributeSemantic::MorphPosition, 0), nullptr);
+  EXPECT_EQ(r.folded.size(), 2u);
+  expect_metadata_true(folded);
+}
+
 TEST(Optimize, MediumPrecisionProgramsStayValid) {
   MaterialFeatures f = rich_pbr();
   f.precision = Precision::Mediump;

@@ -71,7 +71,7 @@ void print_metadata(const Program& p) {
     std::printf("    %-6s %-28s %s%s%s\n", u.glsl_type.c_str(), u.name.c_str(),
                 to_string(u.semantic),
                 u.index >= 0 ? (" index " + std::to_string(u.index)).c_str() : "",
-                u.array_size > 1 ? (" [" + std::to_string(u.array_size) + "]").c_str() : "");
+                u.is_array() ? (" [" + std::to_string(u.array_size) + "]").c_str() : "");
   std::printf("  samplers (%zu):\n", p.samplers.size());
   for (const auto& s : p.samplers)
     std::printf("    unit %d  %-28s %s\n", s.unit, s.name.c_str(), to_string(s.slot));

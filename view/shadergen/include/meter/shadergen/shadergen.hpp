@@ -103,7 +103,14 @@ struct UniformInfo {
   std::string glsl_type;  // "vec4", "mat4", "float", ...
   UniformSemantic semantic{};
   int index = -1;       // light list index / int(TextureSlot), -1 when not applicable
-  int array_size = 1;   // > 1 for JointMatrices / MorphWeights
+  int array_size = 1;   // element count of JointMatrices / MorphWeights (may be 1)
+
+  // JointMatrices and MorphWeights are always declared as GLSL arrays, even with one element:
+  // the shader indexes them (`u_morph_weights[0]`), so `float u_morph_weights;` would not compile.
+  bool is_array() const {
+    return array_size > 1 || semantic == UniformSemantic::JointMatrices ||
+           semantic == UniformSemantic::MorphWeights;
+  }
 };
 
 enum class AttributeSemantic {
