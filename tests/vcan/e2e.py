@@ -127,7 +127,9 @@ class Envelope:
     weight has decayed), mapped by lo()/hi() (unit conversion, and for speed the UN R39 rule:
     shown >= true, <= 1.1 * true + 4 km/h), widened by tol."""
 
-    def __init__(self, series, t0_us, lo, hi, tol, settle=1.0, slack=0.25):
+    # settle/slack: 1 s of needle settling plus 0.5 s either way of replay jitter (canplayer in a
+    # TCG guest on a loaded host sends late in bursts; measured up to ~0.4 s inside one window).
+    def __init__(self, series, t0_us, lo, hi, tol, settle=1.5, slack=0.5):
         # Times in seconds since the log's first frame (t0_us), the base of vcan/replay --start.
         pts = sorted(p for s in series for p in s)
         self.t = np.array([(p[0] - t0_us) / 1e6 for p in pts])
@@ -300,9 +302,19 @@ class Run:
 
     def start_vm(self):
         require(CONTROLLER, VIEW, self.log, self.dbc, self.mapping)
+        for ph in self.phases:
+            kind, _, rest = ph.partition(":")
+            if kind in ("replay", "replay-bg"):
+                start, dur = rest.split(":")
+                subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "replay"), "-o",
+                                os.path.join(self.out, f"window_{start}_{dur}.log"),
+                                "--start", start, "--duration", dur, self.log], check=True)
         self.vm = v.with_vcan([GUEST, self.out, BIN, str(self.port), str(self.go_port),
                                self.dbc, self.mapping, self.log] + self.phases,
-                              self.out, timeout=self.timeout,
+                              # One vCPU: the controller and canplayer are light, and the
+                              # second host core stays free for meter-view (3 busy threads on
+                              # 2 cores made both miss the link's heartbeats).
+                              self.out, timeout=self.timeout, cpus=1,
                               hostfwd=[f"{self.port}:{self.port}", f"{self.go_port}:{self.go_port}"])
 
     def finish(self):

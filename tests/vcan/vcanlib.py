@@ -54,7 +54,7 @@ def fresh_dir(name):
     return d
 
 
-def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), **popen):
+def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, **popen):
     """Starts `vcan/with-vcan` running args; returns the Popen. The timing file in share_out
     receives the VM's boot/command times (vm path only)."""
     cmd = [WITH_VCAN, "--share-out", share_out, "--timeout", str(timeout)]
@@ -62,6 +62,8 @@ def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), **popen):
         cmd += ["--hostfwd", h]
     for e in env:
         cmd += ["--env", e]
+    if cpus:
+        cmd += ["--cpus", str(cpus)]
     if os.environ.get("METER_VCAN_MODE_FORCE", "auto") != "direct":
         cmd += ["--timing", os.path.join(share_out, "vm-timing.txt")]
     return subprocess.Popen(cmd + ["--"] + list(args), **popen)
