@@ -165,8 +165,9 @@ std::vector<std::uint32_t> run_spirv_opt(const std::vector<std::uint32_t>& in, c
   return out;
 }
 
-std::string spirv_to_glsl_es300(const std::vector<std::uint32_t>& spirv, bool highp_default,
-                                const char* stage) {
+// SPIR-V -> GLSL: ES 3.00 (`es`, the package's dialect) or desktop GLSL `version` (to_desktop_glsl).
+std::string spirv_to_glsl(const std::vector<std::uint32_t>& spirv, int version, bool es,
+                          bool highp_default, const char* stage) {
   spvc_context context = nullptr;
   if (spvc_context_create(&context) != SPVC_SUCCESS)
     throw std::runtime_error("shadergen: SPIRV-Cross: cannot create a context");
@@ -184,8 +185,9 @@ std::string spirv_to_glsl_es300(const std::vector<std::uint32_t>& spirv, bool hi
       spvc_context_create_compiler(context, SPVC_BACKEND_GLSL, ir,
                                    SPVC_CAPTURE_MODE_TAKE_OWNERSHIP, &compiler) == SPVC_SUCCESS &&
       spvc_compiler_create_compiler_options(compiler, &options) == SPVC_SUCCESS) {
-    spvc_compiler_options_set_uint(options, SPVC_COMPILER_OPTION_GLSL_VERSION, 300);
-    spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_ES, SPVC_TRUE);
+    spvc_compiler_options_set_uint(options, SPVC_COMPILER_OPTION_GLSL_VERSION,
+                                   static_cast<unsigned>(version));
+    spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_ES, es ? SPVC_TRUE : SPVC_FALSE);
     spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_VULKAN_SEMANTICS, SPVC_FALSE);
     spvc_compiler_options_set_bool(options,
                                    SPVC_COMPILER_OPTION_GLSL_ES_DEFAULT_FLOAT_PRECISION_HIGHP,
@@ -263,9 +265,9 @@ Program optimize(const Program& program, const ConstantValues& constants,
 
   Program out = program;
   out.optimized = true;
-  out.vertex_source = spirv_to_glsl_es300(vs_opt, true, "vertex");
-  out.fragment_source =
-      spirv_to_glsl_es300(fs_opt, program.features.precision == Precision::Highp, "fragment");
+  out.vertex_source = spirv_to_glsl(vs_opt, 300, true, true, "vertex");
+  out.fragment_source = spirv_to_glsl(fs_opt, 300, true,
+                                      program.features.precision == Precision::Highp, "fragment");
 
   // Metadata: exactly what the runtime still has to feed.
   out.uniforms.clear();
@@ -294,6 +296,67 @@ Program optimize(const Program& program, const ConstantValues& constants,
     report->samplers_after = out.samplers.size();
     report->folded.assign(folded.begin(), folded.end());
   }
+  return out;
+}
+
+namespace {
+
+// glslang's auto-mapping gives every plain uniform a location and binding (SPIR-V with OpenGL
+// semantics needs them). ES 3.00 output cannot express them and SPIRV-Cross drops them, but desktop
+// output would print `layout(binding = N) uniform float x;`, which GLSL rejects for non-opaque types
+// (and which would pin sampler units the runtime sets itself). Stripping them keeps both dialects
+// identical in interface: uniforms found by name, samplers bound by glUniform1i. Varyings lose their
+// auto-mapped locations too (they differ per stage, so a 4.x link would fail); they match by name,
+// as in ES 3.00. Attribute and fragment-output locations stay.
+std::vector<std::uint32_t> strip_auto_mapped_layouts(const std::vector<std::uint32_t>& words,
+                                                  ShaderStage stage) {
+  constexpr std::uint32_t kOpVariable = 59, kOpDecorate = 71, kUniformConstant = 0;
+  constexpr std::uint32_t kInput = 1, kOutput = 3;
+  const std::uint32_t varying = stage == ShaderStage::Vertex ? kOutput : kInput;
+  constexpr std::uint32_t kLocation = 30, kBinding = 33, kDescriptorSet = 34;
+  std::set<std::uint32_t> uniforms;
+  for (std::size_t i = 5; i < words.size();) {
+    const std::uint32_t count = words[i] >> 16, op = words[i] & 0xffffu;
+    if (count == 0 || i + count > words.size())
+      throw std::runtime_error("shadergen: malformed SPIR-V while stripping bindings");
+    if (op == kOpVariable && count >= 4 &&
+        (words[i + 3] == kUniformConstant || words[i + 3] == varying))
+      uniforms.insert(words[i + 2]);
+    i += count;
+  }
+  std::vector<std::uint32_t> out(words.begin(), words.begin() + 5);
+  for (std::size_t i = 5; i < words.size();) {
+    const std::uint32_t count = words[i] >> 16, op = words[i] & 0xffffu;
+    const bool drop = op == kOpDecorate && count >= 3 && uniforms.count(words[i + 1]) &&
+                      (words[i + 2] == kLocation || words[i + 2] == kBinding ||
+                       words[i + 2] == kDescriptorSet);
+    if (!drop) out.insert(out.end(), words.begin() + static_cast<std::ptrdiff_t>(i),
+                          words.begin() + static_cast<std::ptrdiff_t>(i + count));
+    i += count;
+  }
+  return out;
+}
+
+}  // namespace
+
+Program to_desktop_glsl(const Program& program, int version) {
+  if (version != 330 && version != 410 && version != 450)
+    throw std::invalid_argument("shadergen: desktop GLSL version must be 330, 410 or 450, got " +
+                                std::to_string(version));
+  if (program.vertex_source.empty() || program.fragment_source.empty())
+    throw std::invalid_argument("shadergen: to_desktop_glsl() needs a program with both stages");
+  // A pure dialect change: no spirv-opt, so the code is what the ES source says (precision
+  // qualifiers disappear; desktop GLSL computes at full precision anyway).
+  Program out = program;
+  out.vertex_source = spirv_to_glsl(
+      strip_auto_mapped_layouts(compile_to_spirv(program.vertex_source, ShaderStage::Vertex),
+                             ShaderStage::Vertex),
+      version,
+      false, true, "vertex");
+  out.fragment_source = spirv_to_glsl(
+      strip_auto_mapped_layouts(compile_to_spirv(program.fragment_source, ShaderStage::Fragment),
+                             ShaderStage::Fragment),
+      version, false, true, "fragment");
   return out;
 }
 

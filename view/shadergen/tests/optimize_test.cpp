@@ -296,3 +296,40 @@ TEST(Check, ReportsBrokenSources) {
 
 }  // namespace
 }  // namespace meter::shadergen
+
+namespace meter::shadergen {
+namespace {
+using namespace test;
+
+// Desktop GLSL (issue #11): a dialect change of either the generated or the optimized program that
+// desktop glslang accepts, with the same interface names and attribute locations.
+TEST(DesktopGlsl, GeneratedAndOptimizedProgramsTranslate) {
+  MaterialFeatures f = rich_pbr();
+  f.skin_joints = 1;
+  f.morph_targets = 1;
+  f.precision = Precision::Mediump;
+  const Program p = generate(f);
+  for (const Program& src : {p, optimize(p, material_constants())}) {
+    for (const int version : {330, 450}) {
+      const Program d = to_desktop_glsl(src, version);
+      SCOPED_TRACE(std::to_string(version) + (src.optimized ? " optimized" : " generated"));
+      const std::string banner = "#version " + std::to_string(version) + "\n";
+      EXPECT_EQ(d.vertex_source.rfind(banner, 0), 0u) << d.vertex_source;
+      EXPECT_EQ(d.fragment_source.rfind(banner, 0), 0u) << d.fragment_source;
+      EXPECT_FALSE(contains(d.fragment_source, "precision ")) << d.fragment_source;
+      EXPECT_TRUE(compiles(d));
+      for (const auto& u : src.uniforms) EXPECT_TRUE(declares_any_uniform(d, u.name)) << u.name;
+      for (const auto& s : src.samplers) EXPECT_TRUE(declares_any_uniform(d, s.name)) << s.name;
+      for (const auto& a : src.attributes)
+        EXPECT_TRUE(contains(d.vertex_source,
+                             "layout(location = " + std::to_string(a.location) + ") in "))
+            << a.name << "\n" << d.vertex_source;
+      EXPECT_EQ(d.uniforms.size(), src.uniforms.size());
+    }
+  }
+  EXPECT_THROW(to_desktop_glsl(p, 300), std::invalid_argument);
+  EXPECT_THROW(to_desktop_glsl(Program{}, 330), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace meter::shadergen

@@ -183,6 +183,13 @@ struct OptimizeReport {
 Program optimize(const Program& program, const ConstantValues& constants,
                  OptimizeReport* report = nullptr);
 
+// issue #11: the same program as desktop GLSL (`#version 330|410|450` core, through glslang ->
+// SPIR-V -> SPIRV-Cross, no optimisation: a dialect change only; metadata unchanged). Not stored in
+// scene packages: both backends run the GLSL ES 3.00 text (OSMesa's core context through
+// ARB_ES3_compatibility); the bench and tests/shader-optimizer use this to measure and check that
+// choice (docs/shader-optimizer.md). Throws std::invalid_argument for other versions.
+Program to_desktop_glsl(const Program& program, int version = 330);
+
 // ONE shader with runtime switches (all textures, up to 2 lights per type, Blinn-Phong or PBR,
 // skinning with kMaxSkinJoints joints): only as a benchmark baseline.
 Program generate_uber();
