@@ -233,8 +233,10 @@ const OutputMapping* Mapping::find(protocol::SignalId id) const {
 }
 
 double modbus_register_value(const ModbusRegister& r, const std::uint16_t* w) {
-  std::uint32_t v32 = r.word_swap ? (static_cast<std::uint32_t>(w[1]) << 16) | w[0]
-                                  : (static_cast<std::uint32_t>(w[0]) << 16) | w[1];
+  // 16-bit types own one word only: the second is read for 32-bit types alone.
+  std::uint32_t v32 = 0;
+  if (r.words() == 2)
+    v32 = r.word_swap ? (static_cast<std::uint32_t>(w[1]) << 16) | w[0] : (static_cast<std::uint32_t>(w[0]) << 16) | w[1];
   double v = 0;
   switch (r.type) {
     case RegisterType::Int16: v = static_cast<std::int16_t>(w[0]); break;
