@@ -6,6 +6,8 @@
 //   clear+read      clear only, resolve and read back 1280x480 (the PNG-dump overhead)
 //   fill MSAA n     the fill floor with n samples (n = 1, 2, 4) incl. resolve + readback
 //   fill linear     the n=1 floor into an RGBA8 (non-sRGB) target: the cost of the sRGB encode
+//   MSAA 4 linear   4 samples into RGBA8: separates the sRGB (linear-space) resolve cost
+//   MSAA 4 no read  4-sample draw without resolve/readback: separates draw from resolve
 //   text x5         fill floor + five overlay strings and a banner (the HUD cost)
 // Cases are interleaved frame by frame (A B C A B C ...) so machine noise hits all alike.
 // Also prints backend start-up time (create_backend to first usable context).
@@ -85,6 +87,7 @@ void run_backend(mp::BackendKind kind, int frames) {
   mp::RenderTarget t2(*backend, {.width = w, .height = h, .samples = 2});
   mp::RenderTarget t4(*backend, {.width = w, .height = h, .samples = 4});
   mp::RenderTarget tlin(*backend, {.width = w, .height = h, .samples = 1, .srgb = false});
+  mp::RenderTarget t4lin(*backend, {.width = w, .height = h, .samples = 4, .srgb = false});
   FlatPass flat(gl);
   const auto t_text = Clock::now();
   mp::TextRenderer text(*backend, METER_FONT_FILE, 48);
@@ -108,6 +111,12 @@ void run_backend(mp::BackendKind kind, int frames) {
   cases.push_back({"fill MSAA 2", [&] { fill(t2); }, {}});
   cases.push_back({"fill MSAA 4", [&] { fill(t4); }, {}});
   cases.push_back({"fill linear RGBA8", [&] { fill(tlin); }, {}});
+  cases.push_back({"fill MSAA 4 linear", [&] { fill(t4lin); }, {}});
+  cases.push_back({"MSAA 4 draw, no read", [&] {
+                     t4.bind();
+                     gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+                     flat.draw(float(n % 7) / 7.0f);
+                   }, {}});
   cases.push_back({"fill + text x5", [&] {
                      t1.bind();
                      gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);

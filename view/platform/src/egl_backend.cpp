@@ -6,8 +6,6 @@
 #include <EGL/eglext.h>
 
 #include <cstdlib>
-#include <map>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -54,11 +52,6 @@ bool has_token(const char* list, std::string_view token) {
 }
 
 void* egl_get_proc(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
-
-// eglGetPlatformDisplayEXT returns the same EGLDisplay for the same arguments, so two backends in
-// one process share it; terminate it only when the last user is gone.
-std::mutex g_display_mutex;
-std::map<EGLDisplay, int> g_display_users;
 
 struct DisplayChoice {
   EGLDisplay display = EGL_NO_DISPLAY;
@@ -168,10 +161,6 @@ class EglBackend final : public GpuBackend {
                          egl_error_name(eglGetError()) + "); is the Mesa EGL driver installed? " +
                          kPackages);
     }
-    {
-      std::lock_guard lock(g_display_mutex);
-      ++g_display_users[display_];
-    }
     egl_version_ = std::to_string(major) + "." + std::to_string(minor);
     try {
       create_context(options);
@@ -244,12 +233,11 @@ class EglBackend final : public GpuBackend {
       eglDestroyContext(display_, context_);
       context_ = EGL_NO_CONTEXT;
     }
-    std::lock_guard lock(g_display_mutex);
-    auto it = g_display_users.find(display_);
-    if (it != g_display_users.end() && --it->second == 0) {
-      g_display_users.erase(it);
-      eglTerminate(display_);
-    }
+    // The display is deliberately never eglTerminate()d: eglGetPlatformDisplayEXT hands every
+    // backend in the process the same EGLDisplay, re-initialising it costs ~20 ms, and terminating
+    // unloads the Mesa driver while it still owns allocations (LeakSanitizer then reports them
+    // from an unknown module, where no suppression can name the driver). One initialised display
+    // per process is what the EGL spec intends; the OS reclaims it at exit.
     display_ = EGL_NO_DISPLAY;
   }
 

@@ -140,7 +140,8 @@ TEST_P(RenderTargetTest, BlendingHappensInLinearSpace) {
   mp::test::ColorProgram program(gl());
   program.rect_pixels(8, 8, 0, 0, 8, 8, 1.0f, 1.0f, 1.0f, 0.5f);
   gl().Disable(GL_BLEND);
-  const std::uint8_t* p = target.resolve_and_read().pixel(4, 4);
+  const mp::Image img = target.resolve_and_read();
+  const std::uint8_t* p = img.pixel(4, 4);
   EXPECT_NEAR(p[0], 188, 1);  // alpha 0.5 in 8-bit unorm is not exactly 0.5 on every path
   EXPECT_NEAR(p[1], 188, 1);
 }
@@ -186,7 +187,8 @@ void main() { o = u_color; }
       quad(0.2f, 1, 0);
       quad(0.2001f, 0, 1);
       g.Disable(GL_DEPTH_TEST);
-      const std::uint8_t* p = target.resolve_and_read().pixel(8, 8);
+      const mp::Image img = target.resolve_and_read();
+      const std::uint8_t* p = img.pixel(8, 8);
       EXPECT_EQ(p[0], 255);
       EXPECT_EQ(p[1], 0);
       g.DeleteBuffers(1, &vbo);
