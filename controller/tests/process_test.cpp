@@ -149,3 +149,62 @@ TEST(Process, CliErrorsAndDecode) {
   EXPECT_NE(err.find("no message 'X'"), std::string::npos) << err;
   std::filesystem::remove_all(dir);
 }
+
+TEST(Process, AViewThatStopsReadingNeverStallsTheBus) {
+  // A view that handshakes and then never reads again: the controller must keep replaying at
+  // full pace (latest-value coalescing in the Publisher), and finish on time.
+  auto dir = std::filesystem::temp_directory_path() / ("meter-proc-slow-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string sock = (dir / "link.sock").string();
+  const auto t0 = std::chrono::steady_clock::now();
+  pid_t pid = spawn({kBin, "run", "--dbc", kSrc + "/controller/vehicles/demo/demo.dbc", "--map",
+                     kSrc + "/controller/vehicles/demo/demo.map", "--input", "log:" + kSrc + "/vcan/logs/demo-drive.log",
+                     "--replay", "scale:20", "--link", "unix:" + sock, "--exit-at-end"},
+                    (dir / "stderr.txt").string());
+  protocol::Subscriber stuck(protocol::Endpoint::parse("unix:" + sock));
+  for (int i = 0; i < 200 && !stuck.link_up(); ++i) stuck.poll(std::chrono::milliseconds(10));
+  ASSERT_TRUE(stuck.link_up()) << slurp((dir / "stderr.txt").string());
+  // From here on the view never polls again.
+  int status = -1;
+  bool exited = false;
+  while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(15)) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited = true;
+      break;
+    }
+    ::usleep(20000);
+  }
+  if (!exited) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(exited) << "the controller stalled behind a view that does not read";
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp((dir / "stderr.txt").string());
+  EXPECT_LT(took, 8.0);  // 60 s of log at 20x = 3 s, plus start-up; a blocked writer would never end
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Process, DecodeWithMapWritesOnlyMappedSignals) {
+  auto dir = std::filesystem::temp_directory_path() / ("meter-proc-dec-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string out = (dir / "out.csv").string();
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    std::freopen(out.c_str(), "w", stdout);
+    ::execl(kBin.c_str(), kBin.c_str(), "decode", "--dbc", (kSrc + "/controller/vehicles/demo/demo.dbc").c_str(),
+            (kSrc + "/vcan/logs/demo-drive.log").c_str(), "--map", (kSrc + "/controller/vehicles/demo/demo.map").c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  int status;
+  ::waitpid(pid, &status, 0);
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+  std::string csv = slurp(out);
+  EXPECT_EQ(csv.rfind("timestamp,message,signal,raw,physical,unit,status\n", 0), 0u);
+  EXPECT_NE(csv.find(",ESP_WheelSpeeds,VehicleSpeed,13000,130,km/h,valid\n"), std::string::npos);
+  EXPECT_EQ(csv.find("ThrottlePos"), std::string::npos);    // not used by demo.map
+  EXPECT_EQ(csv.find("WheelSpeedFL"), std::string::npos);
+  EXPECT_EQ(csv.find(",not_"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}

@@ -140,7 +140,6 @@ class ModbusInput : public Input {
   std::int64_t next_poll_ = 0;
   std::uint64_t polls_ = 0, failures_ = 0;
   std::string last_error_;
-  std::vector<std::uint16_t> hb_history_;
   int hb_same_ = 0;
   bool hb_seen_ = false;
   std::uint16_t hb_last_[2] = {0, 0};
