@@ -140,6 +140,31 @@ glm::mat4 local_matrix(const glm::vec3& t, const glm::quat& r, const glm::vec3& 
   return m;
 }
 
+glm::mat3 normal_matrix(const glm::mat4& model) {
+  // In double: the products of 1e-20 or 1e20 scales would under/overflow in float.
+  const glm::dvec3 a{glm::vec3{model[0]}}, b{glm::vec3{model[1]}}, c{glm::vec3{model[2]}};
+  // Columns of the cofactor matrix: cross products of the other two columns.
+  glm::dmat3 n(glm::cross(b, c), glm::cross(c, a), glm::cross(a, b));
+  if (glm::dot(a, n[0]) < 0.0) n = -n;  // dot(a, b x c) = det
+  // Scale so the largest entry is 1: a positive factor changes no direction, and the shader's
+  // normalize() then never sees a vector whose squared length underflows (tiny scales).
+  double big = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) big = std::max(big, std::abs(n[i][j]));
+  if (big > 0.0 && std::isfinite(big)) n /= big;
+  else if (!(big == 0.0)) return glm::mat3(1.0f);  // non-finite model matrix: nothing sensible to do
+  return glm::mat3(n);
+}
+
+double loop_time(double uptime, double start, double end) {
+  const double len = end - start;
+  if (!std::isfinite(uptime) || !(len > 0) || !std::isfinite(len)) return start;
+  double r = std::fmod(uptime - start, len);  // exact; sign of (uptime - start)
+  if (r < 0) r += len;
+  if (r >= len) r = 0;  // r + len may round up to len for a tiny negative r
+  return start + r;
+}
+
 void world_matrices(const Scene& scene, const Pose& pose, std::vector<glm::mat4>& world) {
   world.assign(scene.nodes.size(), glm::mat4(1.0f));
   // Iterative DFS from the roots: the converter guarantees a forest (no loops, one parent each).

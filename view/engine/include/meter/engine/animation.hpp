@@ -37,6 +37,18 @@ void apply_animation(const Scene& scene, int index, double t, Pose& pose, std::v
 
 glm::mat4 local_matrix(const glm::vec3& t, const glm::quat& r, const glm::vec3& s);
 
+// Normal matrix of a model matrix: the cofactor matrix of its upper 3x3, signed by the determinant
+// and scaled so its largest entry is 1. It is inverse-transpose times a positive factor (the
+// shaders normalise, so the factor does not matter) but never divides by the determinant: a zero
+// or 1e-20 scale gives a finite matrix instead of Inf/NaN normals, and a mirroring
+// (negative-determinant) transform still turns normals the right way.
+glm::mat3 normal_matrix(const glm::mat4& model);
+
+// Time inside a looping animation [start, end] after `uptime` seconds: start + (uptime - start)
+// mod (end - start), in double with std::fmod (exact: no rounding however long the uptime). A
+// non-finite uptime or an empty loop gives start. The result is in [start, end).
+double loop_time(double uptime, double start, double end);
+
 // World matrices of all nodes (parents before children via the node tree).
 void world_matrices(const Scene& scene, const Pose& pose, std::vector<glm::mat4>& world);
 
