@@ -358,7 +358,7 @@ void Renderer::draw_scene() {
         case UniformSemantic::ModelMatrix: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(model)); break;
         case UniformSemantic::ViewProjection: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(vp)); break;
         case UniformSemantic::NormalMatrix: {
-          glm::mat3 n = glm::inverseTranspose(glm::mat3(model));
+          const glm::mat3 n = normal_matrix(model);  // finite even for a zero scale
           gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(n));
           break;
         }
