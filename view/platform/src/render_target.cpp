@@ -23,7 +23,11 @@ std::string status_name(GLenum status) {
     case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
     case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED";
     case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
-    default: return "status 0x" + std::to_string(status);
+    default: {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "status 0x%04X", status);
+      return buf;
+    }
   }
 }
 

@@ -166,6 +166,11 @@ GlyphAtlas::GlyphAtlas(const GpuBackend& backend, const std::filesystem::path& f
   place(missing.glyph);
   for (auto& [cp, bm] : bitmaps) place(bm.glyph);
   atlas_height_ = pen_y + shelf + 1;
+  if (atlas_height_ > gl_->info.max_texture_size) {
+    throw TextError("font '" + font + "': glyph atlas at pixel size " + std::to_string(pixel_size) +
+                    " needs " + std::to_string(atlas_width_) + "x" + std::to_string(atlas_height_) +
+                    " texels, above GL_MAX_TEXTURE_SIZE " + std::to_string(gl_->info.max_texture_size));
+  }
 
   std::vector<std::uint8_t> texels(static_cast<std::size_t>(atlas_width_) * atlas_height_, 0);
   auto blit = [&](const Bitmap& bm) {

@@ -27,7 +27,8 @@ class TextError : public std::runtime_error {
 
 // Colour as designers write it: sRGB-encoded components 0..1 (like CSS #RRGGBB / 255) and
 // straight alpha. The renderer converts to linear when the target encodes sRGB, so "#808080"
-// text on an sRGB target stores exactly 128.
+// text on an sRGB target stores 128 again (within the driver's sRGB encoder accuracy: llvmpipe's
+// is 0.64 of an 8-bit step, so a few values come back 1 off).
 struct Color {
   float r = 1.0f, g = 1.0f, b = 1.0f, a = 1.0f;
   // "#RRGGBB" or "#RRGGBBAA"; throws TextError naming the text on anything else.
