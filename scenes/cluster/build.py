@@ -538,7 +538,8 @@ def build():
     b.empty("Text_Odometer", (1.3, -0.55, 0.01))
     b.empty("Text_Trip", (1.3, -0.95, 0.01))
     b.empty("Text_OutsideTemp", (-1.3, -0.55, 0.01))
-    b.empty("Text_Status", (0.0, -0.95, 0.01))
+    # Above the gear letter: the link-loss text must not cover odometer / trip / temperature.
+    b.empty("Text_Status", (0.0, 1.36, 0.01))
     b.text_object("Label_SpeedUnit", "km/h", 0.13, mat=mats["print_dim"],
                   location=(0.0, -0.05, 0.002))
     b.text_object("Label_Odo", "ODO", 0.11, mat=mats["print_dim"], location=(0.0, -0.55, 0.002))
@@ -572,9 +573,11 @@ def build():
         scene.eevee.use_gtao = False
         scene.eevee.use_bloom = False
         scene.eevee.use_ssr = False
-        scene.render.image_settings.file_format = "PNG"
+        # JPEG: a picture for docs/scenes.md, not a reference the engine is measured against.
+        scene.render.image_settings.file_format = "JPEG"
+        scene.render.image_settings.quality = 85
         scene.render.image_settings.color_mode = "RGB"
-        scene.render.filepath = os.path.join(outdir, "preview.png")
+        scene.render.filepath = os.path.join(outdir, "preview-blender.jpg")
         bpy.ops.render.render(write_still=True)
 
 

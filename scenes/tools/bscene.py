@@ -43,6 +43,23 @@ def reset_scene(width, height, fps=24):
     scene.view_settings.exposure = 0.0
     scene.view_settings.gamma = 1.0
     scene.display_settings.display_device = "sRGB"
+    # No render date / render time / memory / host in the PNG metadata: a regenerated reference
+    # with the same pixels is then the same bytes, and git shows no change.
+    r = scene.render
+    r.use_stamp = False
+    r.use_stamp_date = False
+    r.use_stamp_time = False
+    r.use_stamp_render_time = False
+    r.use_stamp_memory = False
+    r.use_stamp_hostname = False
+    r.use_stamp_frame = False
+    r.use_stamp_frame_range = False
+    r.use_stamp_camera = False
+    r.use_stamp_lens = False
+    r.use_stamp_scene = False
+    r.use_stamp_filename = False
+    r.use_stamp_marker = False
+    r.use_stamp_sequencer_strip = False
     return scene
 
 
