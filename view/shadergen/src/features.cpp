@@ -225,16 +225,4 @@ std::string MaterialFeatures::key() const {
   return k;
 }
 
-const UniformInfo* Program::find_uniform(UniformSemantic semantic, int index) const {
-  for (const auto& u : uniforms)
-    if (u.semantic == semantic && u.index == index) return &u;
-  return nullptr;
-}
-
-const AttributeInfo* Program::find_attribute(AttributeSemantic semantic, int index) const {
-  for (const auto& a : attributes)
-    if (a.semantic == semantic && a.index == index) return &a;
-  return nullptr;
-}
-
 }  // namespace meter::shadergen

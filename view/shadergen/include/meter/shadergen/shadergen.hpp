@@ -143,8 +143,17 @@ struct Program {
   bool optimized = false;     // went through optimize()
   bool uber = false;          // generate_uber() baseline
 
-  const UniformInfo* find_uniform(UniformSemantic semantic, int index = -1) const;
-  const AttributeInfo* find_attribute(AttributeSemantic semantic, int index = -1) const;
+  // Inline: the runtime (meter_engine) uses Program header-only and never links meter_shadergen.
+  const UniformInfo* find_uniform(UniformSemantic semantic, int index = -1) const {
+    for (const auto& u : uniforms)
+      if (u.semantic == semantic && u.index == index) return &u;
+    return nullptr;
+  }
+  const AttributeInfo* find_attribute(AttributeSemantic semantic, int index = -1) const {
+    for (const auto& a : attributes)
+      if (a.semantic == semantic && a.index == index) return &a;
+    return nullptr;
+  }
 };
 
 // Throws std::invalid_argument naming the field for impossible sets (negative counts, a texture
