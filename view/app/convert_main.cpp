@@ -19,19 +19,23 @@ int main(int argc, char** argv) {
   app.add_option("--optimize", optimize, "fold scene constants into the programs (shadergen::optimize)")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_flag("-q,--quiet", quiet, "do not print repairs (warnings)");
+  bool propose_groups = false;
+  app.add_flag("--propose-groups", propose_groups,
+               "merge ungrouped objects automatically (same material and blend state, no overlap; docs/concatenation.md)");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto config = meter::engine::load_scene_config(config_path);
     meter::engine::ConvertOptions opt;
     opt.optimize = optimize == "on";
+    opt.propose_groups = propose_groups;
     auto result = meter::engine::convert_gltf(input, config, opt);
     if (!quiet) {
       for (const auto& r : result.repairs) std::cerr << input << ": warning: " << r.path << ": " << r.message << "\n";
     }
     meter::engine::write_package(result.scene, output);
-    if (report) std::cout << meter::engine::program_report(result.scene);
+    if (report) std::cout << meter::engine::program_report(result.scene) << result.concat_report;
     std::cerr << "meter-convert: wrote " << output << " (" << result.scene.draws.size() << " draws, "
-              << result.scene.programs.size() << " programs, " << result.repairs.size() << " repairs)\n";
+              << result.scene.programs.size() << " programs, " << result.scene.groups.size() << " merged groups, " << result.repairs.size() << " repairs)\n";
   } catch (const std::exception& e) {
     std::cerr << "meter-convert: error: " << e.what() << "\n";
     return 1;

@@ -17,6 +17,7 @@
 #include <tiny_gltf.h>
 
 #include "meter/engine/animation.hpp"
+#include "meter/engine/concatenation.hpp"
 #include "meter/shadergen/glsl.hpp"
 
 namespace meter::engine {
@@ -104,6 +105,7 @@ class Converter {
     ConvertResult r;
     r.scene = build();
     r.repairs = repairs_;
+    r.concat_report = concat_report(plan_);
     return r;
   }
 
@@ -118,6 +120,8 @@ class Converter {
   std::vector<int> parent_;
   std::vector<char> node_ok_;
   std::vector<char> in_loop_;
+  ConcatPlan plan_;              // mesh concatenation groups (issue #10)
+  std::set<int> group_members_;  // nodes merged at runtime: their programs get vertex_alpha
 
   void error(const std::string& path, const std::string& msg) { errors_.push_back({path, msg}); }
   void repair(const std::string& path, const std::string& msg) { repairs_.push_back({path, msg}); }
@@ -1174,7 +1178,13 @@ class Converter {
       s.animations.push_back(std::move(out));
     }
     resolve_config(s, cfg_, file_);
+    // Groups are checked before programs exist: members need the vertex_alpha variant.
+    plan_ = plan_groups(s, cfg_.groups, opt_.propose_groups, file_);
+    for (const auto& g : plan_.groups) {
+      for (const auto& m : g.members) group_members_.insert(s.find_node(m));
+    }
     generate_programs(s);
+    attach_groups(s, plan_);
     return s;
   }
 
@@ -1269,6 +1279,9 @@ class Converter {
         f.morph_normals = has_attr(AttributeSemantic::MorphNormal);
         f.lights = lit ? lights : shadergen::LightCounts{};
         f.has_tangents = f.normal_texture && has_attr(AttributeSemantic::Tangent);
+        // Concatenated members: visibility becomes vertex alpha. The unmerged draw of the same
+        // node feeds a constant 1 (Renderer), so one program serves both ways of drawing.
+        f.vertex_alpha = group_members_.count(n) > 0;
         f = f.canonical();
         const bool fold_material = opt_.optimize && !bound_materials.count(prim.material);
         std::string key = f.key();

@@ -1,5 +1,7 @@
 #include "meter/engine/package.hpp"
 
+#include "meter/engine/concatenation.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -308,6 +310,8 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
   for (const auto& p : s.programs) write_program(w, p);
   w.u32(static_cast<std::uint32_t>(s.draws.size()));
   for (const auto& d : s.draws) w.i32(d.node), w.i32(d.mesh), w.i32(d.primitive), w.i32(d.program);
+  w.u32(static_cast<std::uint32_t>(s.groups.size()));  // version 2: mesh concatenation groups
+  for (const auto& g : s.groups) w.str(g.name), w.vec(g.draws);
   w.str(s.config.source_json);
 
   Writer out;
@@ -500,6 +504,12 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     d.node = r.i32("draw.node"), d.mesh = r.i32("draw.mesh"), d.primitive = r.i32("draw.primitive"), d.program = r.i32("draw.program");
     s.draws.push_back(d);
   }
+  for (std::uint32_t n = r.count("groups", 8), i = 0; i < n; ++i) {
+    MergedGroup g;
+    g.name = r.str("group.name");
+    g.draws = r.vec<int>("group.draws");
+    s.groups.push_back(std::move(g));
+  }
   std::string config_json = r.str("config");
   if (!r.at_end()) r.fail("trailing bytes after the last section");
 
@@ -536,6 +546,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     check_index(r, d.primitive, s.meshes[std::size_t(d.mesh)].primitives.size(), false, "draw.primitive");
     check_index(r, d.program, s.programs.size(), false, "draw.program");
   }
+  if (const std::string why = check_groups(s); !why.empty()) r.fail(why);
   try {
     s.config = parse_scene_config(config_json, origin + " (embedded scene config)");
   } catch (const std::invalid_argument& e) {

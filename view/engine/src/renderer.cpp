@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "meter/engine/concatenation.hpp"
 #include "meter/platform/gl_api.hpp"
 
 #ifndef METER_FONT_FILE
@@ -52,6 +53,27 @@ struct Renderer::GpuDraw {
   // Program attributes the primitive lacks: constant values set before the draw.
   std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
   float sort_depth = 0.0f;
+  Renderer::GpuGroup* group = nullptr;  // set on a merged group's representative only
+};
+
+// One merged group: world-space vertices of every member in one dynamic buffer, indices of the
+// visible members only. Member ranges are rewritten only when that member's world matrix or
+// visibility changed, so a static scene costs nothing per frame.
+struct Renderer::GpuGroup {
+  const MergedGroup* info = nullptr;
+  GLuint vao = 0, vbo = 0, ebo = 0;
+  std::vector<float> vertices;
+  std::vector<std::uint32_t> indices;
+  GLsizei index_count = 0;
+  std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
+  struct Member {
+    const GpuDraw* draw = nullptr;
+    std::uint32_t first_vertex = 0;
+    glm::mat4 world{0.0f};
+    bool uploaded = false, mirrored = false;
+    char visible = -1;
+  };
+  std::vector<Member> members;
 };
 
 Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const RendererOptions& options)
@@ -80,6 +102,11 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
 Renderer::~Renderer() {
   backend_.make_current();
   for (auto& d : draws_) gl_.DeleteVertexArrays(1, &d->vao);
+  for (auto& g : groups_) {
+    gl_.DeleteVertexArrays(1, &g->vao);
+    gl_.DeleteBuffers(1, &g->vbo);
+    gl_.DeleteBuffers(1, &g->ebo);
+  }
   if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
   if (!textures_.empty()) gl_.DeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
   if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
@@ -178,6 +205,7 @@ void Renderer::build() {
     gl_.BindVertexArray(0);
     draws_.push_back(std::move(gd));
   }
+  build_groups();
   platform::check_gl(gl_, scene_.source_name + ": uploading the scene");
   // Camera: the configured one, else the first camera node reachable from the roots.
   for (std::size_t i = 0; i < scene_.nodes.size(); ++i) {
@@ -189,6 +217,112 @@ void Renderer::build() {
       break;
     }
   }
+}
+
+void Renderer::build_groups() {
+  draw_group_.assign(draws_.size(), -1);
+  if (!options_.concatenate) return;
+  for (const auto& mg : scene_.groups) {
+    auto g = std::make_unique<GpuGroup>();
+    g->info = &mg;
+    std::uint32_t vertices = 0;
+    for (int d : mg.draws) {
+      GpuGroup::Member m;
+      m.draw = draws_[static_cast<std::size_t>(d)].get();
+      m.first_vertex = vertices;
+      vertices += m.draw->prim->vertex_count;
+      g->members.push_back(m);
+      draw_group_[static_cast<std::size_t>(d)] = static_cast<int>(groups_.size());
+    }
+    GpuDraw* rep = draws_[static_cast<std::size_t>(mg.draws.front())].get();
+    rep->group = g.get();
+    const Primitive& layout = *rep->prim;
+    const int stride = merged_stride(layout);
+    g->vertices.assign(std::size_t(vertices) * std::size_t(stride), 0.0f);
+    GLuint b[2];
+    gl_.GenBuffers(2, b);
+    g->vbo = b[0], g->ebo = b[1];
+    gl_.GenVertexArrays(1, &g->vao);
+    gl_.BindVertexArray(g->vao);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, g->vbo);
+    // DYNAMIC: rewritten (in member ranges) whenever a member moves.
+    gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(g->vertices.size() * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
+    for (const auto& a : rep->program->info->attributes) {
+      const auto loc = static_cast<GLuint>(a.location);
+      int components = 0, offset = 0;
+      if (a.semantic == AttributeSemantic::VertexAlpha) {
+        components = 1, offset = layout.stride;
+      } else {
+        auto it = std::find_if(layout.layout.begin(), layout.layout.end(), [&](const VertexAttribute& v) {
+          return v.semantic == a.semantic && (v.index == a.index || (v.index < 0 && a.index < 0));
+        });
+        if (it == layout.layout.end()) {
+          glm::vec4 c(0.0f, 0.0f, 0.0f, 1.0f);
+          if (a.semantic == AttributeSemantic::Color0) c = glm::vec4(1.0f);
+          g->constant_attributes.emplace_back(loc, c);
+          continue;
+        }
+        components = it->components, offset = it->offset;
+      }
+      gl_.EnableVertexAttribArray(loc);
+      gl_.VertexAttribPointer(loc, components, GL_FLOAT, GL_FALSE, stride * static_cast<GLsizei>(sizeof(float)),
+                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset) * sizeof(float)));
+    }
+    gl_.BindVertexArray(0);
+    groups_.push_back(std::move(g));
+  }
+}
+
+void Renderer::update_groups() {
+  const auto t0 = Clock::now();
+  for (auto& g : groups_) {
+    std::size_t lo = g->vertices.size(), hi = 0;
+    bool rebuild = false;
+    for (auto& m : g->members) {
+      const auto node = static_cast<std::size_t>(m.draw->item->node);
+      const glm::mat4& w = world_[node];
+      const char vis = visible_[node] ? 1 : 0;
+      const Primitive& p = *m.draw->prim;
+      const std::size_t stride = static_cast<std::size_t>(merged_stride(p));
+      std::span<float> dst(g->vertices.data() + std::size_t(m.first_vertex) * stride, std::size_t(p.vertex_count) * stride);
+      if (!m.uploaded || w != m.world) {
+        transform_member(p, w, float(vis), dst);
+        m.world = w;
+        m.uploaded = true;
+        ++stats_.member_transforms;
+        stats_.vertices_transformed += p.vertex_count;
+        const bool mir = glm::determinant(glm::mat3(w)) < 0.0f;
+        if (mir != m.mirrored) m.mirrored = mir, rebuild = true;
+      } else if (vis == m.visible) {
+        continue;
+      } else {
+        set_member_alpha(p, float(vis), dst);
+      }
+      if (vis != m.visible) m.visible = vis, rebuild = true;
+      lo = std::min(lo, std::size_t(m.first_vertex) * stride);
+      hi = std::max(hi, std::size_t(m.first_vertex) * stride + dst.size());
+    }
+    if (lo < hi) {
+      gl_.BindBuffer(GL_ARRAY_BUFFER, g->vbo);
+      gl_.BufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(lo * sizeof(float)), static_cast<GLsizeiptr>((hi - lo) * sizeof(float)),
+                        g->vertices.data() + lo);
+    }
+    if (rebuild) {
+      // Index compaction: hidden members are left out, so they cost no vertex or pixel work.
+      g->indices.clear();
+      for (const auto& m : g->members) {
+        if (m.visible) append_member_indices(*m.draw->prim, m.first_vertex, m.mirrored, g->indices);
+      }
+      g->index_count = static_cast<GLsizei>(g->indices.size());
+      gl_.BindVertexArray(0);
+      gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
+      gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, g->indices.size()) * sizeof(std::uint32_t)),
+                     g->indices.empty() ? nullptr : g->indices.data(), GL_DYNAMIC_DRAW);
+      ++stats_.index_rebuilds;
+    }
+  }
+  stats_.concat_cpu_ms += ms_since(t0);
 }
 
 void Renderer::apply(const BindingOutputs& o) {
@@ -309,9 +443,17 @@ void Renderer::draw_scene() {
   }
 
   // Sort: opaque/mask front-to-back (early depth reject), blended back-to-front (correct over).
+  update_groups();
   std::vector<GpuDraw*> opaque, blended;
-  for (auto& d : draws_) {
-    if (!visible_[static_cast<std::size_t>(d->item->node)]) continue;
+  for (std::size_t i = 0; i < draws_.size(); ++i) {
+    auto& d = draws_[i];
+    if (draw_group_[i] >= 0) {
+      // A merged group is drawn once, at its representative's place, if any member is visible
+      // (the representative itself may be hidden).
+      if (!d->group || d->group->index_count == 0) continue;
+    } else if (!visible_[static_cast<std::size_t>(d->item->node)]) {
+      continue;
+    }
     const glm::vec3 c = (d->prim->bounds_min + d->prim->bounds_max) * 0.5f;
     glm::vec4 clip = vp * world_[static_cast<std::size_t>(d->item->node)] * glm::vec4(c, 1.0f);
     d->sort_depth = clip.w;
@@ -328,7 +470,9 @@ void Renderer::draw_scene() {
     const auto node_index = static_cast<std::size_t>(d->item->node);
     const Node& node = scene_.nodes[node_index];
     const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
-    const glm::mat4& model = world_[node_index];
+    static const glm::mat4 kIdentity(1.0f);
+    // Merged vertices are already in world space.
+    const glm::mat4& model = d->group ? kIdentity : world_[node_index];
     if (gp != current) {
       gl.UseProgram(gp->program);
       current = gp;
@@ -433,9 +577,9 @@ void Renderer::draw_scene() {
       gl.BindTexture(GL_TEXTURE_2D, tex >= 0 ? textures_[static_cast<std::size_t>(tex)] : white_texture_);
       gl.Uniform1i(s.location, s.unit);
     }
-    gl.BindVertexArray(d->vao);
-    for (const auto& [loc, v] : d->constant_attributes) gl.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
-    gl.DrawElements(GL_TRIANGLES, d->index_count, GL_UNSIGNED_INT, nullptr);
+    gl.BindVertexArray(d->group ? d->group->vao : d->vao);
+    for (const auto& [loc, v] : d->group ? d->group->constant_attributes : d->constant_attributes) gl.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
+    gl.DrawElements(GL_TRIANGLES, d->group ? d->group->index_count : d->index_count, GL_UNSIGNED_INT, nullptr);
     ++stats_.draw_calls;
   };
   for (auto* d : opaque) draw_one(d);

@@ -27,11 +27,13 @@ struct ConvertError : SceneError {
 
 struct ConvertOptions {
   bool optimize = true;  // run shadergen::optimize() with the scene's constants (issue #11)
+  bool propose_groups = false;  // also group ungrouped objects automatically (issue #10)
 };
 
 struct ConvertResult {
   Scene scene;
   std::vector<Diagnostic> repairs;  // warnings: what was repaired and how
+  std::string concat_report;        // concatenation decisions (meter-convert --report)
 };
 
 // Loads, validates, converts; resolves the config against the scene (every binding's node /

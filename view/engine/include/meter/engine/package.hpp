@@ -20,7 +20,8 @@
 
 namespace meter::engine {
 
-inline constexpr std::uint32_t kPackageVersion = 1;
+// 2: mesh concatenation groups (issue #10) after the draws.
+inline constexpr std::uint32_t kPackageVersion = 2;
 inline constexpr char kPackageMagic[8] = {'M', 'E', 'T', 'E', 'R', 'S', 'C', 'N'};
 
 std::vector<std::uint8_t> serialize_scene(const Scene& scene);

@@ -30,6 +30,9 @@ struct RendererOptions {
   int width = 0, height = 0;  // 0 = the scene config's size
   int msaa = 4;
   std::string font_file;      // empty = METER_FONT_FILE
+  // Draw the package's merged groups as one draw each (issue #10). Off: every member is drawn on
+  // its own, exactly as without groups (the reference for equivalence tests and benchmarks).
+  bool concatenate = true;
 };
 
 struct FrameTiming {
@@ -44,6 +47,10 @@ struct RendererStats {
   std::uint64_t animation_samples = 0;  // animations re-sampled (only on time change)
   std::uint64_t world_updates = 0;      // world-matrix recomputations
   std::uint64_t draw_calls = 0;         // total submitted draws
+  std::uint64_t member_transforms = 0;  // merged-group members re-transformed on the CPU
+  std::uint64_t vertices_transformed = 0;
+  std::uint64_t index_rebuilds = 0;     // merged index arrays rebuilt (visibility changed)
+  double concat_cpu_ms = 0.0;           // CPU time in member transforms + uploads (all frames)
 };
 
 class Renderer {
@@ -76,7 +83,10 @@ class Renderer {
  private:
   struct GpuProgram;
   struct GpuDraw;
+  struct GpuGroup;
   void build();
+  void build_groups();
+  void update_groups();
   void update_world();
   void draw_scene();
   void draw_text();
@@ -90,6 +100,8 @@ class Renderer {
   std::unique_ptr<platform::RenderTarget> target_;
   std::vector<std::unique_ptr<GpuProgram>> programs_;
   std::vector<std::unique_ptr<GpuDraw>> draws_;
+  std::vector<std::unique_ptr<GpuGroup>> groups_;
+  std::vector<int> draw_group_;  // per draw: merged group index, -1 = drawn on its own
   std::vector<GLuint> textures_;
   GLuint white_texture_ = 0;
   std::vector<GLuint> buffers_;

@@ -154,6 +154,15 @@ struct DrawItem {
   int node = -1, mesh = -1, primitive = -1, program = -1;
 };
 
+// Mesh concatenation (issue #10, concatenation.hpp): draws merged into one draw at runtime.
+// `draws` index Scene::draws in draw order; draws[0] (the first in traversal order) is the
+// representative whose place in the sorted draw list the merged draw takes. All members share one
+// program, which has the vertex_alpha feature (visibility), no skin and no morph targets.
+struct MergedGroup {
+  std::string name;
+  std::vector<int> draws;
+};
+
 struct Scene {
   std::vector<Node> nodes;
   std::vector<int> roots;
@@ -166,6 +175,7 @@ struct Scene {
   std::vector<Animation> animations;
   std::vector<ProgramEntry> programs;
   std::vector<DrawItem> draws;
+  std::vector<MergedGroup> groups;  // checked at conversion (concatenation.hpp)
   SceneConfig config;            // validated against this scene at conversion time
   std::string source_name;       // input file name, for messages
   glm::vec3 ambient{0.0f};       // config "ambient" (linear)

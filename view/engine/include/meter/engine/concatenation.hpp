@@ -1,0 +1,91 @@
+// Mesh concatenation (issue #10; the DENSO paper sec. 5.2, docs/concatenation.md).
+//
+// Many small objects that share a material are drawn as ONE draw: the runtime keeps one vertex
+// array per group holding every member's vertices already transformed to world space by the CPU,
+// a per-vertex alpha for visibility, and an index array holding only the visible members.
+//
+// Conversion side (plan_groups): a group is only accepted when merging it cannot change the image:
+//   - every member is a mesh node whose primitives all use the group's one material (so one set of
+//     uniforms and one blend state serve all), with the same vertex layout, no skin, no morph;
+//   - no member is in two groups;
+//   - members do not overlap each other on screen (blended) or on screen at intersecting depth
+//     ranges (opaque / mask: the depth test makes order irrelevant unless depths tie), over the
+//     whole range of every animation that moves them;
+//   - the merged draw takes the representative's place in the sorted draw list, so for every
+//     overlapping pair of draws in different units (group or single draw) the order between their
+//     units must equal the order between the draws themselves, at every animation time.
+// Pure functions on the Scene: no GL, no shader compiler.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meter/engine/config.hpp"
+#include "meter/engine/scene.hpp"
+
+namespace meter::engine {
+
+// Where a would-be draw (node x primitive, in the traversal order the converter emits draws in)
+// can be on screen and in depth over the animation ranges.
+struct DrawExtent {
+  int node = -1, primitive = -1;
+  bool blend = false;
+  glm::vec2 screen_min{0.0f}, screen_max{0.0f};  // pixels; with no camera: world x/y
+  float depth_min = 0.0f, depth_max = 0.0f;      // clip w of the geometry (view depth)
+  float key_min = 0.0f, key_max = 0.0f;          // clip w of the bounds centre (the sort key)
+};
+
+// Draws in converter order with their extents. Every animation is sampled over its whole key range
+// (keys plus 8 steps per key interval) with the other animations at their start and at their end.
+std::vector<DrawExtent> draw_extents(const Scene& scene);
+
+struct GroupDecision {
+  std::string group;
+  bool accepted = false;
+  std::vector<std::string> members;
+  std::vector<std::string> reasons;  // why accepted (what was checked) or why rejected
+};
+
+struct ConcatPlan {
+  std::vector<Group> groups;              // accepted groups, members in draw order
+  std::vector<GroupDecision> decisions;   // one per configured / proposed group (and rejected nodes)
+};
+
+// Checks the config's groups; with `propose`, also groups the remaining mesh nodes automatically
+// (greedy in draw order per material + layout + blend state). Throws SceneError naming the file,
+// the group and the objects when a configured group violates a constraint.
+ConcatPlan plan_groups(const Scene& scene, const std::vector<Group>& configured, bool propose,
+                       const std::string& origin);
+
+// The `--report` section: each decision with its reasons.
+std::string concat_report(const ConcatPlan& plan);
+
+// Fills scene.groups (draw indices) from the plan once scene.draws exists.
+void attach_groups(Scene& scene, const ConcatPlan& plan);
+
+// Checks a loaded scene's groups (package reader): indices in range, one program with the vertex
+// alpha attribute and no skin/morph, equal layouts, no draw in two groups. Returns "" when fine.
+std::string check_groups(const Scene& scene);
+
+// ---- runtime helpers (used by Renderer; pure so they are unit-tested without GL)
+
+// Merged vertex record: the members' own record followed by one float, the vertex alpha.
+inline int merged_stride(const Primitive& p) { return p.stride + 1; }
+
+// Writes `src`'s vertices transformed by `world` into dst (vertex_count * merged_stride floats):
+// POSITION by world, NORMAL by the inverse transpose (not normalised: the shader normalises, as it
+// does for the unmerged draw), TANGENT xyz by the upper 3x3 (w kept), everything else copied;
+// the appended alpha = `alpha`.
+void transform_member(const Primitive& src, const glm::mat4& world, float alpha, std::span<float> dst);
+
+// Rewrites only the alpha float of each vertex in dst.
+void set_member_alpha(const Primitive& src, float alpha, std::span<float> dst);
+
+// Appends src's triangles offset by `base`; reversed winding when `mirrored` (the world matrix has
+// a negative determinant: the unmerged draw flips glFrontFace instead, the merged draw cannot).
+void append_member_indices(const Primitive& src, std::uint32_t base, bool mirrored, std::vector<std::uint32_t>& out);
+
+}  // namespace meter::engine

@@ -1,0 +1,199 @@
+// Mesh concatenation, pure parts (issue #10): group checks and proposals on hand-built scenes,
+// CPU vertex transform, index compaction/winding, package round trip of groups.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "meter/engine/concatenation.hpp"
+#include "meter/engine/package.hpp"
+
+using namespace meter;
+using namespace meter::engine;
+using shadergen::AttributeSemantic;
+
+namespace {
+
+// A unit quad (two triangles) in the XY plane with POSITION + NORMAL.
+Primitive quad(int material, float size = 1.0f) {
+  Primitive p;
+  p.material = material;
+  p.vertex_count = 4;
+  p.stride = 6;
+  p.layout = {{AttributeSemantic::Position, -1, 3, 0}, {AttributeSemantic::Normal, -1, 3, 3}};
+  const float h = size * 0.5f;
+  p.vertices = {-h, -h, 0, 0, 0, 1, h, -h, 0, 0, 0, 1, h, h, 0, 0, 0, 1, -h, h, 0, 0, 0, 1};
+  p.indices = {0, 1, 2, 0, 2, 3};
+  p.bounds_min = glm::vec3(-h, -h, 0), p.bounds_max = glm::vec3(h, h, 0);
+  return p;
+}
+
+// Camera at z = 10 looking down -Z (perspective), quads laid out on z = 0 by `positions`, each
+// with its own mesh; materials "A" (opaque), "B" (opaque), "G" (blend).
+Scene scene_with(const std::vector<std::pair<std::string, glm::vec3>>& objects, const std::vector<int>& materials) {
+  Scene s;
+  s.config.size = {400, 400};
+  for (const char* name : {"A", "B", "G"}) {
+    Material m;
+    m.name = name;
+    if (std::string(name) == "G") m.alpha = shadergen::AlphaMode::Blend;
+    s.materials.push_back(m);
+  }
+  Camera cam;
+  cam.name = "Cam";
+  cam.yfov = 0.9f;
+  s.cameras.push_back(cam);
+  Node c;
+  c.name = "Camera";
+  c.camera = 0;
+  c.translation = glm::vec3(0, 0, 10);
+  s.nodes.push_back(c);
+  s.roots.push_back(0);
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    Mesh m;
+    m.name = objects[i].first;
+    m.primitives.push_back(quad(materials[i]));
+    s.meshes.push_back(m);
+    Node n;
+    n.name = objects[i].first;
+    n.mesh = static_cast<int>(i);
+    n.translation = objects[i].second;
+    s.roots.push_back(static_cast<int>(s.nodes.size()));
+    s.nodes.push_back(n);
+  }
+  return s;
+}
+
+std::string error_of(const Scene& s, const std::vector<Group>& g) {
+  try {
+    plan_groups(s, g, false, "test.json");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(ConcatPlan, AcceptsSeparateObjectsWithOneMaterial) {
+  Scene s = scene_with({{"a", {-3, 0, 0}}, {"b", {0, 0, 0}}, {"c", {3, 0, 0}}}, {0, 0, 0});
+  auto plan = plan_groups(s, {{"row", {"c", "a", "b"}}}, false, "test.json");
+  ASSERT_EQ(plan.groups.size(), 1u);
+  // Members come back in draw order; "a" (first drawn) is the representative.
+  EXPECT_EQ(plan.groups[0].members, (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_NE(concat_report(plan).find("group row (merged, 3 objects)"), std::string::npos);
+}
+
+TEST(ConcatPlan, RejectsMixedMaterialsNamingTheObjects) {
+  Scene s = scene_with({{"a", {-3, 0, 0}}, {"b", {0, 0, 0}}}, {0, 1});
+  const std::string e = error_of(s, {{"row", {"a", "b"}}});
+  EXPECT_NE(e.find("test.json: scene config $.groups[0] (\"row\")"), std::string::npos) << e;
+  EXPECT_NE(e.find("\"b\" uses material \"B\" but \"a\" uses \"A\""), std::string::npos) << e;
+}
+
+TEST(ConcatPlan, RejectsCoplanarOverlapButNotOverlapAtDifferentDepths) {
+  // Same depth, overlapping on screen: LEQUAL makes the order visible.
+  Scene s = scene_with({{"a", {0, 0, 0}}, {"b", {0.5f, 0, 0}}}, {0, 0});
+  std::string e = error_of(s, {{"g", {"a", "b"}}});
+  EXPECT_NE(e.find("\"a\" and \"b\" overlap on screen at intersecting depths"), std::string::npos) << e;
+  // One clearly in front: the depth test decides, order cannot matter.
+  Scene t = scene_with({{"a", {0, 0, 0}}, {"b", {0.5f, 0, 1}}}, {0, 0});
+  EXPECT_EQ(error_of(t, {{"g", {"a", "b"}}}), "");
+  // Blended: any screen overlap matters.
+  Scene u = scene_with({{"a", {0, 0, 0}}, {"b", {0.5f, 0, 1}}}, {2, 2});
+  e = error_of(u, {{"g", {"a", "b"}}});
+  EXPECT_NE(e.find("\"a\" and \"b\" overlap on screen,"), std::string::npos) << e;
+}
+
+TEST(ConcatPlan, RejectsADrawOrderChangeAgainstANonMember) {
+  // Blended a (far) ... x (middle) ... b (near), x overlaps b. Unmerged back-to-front: a, x, b.
+  // Merged at a's place: {a, b}, x -> x would be drawn over b.
+  Scene s = scene_with({{"a", {-3, 0, -2}}, {"x", {0.2f, 0, -1}}, {"b", {0, 0, 0}}}, {2, 2, 2});
+  const std::string e = error_of(s, {{"g", {"a", "b"}}});
+  EXPECT_NE(e.find("\"x\" overlaps \"b\" and their draw order would change"), std::string::npos) << e;
+}
+
+TEST(ConcatPlan, ChecksOverTheAnimationRange) {
+  // b slides from x = 3 to x = 0.3 (onto a) over one second: the rest pose alone would pass.
+  Scene s = scene_with({{"a", {0, 0, 0}}, {"b", {3, 0, 0}}}, {0, 0});
+  Animation an;
+  an.name = "slide";
+  AnimSampler sm;
+  sm.components = 3;
+  sm.input = {0.0f, 1.0f};
+  sm.output = {3, 0, 0, 0.3f, 0, 0};
+  an.samplers.push_back(sm);
+  an.channels.push_back({0, 2, TargetPath::Translation});
+  an.end = 1.0f;
+  s.animations.push_back(an);
+  const std::string e = error_of(s, {{"g", {"a", "b"}}});
+  EXPECT_NE(e.find("overlap on screen"), std::string::npos) << e;
+}
+
+TEST(ConcatPlan, RejectsUnknownDuplicateAndMeshlessMembers) {
+  Scene s = scene_with({{"a", {-3, 0, 0}}, {"b", {0, 0, 0}}, {"c", {3, 0, 0}}}, {0, 0, 0});
+  EXPECT_NE(error_of(s, {{"g", {"a", "nope"}}}).find("no node named \"nope\""), std::string::npos);
+  EXPECT_NE(error_of(s, {{"g", {"a", "Camera"}}}).find("\"Camera\" has no mesh"), std::string::npos);
+  EXPECT_NE(error_of(s, {{"g", {"a", "b"}}, {"h", {"b", "c"}}}).find("\"b\" is already a member of another group"), std::string::npos);
+  EXPECT_NE(error_of(s, {{"g", {"a"}}}).find("at least two members"), std::string::npos);
+}
+
+TEST(ConcatPlan, ProposesGroupsPerMaterialAndExplainsLeftOuts) {
+  // a, b, c material A in a row; d material A on top of c (coplanar); e material B alone.
+  Scene s = scene_with({{"a", {-3, 0, 0}}, {"b", {0, 0, 0}}, {"c", {3, 0, 0}}, {"d", {3.4f, 0, 0}}, {"e", {0, 3, 0}}}, {0, 0, 0, 0, 1});
+  auto plan = plan_groups(s, {}, true, "test.json");
+  ASSERT_EQ(plan.groups.size(), 1u);
+  EXPECT_EQ(plan.groups[0].members, (std::vector<std::string>{"a", "b", "c"}));
+  const std::string r = concat_report(plan);
+  EXPECT_NE(r.find("\"d\" left out: \"c\" and \"d\" overlap"), std::string::npos) << r;
+  EXPECT_NE(r.find("(not proposed): e"), std::string::npos) << r;
+}
+
+TEST(ConcatRuntime, TransformMemberMovesPositionsNormalsAndSetsAlpha) {
+  Primitive p = quad(0);
+  const glm::mat4 w = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(10, 20, 30)), glm::vec3(2, 2, 4));
+  std::vector<float> out(std::size_t(4 * merged_stride(p)), -1.0f);
+  transform_member(p, w, 1.0f, out);
+  // vertex 2: (0.5, 0.5, 0) -> (11, 21, 30); normal (0,0,1) -> inverse transpose -> (0,0,0.25)
+  const float* v = out.data() + 2 * 7;
+  EXPECT_FLOAT_EQ(v[0], 11.0f);
+  EXPECT_FLOAT_EQ(v[1], 21.0f);
+  EXPECT_FLOAT_EQ(v[2], 30.0f);
+  EXPECT_FLOAT_EQ(v[5], 0.25f);
+  EXPECT_FLOAT_EQ(v[6], 1.0f);
+  set_member_alpha(p, 0.0f, out);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(out[std::size_t(i * 7 + 6)], 0.0f);
+  EXPECT_FLOAT_EQ(out[2 * 7], 11.0f);  // positions untouched
+}
+
+TEST(ConcatRuntime, IndicesAreOffsetAndMirroredMembersFlipWinding) {
+  Primitive p = quad(0);
+  std::vector<std::uint32_t> idx;
+  append_member_indices(p, 100, false, idx);
+  append_member_indices(p, 4, true, idx);
+  EXPECT_EQ(idx, (std::vector<std::uint32_t>{100, 101, 102, 100, 102, 103, 4, 6, 5, 4, 7, 6}));
+}
+
+TEST(ConcatPackage, GroupsRoundTripAndBadGroupsAreRefused) {
+  Scene s = scene_with({{"a", {-3, 0, 0}}, {"b", {0, 0, 0}}}, {0, 0});
+  ProgramEntry pe;
+  pe.program.attributes.push_back({"a_position", AttributeSemantic::Position, -1, 0, 3});
+  pe.program.attributes.push_back({"a_vertex_alpha", AttributeSemantic::VertexAlpha, -1, 1, 1});
+  s.programs.push_back(pe);
+  s.draws = {{1, 0, 0, 0}, {2, 1, 0, 0}};
+  s.config.source_json = R"({"format": "meter-scene-config/1"})";
+  s.groups = {{"g", {0, 1}}};
+  Scene r = deserialize_scene(serialize_scene(s), "x.msp");
+  ASSERT_EQ(r.groups.size(), 1u);
+  EXPECT_EQ(r.groups[0].name, "g");
+  EXPECT_EQ(r.groups[0].draws, (std::vector<int>{0, 1}));
+  s.groups = {{"g", {0, 5}}};
+  try {
+    deserialize_scene(serialize_scene(s), "x.msp");
+    FAIL() << "out-of-range group draw accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("draw index 5 out of range"), std::string::npos) << e.what();
+  }
+  s.groups = {{"g", {0, 1}}};
+  s.programs[0].program.attributes.pop_back();  // no vertex alpha: the runtime could not hide members
+  EXPECT_NE(check_groups(s).find("no vertex alpha attribute"), std::string::npos);
+}
