@@ -191,6 +191,16 @@ TEST(Dbc, EveryBundledDbcParses) {
   // SG_MUL_VAL_ widened BIT_L to switch values 8, 16 and 24.
   const DbcSignal& l = m->signals[static_cast<std::size_t>(m->find_signal("BIT_L"))];
   EXPECT_EQ(l.mux_ranges.size(), 3u);
+  // cantools_choices.dbc is cp1252: its value table text arrives as UTF-8, negative keys work.
+  Database ch = load_dbc(std::string(METER_SHARED_DIR) + "/data/can/dbc_semantics/cantools_choices.dbc");
+  const DbcSignal& foo = ch.find("Foo")->signals[0];
+  ASSERT_NE(foo.choice(1), nullptr);
+  EXPECT_EQ(*foo.choice(1), "#%=*\xC3\xA4'");
+  std::uint8_t neg[8] = {0xFB, 0, 0, 0, 0, 0, 0, 0};
+  std::vector<DecodedSignal> dec;
+  decode(*ch.find("Foo"), neg, dec);
+  ASSERT_EQ(dec.size(), 1u);
+  EXPECT_EQ(*foo.choice(dec[0].raw_signed()), "A negative value");
   Database fd = load_dbc(std::string(METER_SHARED_DIR) + "/data/can/dbc_semantics/cantools_fd_test.dbc");
   // VFrameFormat enum index 14/15 = StandardCAN_FD / ExtendedCAN_FD.
   EXPECT_TRUE(fd.find("TestMsg_FDStd")->fd);
