@@ -189,6 +189,10 @@ std::optional<CandumpLine> parse_candump_line(std::string_view line, std::string
     frac = frac * 10 + (ts[i] - '0');
   }
   for (std::size_t i = fd; i < 9; ++i) frac *= 10;
+  if (sec > 9000000000LL) {  // nanoseconds since the epoch must fit int64 (year 2255)
+    fail(why, "timestamp: seconds beyond 9000000000 do not fit a nanosecond clock");
+    return std::nullopt;
+  }
 
   std::string_view rest = line.substr(close + 1);
   auto skip_ws = [&] {
