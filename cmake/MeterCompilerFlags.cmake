@@ -2,6 +2,11 @@
 # depend on IEEE NaN/Inf semantics and on reproducible rounding).
 add_library(meter_build_flags INTERFACE)
 target_compile_options(meter_build_flags INTERFACE -Wall -Wextra -Wpedantic)
+# GCC 12 reports -Wrestrict inside libstdc++'s std::string operator+ at -O2/-O3 for code that is
+# correct (GCC bug 105651, fixed in GCC 13); silence only that warning, only on GCC 12.
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+  target_compile_options(meter_build_flags INTERFACE -Wno-restrict)
+endif()
 if(METER_WERROR)
   target_compile_options(meter_build_flags INTERFACE -Werror)
 endif()
