@@ -1,0 +1,283 @@
+// view_bench: everything measured side by side in one run on llvmpipe.
+//  1. per program of the cluster and the twelve feature scenes, generated (--optimize=off) vs
+//     optimized: source bytes, SPIR-V instructions, uniforms, varyings, compile+link ms on EGL and
+//     OSMesa (median of 5; llvmpipe JITs the variant at first draw, counted in "first frame");
+//  2. per scene: renderer start-up (compile + upload) + first frame, and the median forced-redraw
+//     frame time, off vs on, on EGL; the uber shader's compile+link against the scene's programs;
+//  3. the cluster at 1280x480 MSAA 4 (issue #5): median / p99 frame time vs a same-run fill floor
+//     (one full-screen flat-shaded pass), process start -> first PNG on disk, peak RSS of meter-view.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "meter/engine/bindings.hpp"
+#include "meter/engine/config.hpp"
+#include "meter/engine/converter.hpp"
+#include "meter/engine/package.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/platform/backend.hpp"
+#include "meter/platform/render_target.hpp"
+#include "meter/platform/text.hpp"
+#include "meter/shadergen/shadergen.hpp"
+
+namespace {
+
+using namespace meter;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+double percentile(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(p * double(v.size() - 1) + 0.5));
+  return v[i];
+}
+
+struct SceneFiles {
+  std::string name, glb, config;
+};
+std::vector<SceneFiles> scenes() {
+  const fs::path root = fs::path(METER_SOURCE_DIR) / "scenes";
+  std::vector<SceneFiles> s = {{"cluster", (root / "cluster/cluster.glb").string(),
+                                (root / "cluster/cluster.scene.json").string()}};
+  for (const char* f : {"ambient", "diffuse", "specular", "shininess", "emission", "bump",
+                        "reflection", "envmap2d", "skinning", "morphing", "spot", "omni"})
+    s.push_back({f, (root / "features" / f / (std::string(f) + ".glb")).string(),
+                 (root / "features" / f / "scene.json").string()});
+  return s;
+}
+engine::SceneConfig load_config(const std::string& path) {
+  engine::SceneConfig c = engine::load_scene_config(path);
+  c.groups.clear();  // concatenation (issue #10) is measured elsewhere; same programs either way
+  return c;
+}
+
+// Compile + link one program on the current context; returns ms (throws on failure).
+double compile_link_ms(const platform::Gl& gl, const shadergen::Program& p) {
+  const auto t = Clock::now();
+  auto shader = [&](GLenum type, const std::string& src) {
+    GLuint s = gl.CreateShader(type);
+    const char* text = src.c_str();
+    gl.ShaderSource(s, 1, &text, nullptr);
+    gl.CompileShader(s);
+    return s;
+  };
+  GLuint vs = shader(GL_VERTEX_SHADER, p.vertex_source), fs = shader(GL_FRAGMENT_SHADER, p.fragment_source);
+  GLuint prog = gl.CreateProgram();
+  gl.AttachShader(prog, vs);
+  gl.AttachShader(prog, fs);
+  gl.LinkProgram(prog);
+  GLint ok = 0;
+  gl.GetProgramiv(prog, GL_LINK_STATUS, &ok);
+  const double ms = ms_since(t);
+  gl.DeleteShader(vs);
+  gl.DeleteShader(fs);
+  gl.DeleteProgram(prog);
+  if (!ok) throw std::runtime_error("program " + p.features.key() + " does not link");
+  return ms;
+}
+double median_compile_ms(const platform::Gl& gl, const shadergen::Program& p) {
+  std::vector<double> v;
+  for (int i = 0; i < 5; ++i) v.push_back(compile_link_ms(gl, p));
+  return percentile(v, 0.5);
+}
+
+std::map<int, engine::SignalValue> mid_state(const engine::SceneConfig& c) {
+  std::map<int, engine::SignalValue> values;
+  for (const auto& b : c.bindings) {
+    const auto* info = protocol::find_signal(b.signal);
+    if (!info) continue;
+    engine::SignalValue v;
+    v.status = protocol::SignalStatus::Valid;
+    v.value = info->kind == protocol::SignalKind::Text ? 0.0 : b.input[0] + 0.6 * (b.input[1] - b.input[0]);
+    v.text = "A12";
+    values[info->id] = v;
+  }
+  return values;
+}
+
+struct FrameStats {
+  double startup_ms = 0, first_frame_ms = 0, median_ms = 0, p99_ms = 0;
+};
+FrameStats frames(platform::GpuBackend& backend, const engine::Scene& scene,
+                  const engine::SceneConfig& config, int n, int w = 0, int h = 0) {
+  FrameStats s;
+  auto t = Clock::now();
+  engine::RendererOptions o;
+  o.msaa = 4;
+  o.width = w;
+  o.height = h;
+  engine::Renderer r(backend, scene, o);
+  engine::BindingEvaluator ev(scene);
+  const auto values = mid_state(config);
+  ev.update([&](int id) -> const engine::SignalValue* {
+    auto it = values.find(id);
+    return it == values.end() ? nullptr : &it->second;
+  }, true, -1.0);
+  r.apply(ev.outputs());
+  s.startup_ms = ms_since(t);
+  t = Clock::now();
+  r.render(true, false);
+  s.first_frame_ms = ms_since(t);
+  std::vector<double> v;
+  for (int i = 0; i < n; ++i) {
+    t = Clock::now();
+    r.render(true, false);  // forced redraw: the cost of a frame whose inputs changed
+    v.push_back(ms_since(t));
+  }
+  s.median_ms = percentile(v, 0.5);
+  s.p99_ms = percentile(v, 0.99);
+  return s;
+}
+
+}  // namespace
+
+int main() {
+  std::printf("view_bench: llvmpipe, Debug meter build\n");
+  auto egl = platform::create_backend(platform::BackendKind::Egl);
+  std::printf("EGL: %s\n", egl->renderer_info().c_str());
+  std::map<std::string, std::pair<engine::Scene, engine::Scene>> converted;  // off, on
+  std::map<std::string, engine::SceneConfig> configs;
+  for (const auto& s : scenes()) {
+    configs[s.name] = load_config(s.config);
+    converted[s.name] = {engine::convert_gltf(s.glb, configs[s.name], {false}).scene,
+                         engine::convert_gltf(s.glb, configs[s.name], {true}).scene};
+  }
+
+  // 1. Per program (EGL compile+link here; OSMesa below).
+  std::map<std::string, std::vector<double>> egl_ms;  // key scene/program -> off..., on...
+  std::printf("\n## 1. per program: generated -> optimized\n");
+  std::printf("%-10s %-44s %13s %11s %8s %8s %8s %15s\n", "scene", "program (key)", "src bytes",
+              "SPIR-V", "unif", "vary", "samp", "EGL c+l ms");
+  for (const auto& s : scenes()) {
+    const auto& [off, on] = converted[s.name];
+    for (const auto& e : on.programs) {
+      const auto& r = e.optimize_report;
+      // The generated program with the same features (what --optimize=off stores for it).
+      const shadergen::Program gen = shadergen::generate(e.program.features);
+      const double before = median_compile_ms(egl->gl(), gen);
+      const double after = median_compile_ms(egl->gl(), e.program);
+      egl_ms[s.name + "/" + e.program.features.key()] = {before, after};
+      std::printf("%-10s %-44s %6zu->%-6zu %5zu->%-5zu %3zu->%-3zu %3zu->%-3zu %3zu->%-3zu %6.2f->%-6.2f\n",
+                  s.name.c_str(), e.program.features.key().substr(0, 44).c_str(),
+                  r.source_bytes_before, r.source_bytes_after, r.spirv_instructions_before,
+                  r.spirv_instructions_after, r.uniforms_before, r.uniforms_after,
+                  r.varyings_before, r.varyings_after, r.samplers_before, r.samplers_after, before, after);
+    }
+  }
+  const shadergen::Program uber = shadergen::generate_uber();
+  const double uber_egl = median_compile_ms(egl->gl(), uber);
+
+  // 2. Per scene frame times on EGL.
+  std::printf("\n## 2. per scene on EGL (MSAA 4, config size): off vs on\n");
+  std::printf("%-10s %6s %22s %22s %20s %16s\n", "scene", "progs", "startup+1st frame ms",
+              "median frame ms", "sum c+l ms (EGL)", "uber c+l x progs");
+  std::map<std::string, FrameStats> cluster_stats;
+  for (const auto& s : scenes()) {
+    const auto& [off, on] = converted[s.name];
+    const int n = s.name == "cluster" ? 20 : 30;
+    const FrameStats a = frames(*egl, off, configs[s.name], n);
+    const FrameStats b = frames(*egl, on, configs[s.name], n);
+    double sum_off = 0, sum_on = 0;
+    for (const auto& e : on.programs) {
+      sum_off += egl_ms[s.name + "/" + e.program.features.key()][0];
+      sum_on += egl_ms[s.name + "/" + e.program.features.key()][1];
+    }
+    std::printf("%-10s %2zu->%-3zu %9.1f->%-9.1f %9.2f->%-9.2f %8.1f->%-8.1f %8.1f\n", s.name.c_str(),
+                off.programs.size(), on.programs.size(), a.startup_ms + a.first_frame_ms,
+                b.startup_ms + b.first_frame_ms, a.median_ms, b.median_ms, sum_off, sum_on,
+                uber_egl * double(on.programs.size()));
+  }
+  std::printf("uber shader compile+link on EGL: %.2f ms per program (one program, all switches)\n", uber_egl);
+
+  // 3. Cluster 1280x480 vs the fill floor, same backend, same run.
+  std::printf("\n## 3. cluster 1280x480 MSAA 4 on EGL, 200 forced frames\n");
+  const auto& cluster = converted["cluster"].second;
+  const FrameStats c = frames(*egl, cluster, configs["cluster"], 200, 1280, 480);
+  std::vector<double> fill;
+  {
+    platform::RenderTarget t(*egl, {.width = 1280, .height = 480, .samples = 4});
+    platform::TextRenderer text(*egl, METER_FONT_FILE, 24);
+    for (int i = 0; i < 200; ++i) {
+      const auto t0 = Clock::now();
+      t.bind();
+      egl->gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      text.fill_rect(t, {0, 0, 1280, 480}, {0.2f, 0.3f, 0.4f, 1.0f});
+      egl->gl().Finish();
+      fill.push_back(ms_since(t0));
+    }
+  }
+  const double fill_med = percentile(fill, 0.5), fill_p99 = percentile(fill, 0.99);
+  std::printf("cluster  median %.2f ms  p99 %.2f ms\n", c.median_ms, c.p99_ms);
+  std::printf("fill     median %.2f ms  p99 %.2f ms\n", fill_med, fill_p99);
+  std::printf("ratio    median %.2fx     p99 %.2fx   (goal p99 < 16.7 ms)\n", c.median_ms / fill_med,
+              c.p99_ms / fill_p99);
+  egl.reset();
+
+  // 1b. OSMesa compile+link, same programs (the backend pays its own JIT).
+  {
+    auto osm = platform::create_backend(platform::BackendKind::OSMesa);
+    std::printf("\n## 1b. compile+link on OSMesa (%s)\n", osm->renderer_info().c_str());
+    double sum_gen = 0, sum_opt = 0, sum_desktop = 0;
+    int count = 0;
+    for (const auto& s : scenes())
+      for (const auto& e : converted[s.name].second.programs) {
+        sum_gen += median_compile_ms(osm->gl(), shadergen::generate(e.program.features));
+        sum_opt += median_compile_ms(osm->gl(), e.program);
+        sum_desktop += median_compile_ms(osm->gl(), shadergen::to_desktop_glsl(e.program, 330));
+        ++count;
+      }
+    std::printf("%d programs: generated %.1f ms, optimized ES 3.00 %.1f ms, optimized GLSL 330 %.1f ms; "
+                "uber %.2f ms each\n", count, sum_gen, sum_opt, sum_desktop, median_compile_ms(osm->gl(), uber));
+  }
+
+  // 4. Start-up of the real process: start -> first PNG on disk, and its peak RSS.
+  const fs::path dir = fs::temp_directory_path() / ("meter_view_bench_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string pkg = (dir / "cluster.msp").string();
+  // The package meter-convert would write (converted above, groups dropped like everywhere here).
+  engine::write_package(converted["cluster"].second, pkg);
+  std::printf("\n## 4. meter-view process start -> first PNG (cluster package, 1280x480)\n");
+  for (const char* backend : {"egl", "osmesa"}) {
+    std::vector<double> v;
+    long rss_kb = 0;
+    for (int i = 0; i < 3; ++i) {
+      const fs::path out = dir / (std::string(backend) + std::to_string(i));
+      const auto t0 = Clock::now();
+      const pid_t pid = fork();
+      if (pid == 0) {
+        execl(METER_VIEW_EXE, METER_VIEW_EXE, "--scene", pkg.c_str(), "--backend", backend, "--out",
+              out.c_str(), "--set", "Vehicle.Speed=100", static_cast<char*>(nullptr));
+        _exit(127);
+      }
+      double first_png = -1;
+      int status = 0;
+      struct rusage ru {};  // this child's own usage (not meter-convert's, run above)
+      while (wait4(pid, &status, WNOHANG, &ru) == 0) {
+        if (first_png < 0 && fs::exists(out / "frame.png")) first_png = ms_since(t0);
+        usleep(1000);
+      }
+      if (first_png < 0 && fs::exists(out / "frame.png")) first_png = ms_since(t0);
+      rss_kb = std::max(rss_kb, ru.ru_maxrss);
+      if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || first_png < 0) {
+        std::printf("%s: meter-view failed (status %d)\n", backend, status);
+        return 1;
+      }
+      v.push_back(first_png);
+    }
+    std::printf("%-6s start -> first PNG median %.0f ms (goal < 500 ms); peak RSS %.1f MiB\n", backend,
+                percentile(v, 0.5), double(rss_kb) / 1024.0);
+  }
+  fs::remove_all(dir);
+  return 0;
+}
