@@ -35,6 +35,9 @@ FPS = 10            # the view's render rate in these runs: enough samples, litt
 # Half-size, no MSAA: the view shares 2 cores with the TCG guest; a frame (and its PNG) must stay
 # well inside the link's 300 ms heartbeat-loss window. Offline renders use the same options.
 VIEW_RENDER_OPTS = ["--size", "640x240", "--msaa", "1"]
+# Guest vCPUs for the end-to-end runs ($METER_E2E_CPUS, default 2): the controller, canplayer and
+# the guest's network stack share them; the view runs on the host.
+E2E_CPUS = int(os.environ.get("METER_E2E_CPUS", "2"))
 
 
 def require(*paths):
@@ -174,16 +177,17 @@ SETTLE_AFTER_LINK_S = 2.0   # after a (re)connect the view's needle smoothing st
 
 
 def judged_rows(rows, envs):
-    """Rows that draw live, valid values for every judged signal, excluding the settle time after
-    each link-up (a snapshot after a reconnect is animated in from the failsafe position)."""
-    out, up_since = [], None
+    """Rows that draw live, valid values for every judged signal and have done so for
+    SETTLE_AFTER_LINK_S: after a (re)connect or a signal turning valid, the view animates the
+    needle in from its failsafe position."""
+    out, since = [], None
     for r in rows:
-        if r.link is False:
-            up_since = None
+        if r.link is False or not all(r.valid(s) for s in envs):
+            since = None
             continue
-        if up_since is None:
-            up_since = r.time
-        if r.time - up_since >= SETTLE_AFTER_LINK_S and all(r.valid(s) for s in envs):
+        if since is None:
+            since = r.time
+        if r.time - since >= SETTLE_AFTER_LINK_S:
             out.append(r)
     return out
 
@@ -279,12 +283,46 @@ class Run:
         return outdir, p
 
     def view_time(self, idx, host_t):
-        """The view's frames.csv clock at host monotonic time host_t (its clock starts with it)."""
+        """The view's frames.csv clock at host monotonic time host_t (its clock starts with it;
+        the view's own start-up before its clock starts is part of the fitted lag)."""
         return host_t - self.views[idx][2]
 
+    def wait_ready(self, timeout=100):
+        """Waits until the guest's controller is up (the guest writes OUT/ready), so the view is
+        not competing with the TCG boot for the CPU."""
+        deadline = time.monotonic() + timeout
+        while not os.path.exists(os.path.join(self.out, "ready")):
+            if self.vm.poll() is not None:
+                raise AssertionError(f"the VM run ended (exit {self.vm.returncode}) before the controller "
+                                     f"was ready; see the output above and {self.out}/controller.log")
+            if time.monotonic() > deadline:
+                raise AssertionError(f"the controller was not ready {timeout} s after the VM started")
+            time.sleep(0.2)
+
+    def wait_link(self, timeout=15):
+        """Until the newest view's frames.csv shows the link up (best effort: the go anchors time
+        either way, and the judge counts frames without a link against the run)."""
+        csv_path = os.path.join(self.views[-1][0], "frames.csv")
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if os.path.exists(csv_path):
+                with open(csv_path) as f:
+                    if any(line.split(",")[3:4] == ["1"] for line in f.readlines()[1:]):
+                        return True
+            time.sleep(0.2)
+        return False
+
+    def start(self):
+        """VM with controller, then the view, then the go: the usual opening of a run."""
+        self.start_vm()
+        self.wait_ready()
+        viewdir, p = self.start_view("view")
+        self.wait_link()
+        self.go(time.monotonic() + 30)
+        return viewdir, p
+
     def go(self, deadline):
-        """Connects to the guest's go port (the guest says "go" and starts its phases); retries
-        while the VM boots."""
+        """Connects to the guest's go port (the guest says "go" and starts its phases)."""
         while time.monotonic() < deadline:
             try:
                 with socket.create_connection(("127.0.0.1", self.go_port), timeout=1) as s:
@@ -298,7 +336,7 @@ class Run:
             except OSError:
                 pass
             time.sleep(0.2)
-        raise AssertionError("the guest never accepted the go (boot or controller start failed?)")
+        raise AssertionError("the guest never accepted the go (see the output above)")
 
     def start_vm(self):
         require(CONTROLLER, VIEW, self.log, self.dbc, self.mapping)
@@ -311,10 +349,7 @@ class Run:
                                 "--start", start, "--duration", dur, self.log], check=True)
         self.vm = v.with_vcan([GUEST, self.out, BIN, str(self.port), str(self.go_port),
                                self.dbc, self.mapping, self.log] + self.phases,
-                              # One vCPU: the controller and canplayer are light, and the
-                              # second host core stays free for meter-view (3 busy threads on
-                              # 2 cores made both miss the link's heartbeats).
-                              self.out, timeout=self.timeout, cpus=1,
+                              self.out, timeout=self.timeout, cpus=E2E_CPUS,
                               hostfwd=[f"{self.port}:{self.port}", f"{self.go_port}:{self.go_port}"])
 
     def finish(self):

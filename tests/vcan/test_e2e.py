@@ -94,9 +94,7 @@ class Ft86OverVcan(E2eBase):
     def test_values_match_canmatrix(self):
         run = e2e.Run("e2e_ft86", ["go", f"replay:{self.START}:{self.DUR}", "sleep:1"],
                       v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start_view("view")
-        run.start_vm()
-        run.go(time.monotonic() + 90)
+        viewdir, _ = run.start()
         rcs = run.finish()
         self.check_run(run, rcs)
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
@@ -146,9 +144,7 @@ class DemoOverVcan(E2eBase):
         envs = self.reference()
         run = e2e.Run("e2e_demo", ["go", f"replay:{self.START}:{self.DUR}", "sleep:1"],
                       e2e.DEMO_LOG, e2e.DEMO_DBC, e2e.DEMO_MAP)
-        viewdir, _ = run.start_view("view")
-        run.start_vm()
-        run.go(time.monotonic() + 90)
+        viewdir, _ = run.start()
         self.check_run(run, run.finish())
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
         self.check_tracking(run, rows, envs, 0, self.START, self.START + 3.0, self.START + self.DUR)
@@ -188,9 +184,7 @@ class Faults(E2eBase):
         run = e2e.Run("e2e_controller_restart",
                       ["go", f"replay-bg:{self.START}:20", "sleep:6", "kill-controller", "sleep:2",
                        "start-controller"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start_view("view")
-        run.start_vm()
-        run.go(time.monotonic() + 90)
+        viewdir, _ = run.start()
         self.check_run(run, run.finish())
         ev = guest_events(run)
         t_kill = run.view_time(0, ev["phase kill-controller"][0])
@@ -212,9 +206,11 @@ class Faults(E2eBase):
     def test_view_killed_and_restarted(self):
         run = e2e.Run("e2e_view_restart", ["go", f"replay:{self.START}:18", "sleep:1"],
                       v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        _, view1 = run.start_view("view1")
         run.start_vm()
-        run.go(time.monotonic() + 90)
+        run.wait_ready()
+        _, view1 = run.start_view("view1")
+        run.wait_link()
+        run.go(time.monotonic() + 30)
         time.sleep(5)
         view1.send_signal(signal.SIGKILL)
         view1.wait()
@@ -236,9 +232,7 @@ class Faults(E2eBase):
     def test_bus_silence(self):
         run = e2e.Run("e2e_bus_silence", ["go", f"replay:{self.START}:8", "sleep:5"],
                       v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start_view("view")
-        run.start_vm()
-        run.go(time.monotonic() + 90)
+        viewdir, _ = run.start()
         self.check_run(run, run.finish())
         ev = guest_events(run)
         t_quiet = run.view_time(0, ev["phase sleep:5"][0])
@@ -257,9 +251,7 @@ class Faults(E2eBase):
     def test_cangen_flood(self):
         run = e2e.Run("e2e_flood", ["go", f"replay-bg:{self.START}:16", "sleep:3", "rss:before",
                                     "flood:8", "rss:after"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start_view("view")
-        run.start_vm()
-        run.go(time.monotonic() + 90)
+        viewdir, _ = run.start()
         self.check_run(run, run.finish())
         rss = run.rss()
         print(f"e2e_flood: controller RSS before {rss['before']} kB, after 8 s of flood {rss['after']} kB")

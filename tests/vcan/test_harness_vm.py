@@ -16,10 +16,15 @@ class HarnessVm(unittest.TestCase):
     def test_hostfwd_and_exit_code(self):
         out = v.fresh_dir("harness_hostfwd")
         port = v.free_port()
-        p = v.with_vcan(["/usr/bin/python3",
-                         os.path.join(v.SOURCE_DIR, "tests", "vcan", "guest_echo_server.py"),
-                         str(port), "vcan0"],
-                        out, timeout=90, hostfwd=[f"{port}:{port}"])
+        # Inside the guest the kernel has CAN, so with-vcan's *direct* path runs there first: it
+        # must create vcan1, run the command with METER_VCAN_MODE=direct, and delete vcan1 after.
+        direct = os.path.join(out, "direct.txt")
+        guest = (f"{v.WITH_VCAN} --vcan vcan1 -- bash -c 'echo mode=$METER_VCAN_MODE; "
+                 f"ip -details link show vcan1 | grep -c \" vcan \"' > {direct} 2>&1; "
+                 f"echo rc=$? >> {direct}; ip link show vcan1 >/dev/null 2>&1; echo after=$? >> {direct}; "
+                 f"exec /usr/bin/python3 {os.path.join(v.SOURCE_DIR, 'tests', 'vcan', 'guest_echo_server.py')} "
+                 f"{port} vcan0")
+        p = v.with_vcan(["bash", "-c", guest], out, timeout=90, hostfwd=[f"{port}:{port}"])
         reply = None
         deadline = time.monotonic() + 80
         # qemu accepts on the host side at once and drops the connection while nothing listens in
@@ -38,6 +43,15 @@ class HarnessVm(unittest.TestCase):
         rc = p.wait(timeout=60)
         self.assertEqual(reply, "vcan0 exit 7", "no answer through the forwarded port")
         self.assertEqual(rc, 7, "the guest command's exit code did not reach the host")
+        with open(direct) as f:
+            lines = f.read().split()
+        if os.environ.get("METER_VCAN_MODE_FORCE") != "direct" and \
+                subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "setup-vcan"), "probe"]).returncode != 0:
+            # with-vcan's direct path inside the guest: vcan1 created (a vcan device), mode reported,
+            # exit 0, and vcan1 gone afterwards (ip link show fails).
+            self.assertIn("mode=direct", lines, f"direct.txt: {lines}")
+            self.assertIn("rc=0", lines, f"direct.txt: {lines}")
+            self.assertIn("after=1", lines, f"direct.txt: {lines}")
 
     def test_boot_timeout_prints_console(self):
         # run-in-vm directly (not with-vcan): the VM harness works on any kernel, so this runs on

@@ -54,7 +54,7 @@ def fresh_dir(name):
     return d
 
 
-def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, **popen):
+def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, boot_timeout=75, **popen):
     """Starts `vcan/with-vcan` running args; returns the Popen. The timing file in share_out
     receives the VM's boot/command times (vm path only)."""
     cmd = [WITH_VCAN, "--share-out", share_out, "--timeout", str(timeout)]
@@ -64,6 +64,8 @@ def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, **pop
         cmd += ["--env", e]
     if cpus:
         cmd += ["--cpus", str(cpus)]
+    # 12 s on an idle 2-core host; a host loaded by parallel builds has been seen at 59 s.
+    cmd += ["--boot-timeout", str(boot_timeout)]
     if os.environ.get("METER_VCAN_MODE_FORCE", "auto") != "direct":
         cmd += ["--timing", os.path.join(share_out, "vm-timing.txt")]
     return subprocess.Popen(cmd + ["--"] + list(args), **popen)
