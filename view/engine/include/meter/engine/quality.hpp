@@ -1,0 +1,70 @@
+// The quality ladder (issue #9): settings an integrator trades against frame time, applied to a
+// converted Scene before the Renderer is built (at load), globally or per object.
+//
+//   shading model   programs regenerated with another shadergen::ShadingModel (unlit .. PBR);
+//   precision       programs regenerated with mediump or highp float precision;
+//   LOD             meshoptimizer's meshopt_simplify keeps a fraction of each primitive's triangles;
+//   texture filter  nearest / bilinear / trilinear sampler state (global: textures are shared);
+//   MSAA            1 / 2 / 4 samples: a RendererOptions value, carried here so one settings
+//                   object describes a whole ladder point.
+//
+// Why after conversion and not inside convert_gltf: the ladder is a runtime choice (the frame-rate
+// governor of a later issue picks a level on the target), and a Scene already holds the features
+// every program was generated from, so nothing about the glTF is needed again.
+// Regenerated programs are NOT constant-folded by shadergen::optimize() (the converter owns the
+// folding constants): compare ladder points on a scene converted with optimize = false.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "meter/engine/scene.hpp"
+#include "meter/shadergen/shadergen.hpp"
+
+namespace meter::engine {
+
+enum class TextureFilter { Nearest, Bilinear, Trilinear };
+
+// One object's (or the global) choice; unset fields keep what the converter produced.
+struct QualityOverride {
+  std::optional<shadergen::ShadingModel> shading;
+  std::optional<shadergen::Precision> precision;
+  std::optional<float> lod;  // fraction of triangles kept, in (0, 1]; 1 = the original mesh
+  bool operator==(const QualityOverride&) const = default;
+};
+
+struct QualitySettings {
+  QualityOverride global;
+  std::map<std::string, QualityOverride> objects;  // node name -> override; wins over global per field
+  std::optional<TextureFilter> filter;             // all textures
+  std::optional<int> msaa;                         // 1, 2 or 4: give to RendererOptions::msaa
+};
+
+struct QualityReport {
+  int programs_regenerated = 0;
+  int primitives_simplified = 0;
+  std::size_t triangles_before = 0, triangles_after = 0;  // over the primitives that were simplified
+  float max_simplify_error = 0.0f;  // meshoptimizer's relative error (fraction of the mesh extent)
+  int groups_dropped = 0;           // merged groups whose members no longer share one program
+  int textures_changed = 0;
+};
+
+// Applies `settings` to `scene`. Throws SceneError for an unknown node name, a LOD outside (0, 1],
+// an MSAA count other than 1/2/4, or a feature set shadergen rejects (message names the node).
+QualityReport apply_quality(Scene& scene, const QualitySettings& settings);
+
+// "pbr" | "blinn-phong" | "gouraud" | "flat" | "unlit" (the scene-config spelling); nullopt otherwise.
+std::optional<shadergen::ShadingModel> parse_shading_model(const std::string& text);
+const char* shading_name(shadergen::ShadingModel m);  // the same spelling
+const char* filter_name(TextureFilter f);             // "nearest" | "bilinear" | "trilinear"
+
+// Parses a ladder point written as comma-separated key=value pairs, e.g.
+// "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2" (every key optional; "" = no
+// change). Throws SceneError naming the pair and what was expected.
+QualitySettings parse_quality(const std::string& text);
+// The canonical text of the global part ("shading=..,msaa=.." in a fixed order; "default" if empty).
+std::string describe_quality(const QualitySettings& settings);
+
+}  // namespace meter::engine
