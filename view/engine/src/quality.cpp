@@ -42,8 +42,8 @@ shadergen::MaterialFeatures features_for(const Scene& s, const DrawItem& d, cons
     return true;
   };
   const bool lit = shading != ShadingModel::Unlit;
-  const bool per_pixel = shading == ShadingModel::Flat || shading == ShadingModel::BlinnPhong ||
-                         shading == ShadingModel::PbrMetallicRoughness;
+  // Normal maps need an interpolated per-pixel normal: shadergen accepts them on Blinn-Phong and PBR only.
+  const bool per_pixel = shading == ShadingModel::BlinnPhong || shading == ShadingModel::PbrMetallicRoughness;
   f.base_color_texture = tex(TextureSlot::BaseColor);
   f.metallic_roughness_texture = shading == ShadingModel::PbrMetallicRoughness && tex(TextureSlot::MetallicRoughness);
   f.normal_texture = per_pixel && tex(TextureSlot::Normal);
