@@ -428,7 +428,13 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
     for (std::size_t i = 0; i < steps.size(); ++i) {
       scenes[i] = base;
       const engine::QualitySettings q = engine::parse_quality(steps[i].spec);
-      engine::apply_quality(scenes[i], q);
+      try {
+        engine::apply_quality(scenes[i], q);
+      } catch (const std::exception& e) {
+        skipped.push_back(s.name + " / " + steps[i].name + ": " + e.what());
+        std::printf("%-11s %-16s skipped: %s\n", s.name.c_str(), steps[i].name.c_str(), e.what());
+        continue;
+      }
       engine::RendererOptions o;
       o.msaa = q.msaa.value_or(4);
       rs.push_back(std::make_unique<engine::Renderer>(*backend, scenes[i], o));

@@ -1,0 +1,203 @@
+// issue #9 tests:
+//  - the C++ PSNR (meter::platform::psnr) agrees with an independent tool, ImageMagick's
+//    `compare -metric PSNR`, on a real engine render against its Blender reference (the platform
+//    tests do this on generated images; here the input is what meter-bench fidelity measures);
+//  - "preview equals target": each feature scene and the cluster, converted and drawn the product
+//    way (optimized programs, MSAA 4), give >= 50 dB between OSMesa (the desktop preview) and EGL
+//    (the target path). tests/shader-optimizer checks EGL vs OSMesa at 40 dB for its own question
+//    (optimizer on/off); this is the issue's stricter preview contract, on the packaged defaults.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "meter/engine/bindings.hpp"
+#include "meter/engine/converter.hpp"
+#include "meter/engine/quality.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/platform/backend.hpp"
+#include "meter/platform/image.hpp"
+#include "meter/protocol/catalog.hpp"
+
+namespace {
+
+using namespace meter;
+namespace fs = std::filesystem;
+
+// 50 dB = RMS error 0.8 levels: the issue's bar for "what the preview shows is what the target shows".
+constexpr double kPreviewEqualsTargetDb = 50.0;
+
+struct SceneFiles {
+  std::string name, glb, config;
+};
+void PrintTo(const SceneFiles& s, std::ostream* os) { *os << s.name; }
+
+std::vector<SceneFiles> all_scenes() {
+  const fs::path root = fs::path(METER_SOURCE_DIR) / "scenes";
+  std::vector<SceneFiles> s;
+  for (const char* f : {"ambient", "diffuse", "specular", "shininess", "emission", "bump", "reflection", "envmap2d", "skinning",
+                        "morphing", "spot", "omni"})
+    s.push_back({f, (root / "features" / f / (std::string(f) + ".glb")).string(), (root / "features" / f / "scene.json").string()});
+  s.push_back({"cluster", (root / "cluster/cluster.glb").string(), (root / "cluster/cluster.scene.json").string()});
+  return s;
+}
+
+engine::Scene convert(const SceneFiles& s) {
+  engine::SceneConfig c = engine::load_scene_config(s.config);
+  c.groups.clear();  // concatenation has its own equivalence tests; its grouping rules are in flux (issue #10)
+  return engine::convert_gltf(s.glb, c, engine::ConvertOptions{}).scene;
+}
+
+// Every bound signal at 60 % of its range, visibility/emissive on, text set: needles, lamps and the
+// text overlay all appear in the compared frame.
+engine::BindingOutputs state(const engine::Scene& scene) {
+  std::map<int, engine::SignalValue> values;
+  for (const auto& b : scene.config.bindings) {
+    const auto* info = protocol::find_signal(b.signal);
+    if (!info) continue;
+    engine::SignalValue v;
+    v.status = protocol::SignalStatus::Valid;
+    if (info->kind == protocol::SignalKind::Text) v.text = "A12";
+    else if (b.kind == engine::BindingKind::Visibility) v.value = b.threshold + 1.0;
+    else v.value = b.input[0] + 0.6 * (b.input[1] - b.input[0]);
+    values[info->id] = v;
+  }
+  engine::BindingEvaluator ev(scene);
+  ev.update([&](int id) -> const engine::SignalValue* {
+    auto it = values.find(id);
+    return it == values.end() ? nullptr : &it->second;
+  }, true, -1.0);
+  return ev.outputs();
+}
+
+// One backend alive at a time (two Mesa front ends in one process share libglapi state; see
+// tests/shader-optimizer).
+platform::Image render(platform::BackendKind kind, const engine::Scene& scene, const engine::BindingOutputs& st) {
+  auto backend = platform::create_backend(kind);
+  engine::Renderer r(*backend, scene, engine::RendererOptions{});
+  r.apply(st);
+  r.render(true, true);
+  return r.last_image();
+}
+
+fs::path out_dir() {
+  const fs::path d = fs::path(METER_BINARY_DIR) / "tests/fidelity/out";
+  fs::create_directories(d);
+  return d;
+}
+
+std::string run(const std::string& cmd) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return out;
+  std::array<char, 256> buf{};
+  while (fgets(buf.data(), int(buf.size()), p)) out += buf.data();
+  pclose(p);
+  return out;
+}
+
+TEST(Fidelity, PsnrAgreesWithImageMagickOnARealRender) {
+  const SceneFiles s = all_scenes()[2];  // specular: a lit teapot with highlights, not a flat image
+  const engine::Scene scene = convert(s);
+  const platform::Image img = render(platform::BackendKind::Egl, scene, state(scene));
+  const fs::path ref_file = fs::path(s.glb).parent_path() / "reference.png";
+  const platform::Image ref = platform::read_png(ref_file);
+  const fs::path img_file = out_dir() / "specular.egl.png";
+  platform::write_png(img, img_file);
+
+  const double ours = platform::psnr(img, ref);
+  // compare prints "<dB> (<normalised>)" on stderr; exit status 1 just means "images differ".
+  const std::string printed = run("compare -metric PSNR '" + img_file.string() + "' '" + ref_file.string() + "' null: 2>&1");
+  ASSERT_FALSE(printed.empty()) << "ImageMagick 'compare' printed nothing (package imagemagick)";
+  double theirs = 0.0;
+  ASSERT_EQ(std::sscanf(printed.c_str(), "%lf", &theirs), 1) << "compare printed: " << printed;
+  std::printf("specular: meter psnr %.4f dB, ImageMagick %.4f dB\n", ours, theirs);
+  // A real render and the reference differ (finite PSNR in the range the fidelity table reports),
+  // so the agreement below compares two non-trivial numbers.
+  EXPECT_GT(ours, 20.0);
+  EXPECT_LT(ours, 60.0);
+  EXPECT_NEAR(ours, theirs, 0.01) << "compare printed: " << printed;
+
+  // The masked variant by its definition: selecting every pixel gives the full-frame value.
+  platform::Mask all{img.width, img.height, std::vector<std::uint8_t>(std::size_t(img.width) * img.height, 1)};
+  EXPECT_DOUBLE_EQ(platform::psnr_masked(img, ref, all), ours);
+}
+
+class PreviewEqualsTarget : public ::testing::TestWithParam<SceneFiles> {};
+
+TEST_P(PreviewEqualsTarget, OsmesaAndEglAgreeTo50Db) {
+  const SceneFiles& s = GetParam();
+  const engine::Scene scene = convert(s);
+  const auto st = state(scene);
+  const platform::Image egl = render(platform::BackendKind::Egl, scene, st);
+  const platform::Image osmesa = render(platform::BackendKind::OSMesa, scene, st);
+  platform::write_png(egl, out_dir() / (s.name + ".egl.png"));
+  platform::write_png(osmesa, out_dir() / (s.name + ".osmesa.png"));
+  // Not two empty clears: the frame has content (the teapot covers ~20 % of the feature frames).
+  const auto* bg = egl.pixel(0, 0);
+  const double share = double(platform::object_mask(egl, {bg[0], bg[1], bg[2]}, 8).count()) / (double(egl.width) * egl.height);
+  EXPECT_GT(share, 0.02) << s.name << ": the EGL frame is (nearly) empty";
+  const double db = platform::psnr(egl, osmesa);
+  std::printf("%-10s EGL vs OSMesa %s dB (content %.1f %%)\n", s.name.c_str(), std::isinf(db) ? "identical" : std::to_string(db).c_str(),
+              100.0 * share);
+  EXPECT_GE(db, kPreviewEqualsTargetDb) << s.name << " (frames in " << out_dir().string() << ")";
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, PreviewEqualsTarget, ::testing::ValuesIn(all_scenes()),
+                         [](const auto& info) { return info.param.name; });
+
+// The 50 dB bar can fail: a one-step quality change on the same backend (MSAA 4 -> 1: edges only)
+// already falls under it, so two backends that disagreed on edges or shading would be caught.
+TEST(Fidelity, FiftyDbDetectsAnEdgeOnlyChange) {
+  const SceneFiles s = all_scenes()[2];
+  const engine::Scene scene = convert(s);
+  const auto st = state(scene);
+  auto backend = platform::create_backend(platform::BackendKind::Egl);
+  engine::RendererOptions o4, o1;
+  o1.msaa = 1;
+  engine::Renderer r4(*backend, scene, o4), r1(*backend, scene, o1);
+  r4.apply(st), r1.apply(st);
+  r4.render(true, true), r1.render(true, true);
+  EXPECT_LT(platform::psnr(r4.last_image(), r1.last_image()), kPreviewEqualsTargetDb);
+}
+
+// Quality ladder (engine/quality.hpp): settings really change what is drawn, and bad input is named.
+TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
+  const SceneFiles s = all_scenes()[2];
+  const engine::Scene base = convert(s);
+  engine::Scene g = base;
+  const auto rep = engine::apply_quality(g, engine::parse_quality("shading=gouraud,precision=mediump,lod=0.5"));
+  EXPECT_GE(rep.programs_regenerated, 1);
+  for (const auto& d : g.draws) {
+    EXPECT_EQ(g.programs[std::size_t(d.program)].program.features.shading, shadergen::ShadingModel::Gouraud);
+    EXPECT_EQ(g.programs[std::size_t(d.program)].program.features.precision, shadergen::Precision::Mediump);
+  }
+  EXPECT_GT(rep.primitives_simplified, 0);
+  EXPECT_LE(rep.triangles_after, rep.triangles_before * 6 / 10);
+  EXPECT_GT(rep.triangles_after, rep.triangles_before * 3 / 10);
+
+  // Per object: only the named node changes.
+  engine::Scene p = base;
+  const std::string node = p.nodes[std::size_t(p.draws.front().node)].name;
+  engine::QualitySettings q;
+  q.objects[node].shading = shadergen::ShadingModel::Unlit;
+  engine::apply_quality(p, q);
+  EXPECT_EQ(p.programs[std::size_t(p.draws.front().program)].program.features.shading, shadergen::ShadingModel::Unlit);
+
+  engine::Scene bad = base;
+  engine::QualitySettings unknown;
+  unknown.objects["NoSuchNode"].lod = 0.5f;
+  EXPECT_THROW(engine::apply_quality(bad, unknown), engine::SceneError);
+  EXPECT_THROW(engine::parse_quality("lod=0"), engine::SceneError);
+  EXPECT_THROW(engine::parse_quality("msaa=8"), engine::SceneError);
+  EXPECT_THROW(engine::parse_quality("shading=phong"), engine::SceneError);
+  EXPECT_THROW(engine::parse_quality("speed"), engine::SceneError);
+  EXPECT_EQ(engine::describe_quality(engine::parse_quality("msaa=2,shading=flat")), "shading=flat,msaa=2");
+}
+
+}  // namespace
