@@ -237,8 +237,14 @@ class Faults(E2eBase):
         ev = guest_events(run)
         t_quiet = run.view_time(0, ev["phase sleep:5"][0])
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
-        talking = [r for r in rows if t_quiet - 4 <= r.time < t_quiet - 0.2]
-        self.assertTrue(talking and all(r.valid(e2e.SPEED) and r.valid(e2e.RPM) for r in talking))
+        # The guest logs the silence phase when the replay process has exited, which under TCG is
+        # up to ~0.5 s after canplayer sent its last frame (seen: 0.5 s): judge the talking bus
+        # until 1 s before.
+        talking = [r for r in rows if t_quiet - 4 <= r.time < t_quiet - 1.0]
+        self.assertGreater(len(talking), 10)
+        for r in talking:
+            self.assertTrue(r.valid(e2e.SPEED) and r.valid(e2e.RPM),
+                            f"frame {r.frame} at {r.time:.2f} s: no live speed/rpm while the bus talks")
         # Timeouts come from the DBC cycle times (ft86: 20-50 ms; the controller's AUTOSAR-style
         # timeout is a few cycles), so 1.5 s later every gauge must show TimedOut — with the link up.
         quiet = [r for r in rows if t_quiet + 1.5 <= r.time < t_quiet + 4.5]
