@@ -8,7 +8,7 @@
 // (glFinish: llvmpipe executes the queued work there) are measured side by side per frame.
 // Fits eq. (1)-(2) for oh, m, s and the break-even object count of eq. (3).
 //
-// Part 2, the cluster (scenes/cluster with cluster.grouped.scene.json): draw calls per function
+// Part 2, the cluster (scenes/cluster with cluster.scene.json): draw calls per function
 // before/after (Table 2) and frame time before/after with the needles sweeping (Table 3).
 //
 // Output: CSV files + fit.txt in the output directory (default ./concat-bench), the plot is drawn
@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
 
   // ---- Part 2: the cluster.
   const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-  const Scene cluster = convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.grouped.scene.json"), ConvertOptions{}).scene;
+  const Scene cluster = convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), ConvertOptions{}).scene;
   std::map<std::string, std::pair<int, int>> per_function;  // before, after
   std::vector<int> grouped(cluster.draws.size(), -1);
   for (std::size_t g = 0; g < cluster.groups.size(); ++g) {

@@ -8,6 +8,7 @@
 #
 # Run:  blender -b --factory-startup --python-exit-code 1 --python build.py -- OUTDIR [--render]
 import math
+import json
 import os
 import sys
 
@@ -459,16 +460,11 @@ def write_config(path, scene):
                          "material": f"TT_{node}_On", "off": [0.0, 0.0, 0.0],
                          "on": [round(c, 4) for c in colour]})
     names = [o.name for o in scene.objects]
-    groups = [
-        {"name": "telltales", "members": [f"TT_{n}" for n, *_ in TELLTALES]},
-        {"name": "telltale_windows", "members": [f"TTWindow_{n}" for n, *_ in TELLTALES]},
-    ]
-    for prefix in ("Speedo", "Tacho", "Fuel", "Coolant"):
-        # Static printing of each gauge: ticks, numerals, labels, arcs (never the needle).
-        members = sorted(n for n in names if n.startswith(prefix + "_") and
-                         any(k in n for k in ("_Tick_", "_Num_", "_Label_", "_Arc", "_Unit",
-                                              "_RedZone", "_Icon")))
-        groups.append({"name": f"{prefix.lower()}_print", "members": members})
+    # Mesh-concatenation groups (issue #10): checked by meter-convert (one material, no overlap,
+    # no draw-order change over the animation ranges); kept in cluster.groups.json, which
+    # `meter-convert --propose-groups --report` helps maintain when the scene changes.
+    groups = json.load(open(os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                         "cluster.groups.json")))["groups"]
     config = {
         "format": "meter-scene-config/1",
         "size": [WIDTH, HEIGHT],

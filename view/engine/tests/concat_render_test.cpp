@@ -1,5 +1,5 @@
 // Mesh concatenation render equivalence (issue #10): the cluster converted with
-// scenes/cluster/cluster.grouped.scene.json (17 groups, 142 of 163 objects) is drawn merged and
+// scenes/cluster/cluster.scene.json (17 groups, 142 of 163 objects) is drawn merged and
 // unmerged from ONE package on both backends in several states, and the images are compared.
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ constexpr int kMaxLevelDifference = 64;
 const Scene& cluster() {
   static Scene s = [] {
     const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-    auto cfg = load_scene_config(dir + "cluster.grouped.scene.json");
+    auto cfg = load_scene_config(dir + "cluster.scene.json");
     return convert_gltf(dir + "cluster.glb", cfg, ConvertOptions{}).scene;
   }();
   return s;
