@@ -286,6 +286,8 @@ int main(int argc, char** argv) {
       const auto now0 = Clock::now();
       if (duration > 0 && now0 - start >= std::chrono::duration<double>(duration)) break;
       // Messages are consumed whenever they arrive; frames happen on the render clock only.
+      // One non-blocking round every frame, so a view slower than --fps still hears the link.
+      sub.poll(std::chrono::milliseconds(0));
       while (!g_stop) {
         const auto now = Clock::now();
         if (now >= next) break;
