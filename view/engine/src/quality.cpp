@@ -102,24 +102,13 @@ void simplify(Primitive& p, float lod, QualityReport& report) {
 
 }  // namespace
 
+// The spelling is shadergen's (to_string), so the ladder and meter-shadergen agree on names.
 std::optional<ShadingModel> parse_shading_model(const std::string& t) {
-  if (t == "unlit") return ShadingModel::Unlit;
-  if (t == "flat") return ShadingModel::Flat;
-  if (t == "gouraud") return ShadingModel::Gouraud;
-  if (t == "blinn-phong") return ShadingModel::BlinnPhong;
-  if (t == "pbr") return ShadingModel::PbrMetallicRoughness;
-  return std::nullopt;
-}
-
-const char* shading_name(ShadingModel m) {
-  switch (m) {
-    case ShadingModel::Unlit: return "unlit";
-    case ShadingModel::Flat: return "flat";
-    case ShadingModel::Gouraud: return "gouraud";
-    case ShadingModel::BlinnPhong: return "blinn-phong";
-    case ShadingModel::PbrMetallicRoughness: return "pbr";
+  for (ShadingModel m : {ShadingModel::Unlit, ShadingModel::Flat, ShadingModel::Gouraud,
+                         ShadingModel::BlinnPhong, ShadingModel::PbrMetallicRoughness}) {
+    if (t == shadergen::to_string(m)) return m;
   }
-  return "?";
+  return std::nullopt;
 }
 
 const char* filter_name(TextureFilter f) {
@@ -280,7 +269,7 @@ QualitySettings parse_quality(const std::string& text) {
 std::string describe_quality(const QualitySettings& q) {
   std::string out;
   auto add = [&](const std::string& s) { out += (out.empty() ? "" : ",") + s; };
-  if (q.global.shading) add(std::string("shading=") + shading_name(*q.global.shading));
+  if (q.global.shading) add(std::string("shading=") + shadergen::to_string(*q.global.shading));
   if (q.global.precision) add(std::string("precision=") + (*q.global.precision == shadergen::Precision::Mediump ? "mediump" : "highp"));
   if (q.global.lod) {
     std::ostringstream o;

@@ -57,7 +57,6 @@ QualityReport apply_quality(Scene& scene, const QualitySettings& settings);
 
 // "pbr" | "blinn-phong" | "gouraud" | "flat" | "unlit" (the scene-config spelling); nullopt otherwise.
 std::optional<shadergen::ShadingModel> parse_shading_model(const std::string& text);
-const char* shading_name(shadergen::ShadingModel m);  // the same spelling
 const char* filter_name(TextureFilter f);             // "nearest" | "bilinear" | "trilinear"
 
 // Parses a ladder point written as comma-separated key=value pairs, e.g.
