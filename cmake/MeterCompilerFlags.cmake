@@ -12,7 +12,11 @@ if(METER_WERROR)
 endif()
 if(METER_SANITIZE)
   # -fno-sanitize-recover makes UBSan findings fail the test instead of only printing.
-  add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  # -fno-sanitize=vptr: the vptr check emits references to the typeinfo of every polymorphic
+  # class it sees, and Debian's glslang is built with -fno-rtti, so glslang::TShader/TProgram
+  # have no typeinfo and the shader optimizer would not link under the sanitizers.
+  add_compile_options(-fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined
+                      -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
