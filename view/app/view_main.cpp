@@ -153,6 +153,16 @@ class FramesCsv {
         out_ << "," << b.signal << "," << b.signal << ".status," << b.signal << ".failsafe";
       }
     }
+    // A needle draws its smoothed value while a readout of the same signal draws the latest one,
+    // so the signal's column alone cannot say what the readout showed: each text binding gets its
+    // own column with the exact text drawn.
+    for (std::size_t i = 0; i < ev.bindings().size(); ++i) {
+      const auto& b = ev.bindings()[i];
+      if (b.kind == engine::BindingKind::Text) {
+        text_columns_.push_back(i);
+        out_ << "," << b.node << ".text";
+      }
+    }
     out_ << "\n";
   }
   void row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn) {
@@ -161,6 +171,7 @@ class FramesCsv {
       const auto& s = ev_.states()[i];
       out_ << "," << std::setprecision(6) << s.value << "," << protocol::to_string(s.status) << "," << s.failsafe;
     }
+    for (std::size_t i : text_columns_) out_ << "," << csv_quoted(ev_.states()[i].text);
     out_ << "\n";
     out_.flush();
   }
@@ -170,6 +181,17 @@ class FramesCsv {
   std::ofstream out_;
   std::set<std::string> seen_;
   std::vector<std::size_t> columns_;
+  std::vector<std::size_t> text_columns_;
+
+  // RFC 4180: texts may hold commas or quotes (a map entry, a designer's format string).
+  static std::string csv_quoted(const std::string& text) {
+    std::string q = "\"";
+    for (char c : text) {
+      if (c == '"') q += '"';
+      q += c;
+    }
+    return q + "\"";
+  }
 };
 
 }  // namespace
