@@ -10,25 +10,13 @@
 #include <random>
 
 #include "meter/engine/animation.hpp"
+#include "anim_sampling.hpp"
 
 using namespace meter::engine;
+using meter::engine::testing::at;
+using meter::engine::testing::make;
 
 namespace {
-
-AnimSampler make(Interpolation i, int comps, std::vector<float> in, std::vector<float> out) {
-  AnimSampler s;
-  s.interpolation = i;
-  s.components = comps;
-  s.input = std::move(in);
-  s.output = std::move(out);
-  return s;
-}
-
-std::array<float, 4> at(const AnimSampler& s, double t, bool rot = false) {
-  std::array<float, 4> v{};
-  sample(s, t, std::span<float>(v.data(), static_cast<std::size_t>(s.components)), rot);
-  return v;
-}
 
 double norm(const std::array<float, 4>& q) {
   return std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);

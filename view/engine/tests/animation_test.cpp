@@ -3,25 +3,13 @@
 #include <cmath>
 
 #include "meter/engine/animation.hpp"
+#include "anim_sampling.hpp"
 
 using namespace meter::engine;
+using meter::engine::testing::at;
+using meter::engine::testing::make;
 
 namespace {
-
-AnimSampler make(Interpolation i, int comps, std::vector<float> in, std::vector<float> out) {
-  AnimSampler s;
-  s.interpolation = i;
-  s.components = comps;
-  s.input = std::move(in);
-  s.output = std::move(out);
-  return s;
-}
-
-std::array<float, 4> at(const AnimSampler& s, double t, bool rot = false) {
-  std::array<float, 4> v{};
-  sample(s, t, std::span<float>(v.data(), static_cast<std::size_t>(s.components)), rot);
-  return v;
-}
 
 // Quaternion (x,y,z,w) for a rotation of `deg` about Z.
 std::vector<float> qz(double deg) {
