@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "meter/controller/conditioning.hpp"
+#include "odometer_writer.hpp"
 
 using namespace meter::controller;
 
@@ -33,19 +34,7 @@ int main(int argc, char** argv) {
     pid_t pid = ::fork();
     if (pid == 0) {
       ::close(fds[0]);
-      OdometerStore store(dir.string());
-      Odometer odo;
-      std::uint64_t seq = 0;
-      if (auto r = store.load()) {
-        odo.set(r->odo_um, r->trip_um);
-        seq = r->sequence;
-      }
-      for (int i = 1;; ++i) {
-        odo.add_speed(100.0, 1000000);
-        std::int64_t now = odo.total_um();
-        if (::write(fds[1], &now, sizeof now) != sizeof now) ::_exit(3);
-        if (i % every == 0) store.save({odo.total_um(), odo.trip_um(), ++seq});
-      }
+      meter::controller::testing::run_odometer_writer(dir.string(), fds[1], every);
     }
     ::close(fds[1]);
     ::usleep(static_cast<useconds_t>(std::uniform_int_distribution<int>(100, 5000)(rng)));

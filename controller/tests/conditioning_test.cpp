@@ -9,6 +9,7 @@
 #include <random>
 
 #include "meter/controller/conditioning.hpp"
+#include "odometer_writer.hpp"
 
 using namespace meter::controller;
 
@@ -160,23 +161,7 @@ TEST(OdometerStore, SurvivesSigkillAtRandomInstants) {
     ASSERT_GE(pid, 0);
     if (pid == 0) {
       ::close(pipefd[0]);
-      try {
-        OdometerStore store(dir.string());
-        Odometer odo;
-        std::uint64_t seq = 0;
-        if (auto r = store.load()) {
-          odo.set(r->odo_um, r->trip_um);
-          seq = r->sequence;
-        }
-        for (int i = 1;; ++i) {
-          odo.add_speed(100.0, 1000000);
-          std::int64_t now = odo.total_um();
-          if (::write(pipefd[1], &now, sizeof now) != sizeof now) ::_exit(3);  // announce, then persist
-          if (i % kPersistEvery == 0) store.save({odo.total_um(), odo.trip_um(), ++seq});
-        }
-      } catch (...) {
-        ::_exit(2);
-      }
+      meter::controller::testing::run_odometer_writer(dir.string(), pipefd[1], kPersistEvery);
     }
     ::close(pipefd[1]);
     std::uniform_int_distribution<int> delay_us(200, 4000);

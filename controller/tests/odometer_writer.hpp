@@ -1,0 +1,36 @@
+// The child side of the SIGKILL endurance runs (controller/tests/conditioning_test.cpp: 220 kills in
+// the suite; bench/controller/odometer_kill_bench.cpp: thousands): integrate 100 km/h in 1 ms steps,
+// announce each total on `announce_fd` BEFORE persisting it (so the parent knows the truth at the
+// instant of the kill), persist every `persist_every` steps, until killed. Never returns.
+#pragma once
+
+#include <unistd.h>
+
+#include <cstdint>
+#include <string>
+
+#include "meter/controller/conditioning.hpp"
+
+namespace meter::controller::testing {
+
+[[noreturn]] inline void run_odometer_writer(const std::string& dir, int announce_fd, int persist_every) {
+  try {
+    OdometerStore store(dir);
+    Odometer odo;
+    std::uint64_t seq = 0;
+    if (auto r = store.load()) {
+      odo.set(r->odo_um, r->trip_um);
+      seq = r->sequence;
+    }
+    for (int i = 1;; ++i) {
+      odo.add_speed(100.0, 1000000);
+      const std::int64_t now = odo.total_um();
+      if (::write(announce_fd, &now, sizeof now) != sizeof now) ::_exit(3);
+      if (i % persist_every == 0) store.save({odo.total_um(), odo.trip_um(), ++seq});
+    }
+  } catch (...) {
+    ::_exit(2);  // a store error: the parent sees the child die without being killed
+  }
+}
+
+}  // namespace meter::controller::testing
