@@ -1,95 +1,56 @@
 // The unit tests prove the programs are valid GLSL ES 3.00 to glslang; this proves a real driver
-// (Mesa llvmpipe through EGL surfaceless, GLES 3.0) compiles and links them, and that the metadata
-// the runtime relies on is true there: attribute locations, and every listed uniform and sampler is
-// active (optimized programs list nothing the driver would drop).
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
-#include <GLES3/gl3.h>
+// (Mesa llvmpipe through the view's own backends, EGL and OSMesa) compiles and links them, and
+// that the metadata the runtime relies on is true there: attribute locations, and every listed
+// uniform and sampler is active (optimized programs list nothing the driver would drop).
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "meter/platform/backend.hpp"
+#include "meter/platform/gl_api.hpp"
 #include "meter/shadergen/shadergen.hpp"
 
 namespace meter::shadergen {
 namespace {
 
-class GlContext : public ::testing::Test {
+// Both backends the view runs on: EGL (GLES 3.2) and OSMesa (desktop 4.5 core compiling ES 3.00
+// through ARB_ES3_compatibility) -- a program one of them rejects would fail on that target only.
+class GlContext : public ::testing::TestWithParam<platform::BackendKind> {
  protected:
-  static void SetUpTestSuite() {
-    auto get_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-        eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (!get_display) return;
-    display_ = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (display_ == EGL_NO_DISPLAY || !eglInitialize(display_, nullptr, nullptr)) return;
-    eglBindAPI(EGL_OPENGL_ES_API);
-    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_NONE};
-    context_ = eglCreateContext(display_, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
-    ready_ = context_ != EGL_NO_CONTEXT &&
-             eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_);
-  }
-  static void TearDownTestSuite() {
-    if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
-    if (display_ != EGL_NO_DISPLAY) eglTerminate(display_);
-  }
   void SetUp() override {
-    // Mesa EGL is a declared dependency (scripts/install-deps): its absence is a failure, not a skip.
-    ASSERT_TRUE(ready_) << "no EGL surfaceless GLES 3 context (install libegl-mesa0)";
-  }
-
-  static GLuint compile(GLenum type, const std::string& src, std::string& log) {
-    GLuint s = glCreateShader(type);
-    const char* text = src.c_str();
-    glShaderSource(s, 1, &text, nullptr);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char buf[4096] = {};
-      glGetShaderInfoLog(s, sizeof buf, nullptr, buf);
-      log += buf;
+    // Both backends are declared dependencies (scripts/install-deps): their absence is a failure,
+    // not a skip; create_backend's message names the package.
+    try {
+      backend_ = platform::create_backend(GetParam());
+    } catch (const platform::BackendError& e) {
+      FAIL() << e.what();
     }
-    return s;
   }
 
-  // Links `p` and checks its metadata against the driver.
-  static void check(const Program& p, const std::string& what) {
+  // Links `p` with the view's own compile_program and checks its metadata against the driver.
+  void check(const Program& p, const std::string& what) {
     SCOPED_TRACE(what);
-    std::string log;
-    GLuint vs = compile(GL_VERTEX_SHADER, p.vertex_source, log);
-    GLuint fs = compile(GL_FRAGMENT_SHADER, p.fragment_source, log);
-    GLuint prog = glCreateProgram();
-    glAttachShader(prog, vs);
-    glAttachShader(prog, fs);
-    glLinkProgram(prog);
-    GLint ok = 0;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      char buf[4096] = {};
-      glGetProgramInfoLog(prog, sizeof buf, nullptr, buf);
-      log += buf;
+    const platform::Gl& gl = backend_->gl();
+    GLuint prog = 0;
+    try {
+      prog = platform::compile_program(gl, p.vertex_source, p.fragment_source, what);
+    } catch (const platform::GlError& e) {
+      ADD_FAILURE() << e.what() << "\n" << p.vertex_source << "\n" << p.fragment_source;
+      return;
     }
-    EXPECT_TRUE(ok) << log << "\n" << p.vertex_source << "\n" << p.fragment_source;
-    if (ok) {
-      for (const auto& a : p.attributes)
-        EXPECT_EQ(glGetAttribLocation(prog, a.name.c_str()), a.location) << a.name;
-      if (p.optimized) {
-        for (const auto& u : p.uniforms)
-          EXPECT_NE(glGetUniformLocation(prog, u.name.c_str()), -1) << u.name;
-        for (const auto& s : p.samplers)
-          EXPECT_NE(glGetUniformLocation(prog, s.name.c_str()), -1) << s.name;
-      }
+    for (const auto& a : p.attributes)
+      EXPECT_EQ(gl.GetAttribLocation(prog, a.name.c_str()), a.location) << a.name;
+    if (p.optimized) {
+      for (const auto& u : p.uniforms) EXPECT_NE(gl.GetUniformLocation(prog, u.name.c_str()), -1) << u.name;
+      for (const auto& s : p.samplers) EXPECT_NE(gl.GetUniformLocation(prog, s.name.c_str()), -1) << s.name;
     }
-    glDeleteProgram(prog);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    gl.DeleteProgram(prog);
+    EXPECT_EQ(gl.GetError(), static_cast<GLenum>(GL_NO_ERROR));
   }
 
-  static inline EGLDisplay display_ = EGL_NO_DISPLAY;
-  static inline EGLContext context_ = EGL_NO_CONTEXT;
-  static inline bool ready_ = false;
+  std::unique_ptr<platform::GpuBackend> backend_;
 };
 
 std::vector<MaterialFeatures> sample_sets() {
@@ -125,12 +86,12 @@ std::vector<MaterialFeatures> sample_sets() {
   return out;
 }
 
-TEST_F(GlContext, GeneratedProgramsLinkWithTrueAttributeLocations) {
+TEST_P(GlContext, GeneratedProgramsLinkWithTrueAttributeLocations) {
   for (const auto& f : sample_sets()) check(generate(f), f.key());
   check(generate_uber(), "uber");
 }
 
-TEST_F(GlContext, OptimizedProgramsLinkAndEveryListedUniformIsActive) {
+TEST_P(GlContext, OptimizedProgramsLinkAndEveryListedUniformIsActive) {
   ConstantValues c;
   c.set(UniformSemantic::RoughnessFactor, {0.5f});
   c.set(UniformSemantic::Exposure, {1.0f});
@@ -139,6 +100,10 @@ TEST_F(GlContext, OptimizedProgramsLinkAndEveryListedUniformIsActive) {
   for (const auto& f : sample_sets()) check(optimize(generate(f), c), f.key() + " optimized");
   check(optimize(generate_uber(), {}), "uber optimized");
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, GlContext,
+                         ::testing::Values(platform::BackendKind::Egl, platform::BackendKind::OSMesa),
+                         [](const auto& info) { return std::string(platform::to_string(info.param)); });
 
 }  // namespace
 }  // namespace meter::shadergen
