@@ -44,14 +44,9 @@ struct SceneFiles {
 };
 void PrintTo(const SceneFiles& s, std::ostream* os) { *os << s.name; }
 
-// The scene config without its concatenation groups (issue #10): merging draws is orthogonal to
-// the optimizer (merged draws use the same generated programs plus vertex alpha) and its grouping
-// rules are still changing; this test is about the programs of every scene.
-engine::SceneConfig load_config(const std::string& path) {
-  engine::SceneConfig c = engine::load_scene_config(path);
-  c.groups.clear();
-  return c;
-}
+// Each scene as it ships, concatenation groups included: merged draws get their own program
+// variants (vertex alpha), and those must survive the optimizer like every other.
+engine::SceneConfig load_config(const std::string& path) { return engine::load_scene_config(path); }
 
 std::vector<SceneFiles> all_scenes() {
   const fs::path root = fs::path(METER_SOURCE_DIR) / "scenes";
