@@ -28,6 +28,13 @@ int main(int argc, char** argv) {
   r->add_option("--linger", run.linger_s, "With --exit-at-end: keep serving the final state this many seconds first")
       ->check(CLI::NonNegativeNumber);
   r->add_flag("-v,--verbose", run.verbose, "Print what is connected to what");
+  r->add_option("--link-timeout", run.link_timeout_ms,
+                "Milliseconds of silence after which a view counts as lost (heartbeats every third of it; "
+                "the longer of the two sides' settings applies)")
+      ->check(CLI::Range(30, 60000))
+      ->capture_default_str();
+  r->add_option("--trace", run.trace,
+                "Write a latency trace CSV (frames received, values published, link flushes; CLOCK_REALTIME ns)");
 
   std::string dbc, log, map;
   auto* d = app.add_subcommand("decode", "Decode a candump -L log with a DBC to CSV: timestamp,message,signal,raw,physical,unit,status.");

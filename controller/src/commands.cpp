@@ -5,8 +5,10 @@
 #include <csignal>
 #include <cstdio>
 #include <ostream>
+#include <fstream>
 #include <set>
 #include <thread>
+#include <time.h>
 
 #include "meter/controller/dbc.hpp"
 #include "meter/controller/input.hpp"
@@ -20,14 +22,63 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
+std::int64_t realtime_ns() {
+  timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);  // the clock of SocketCAN's kernel receive timestamps
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+
+// --trace: one CSV line per pipeline event, so the time from a frame's kernel receive timestamp to
+// the link can be split by stage offline (bench/latency). Rows:
+//   f,<read_ns>,<frame_ts_ns>,<can id>          frame handed to the model (ts: kernel stamp on can:)
+//   p,<t_ns>,<signal id>,<value>                a changed output handed to the publisher
+//   s,<t_ns>,<bytes sent total>,<deltas total>  the link wrote bytes to the socket
+// Buffered in memory-sized blocks: the controller's loop must not wait for a disk (or a 9p share).
+class Trace {
+ public:
+  explicit Trace(const std::string& path) {
+    if (path.empty()) return;
+    out_.rdbuf()->pubsetbuf(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+    out_.open(path);
+    if (!out_) throw std::runtime_error(path + ": cannot write the trace");
+    out_ << "event,t_ns,a,b\n";
+  }
+  bool on() const { return out_.is_open(); }
+  void frame(const CanFrame& f) {
+    if (on()) out_ << "f," << realtime_ns() << "," << f.timestamp_ns << "," << f.id << "\n";
+  }
+  void publish(int id, double v) {
+    if (on()) out_ << "p," << realtime_ns() << "," << id << "," << fmt(v) << "\n";
+  }
+  void sent(std::uint64_t bytes, std::uint64_t deltas) {
+    if (on()) out_ << "s," << realtime_ns() << "," << bytes << "," << deltas << "\n";
+  }
+  void flush() {
+    if (on()) out_.flush();
+  }
+
+ private:
+  static std::string fmt(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.9g", v);
+    return b;
+  }
+  std::vector<char> buf_ = std::vector<char>(1 << 20);
+  std::ofstream out_;
+};
+
 class ModelSink : public InputSink {
  public:
-  explicit ModelSink(Model& m) : m_(m) {}
-  void on_frame(const CanFrame& f) override { m_.on_frame(f); }
+  ModelSink(Model& m, Trace& t) : m_(m), t_(t) {}
+  void on_frame(const CanFrame& f) override {
+    m_.on_frame(f);
+    t_.frame(f);
+  }
   void on_value(std::string_view key, double v, bool valid, std::int64_t t) override { m_.on_value(key, v, valid, t); }
 
  private:
   Model& m_;
+  Trace& t_;
 };
 
 std::string csv_field(std::string_view s) {
@@ -205,6 +256,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
 
     protocol::LinkOptions lo;
     lo.name = "meter-controller";
+    lo.missed_heartbeats_for_loss = 3;
+    lo.heartbeat_period = std::chrono::milliseconds(std::max(10, o.link_timeout_ms / lo.missed_heartbeats_for_loss));
+    Trace trace(o.trace);
     protocol::Endpoint ep = o.link.empty() ? protocol::default_endpoint() : protocol::Endpoint::parse(o.link);
     protocol::Publisher pub(ep, lo);
     if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
@@ -220,11 +274,13 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       for (std::size_t i = 0; i < outs.size(); ++i) {
         if (last[i].sent && last[i].v == outs[i].value && last[i].s == outs[i].status) continue;
         pub.set(outs[i].id, outs[i].value, outs[i].status);
+        trace.publish(static_cast<int>(outs[i].id), outs[i].value);
         last[i] = {outs[i].value, outs[i].status, true};
       }
     };
 
-    ModelSink sink(model);
+    ModelSink sink(model, trace);
+    std::uint64_t traced_bytes = 0;
     // The model ticks every update period of input time; inputs are polled until the next tick.
     const auto period_ns = static_cast<std::int64_t>(map.update_period_s * 1e9);
     model.start(input->now_ns());
@@ -242,12 +298,17 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
       }
       pub.poll(std::chrono::milliseconds(0));  // never waits for a view
+      if (trace.on()) {
+        const auto ls = pub.stats();
+        if (ls.bytes_sent != traced_bytes) trace.sent(traced_bytes = ls.bytes_sent, ls.deltas_sent);
+      }
       if (!more && !o.exit_at_end) {
         // Log ended: keep serving the final state until told to stop.
         while (!g_stop) pub.poll(std::chrono::milliseconds(100));
       }
     }
     model.persist_now();
+    trace.flush();
     if (o.verbose) {
       for (const auto& x : model.outputs())
         err << "  final " << protocol::find_signal(x.id)->name << " = " << fmt_double(x.value) << " ("

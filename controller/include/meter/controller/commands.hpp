@@ -18,6 +18,12 @@ struct RunOptions {
   bool exit_at_end = false;
   double linger_s = 0.0;
   bool verbose = false;
+  // Silence on the link for this long = link lost (heartbeats every third of it). 300 ms suits
+  // two processes on one machine; an inter-chip link through an emulator configures more.
+  int link_timeout_ms = 300;
+  // Latency trace (CSV): every received CAN frame, every published value change and every
+  // flush to the link, on CLOCK_REALTIME (bench/latency reads it). Empty = off.
+  std::string trace;
 };
 
 // Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;
