@@ -14,6 +14,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <time.h>
 
 #include <CLI/CLI.hpp>
 
@@ -194,14 +195,44 @@ class FramesCsv {
   }
 };
 
+// --trace: when link updates were applied and when each frame was rendered and written, on
+// CLOCK_REALTIME (the clock of the controller's trace and of SocketCAN's kernel timestamps), so
+// bench/latency can split a CAN frame's way to the PNG by stage. Rows:
+//   a,<t_ns>,<sender monotonic ns>,<sequence>      a poll applied changes (newest frame's stamp)
+//   r,<t_ns update>,<frame>,<t_ns rendered>,<t_ns png written or 0>
+class Trace {
+ public:
+  explicit Trace(const std::string& path) {
+    if (path.empty()) return;
+    out_.open(path);
+    if (!out_) throw Failure(path + ": cannot write the trace");
+    out_ << "event,t_ns,a,b,c\n";
+  }
+  static std::int64_t now() {
+    timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+  }
+  void applied(std::int64_t sender_ns, std::uint64_t seq) {
+    if (out_.is_open()) out_ << "a," << now() << "," << sender_ns << "," << seq << "\n";
+  }
+  void frame(std::uint64_t n, std::int64_t t_update, std::int64_t t_rendered, std::int64_t t_png) {
+    if (out_.is_open()) out_ << "r," << t_update << "," << n << "," << t_rendered << "," << t_png << "\n";
+  }
+
+ private:
+  std::ofstream out_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"meter-view: instrument-cluster view (graphics MCU). Renders a scene package offscreen with EGL or OSMesa.\n"
                "Offline: --set/--values/--at render one state to <out>/frame.png. Live: --link ENDPOINT renders at --fps."};
   std::string scene_path, backend_name = "egl", size_text, out_dir = ".", link, values_csv, at_text, timing_csv, png_name = "frame.png";
+  std::string trace_csv;
   std::vector<std::string> sets;
-  int msaa = 4, dump_every = 0;
+  int msaa = 4, dump_every = 0, link_timeout_ms = 300;
   double fps = 30.0, duration = 0.0;
   bool dump_last = false, link_lost = false, info = false;
   app.add_option("--scene", scene_path, "scene package written by meter-convert (.msp)")->required();
@@ -222,6 +253,12 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM)")->check(CLI::NonNegativeNumber);
   app.add_flag("--dump-last", dump_last, "live: write the final frame on exit");
   app.add_option("--timing-csv", timing_csv, "per-frame timing by stage (update, submit, GPU+readback) to this CSV");
+  app.add_option("--link-timeout", link_timeout_ms,
+                 "live: milliseconds of silence after which the link counts as lost (heartbeats every third of "
+                 "it; the longer of the two sides' settings applies)")
+      ->check(CLI::Range(30, 60000))->capture_default_str();
+  app.add_option("--trace", trace_csv,
+                 "live: latency trace CSV (link updates applied, frame rendered, PNG written; CLOCK_REALTIME ns)");
   app.add_flag("--info", info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
 
@@ -282,6 +319,8 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, on_signal);
     protocol::LinkOptions lo;
     lo.name = "meter-view";
+    lo.missed_heartbeats_for_loss = 3;
+    lo.heartbeat_period = std::chrono::milliseconds(std::max(10, link_timeout_ms / lo.missed_heartbeats_for_loss));
     protocol::Subscriber sub(link == "default" ? protocol::default_endpoint() : protocol::Endpoint::parse(link), lo);
     FramesCsv csv(fs::path(out_dir) / "frames.csv", evaluator);
     std::map<int, engine::SignalValue> cache;
@@ -292,6 +331,18 @@ int main(int argc, char** argv) {
       v.status = s.status;
       v.text = s.text;
       return &v;
+    };
+    Trace trace(trace_csv);
+    auto trace_applied = [&] { trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied()); };
+    // Every pending message, not one batch: a view that renders slower than the link delivers
+    // must coalesce the backlog to the latest state each frame instead of drawing it frame by
+    // frame seconds late. Bounded (a flooding peer cannot hold the frame back forever); each round
+    // reads up to 64 socket buffers.
+    auto drain = [&] {
+      for (int round = 0; round < 16; ++round) {
+        if (!sub.poll(std::chrono::milliseconds(0))) break;
+        trace_applied();
+      }
     };
     const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
     const auto start = Clock::now();
@@ -308,24 +359,29 @@ int main(int argc, char** argv) {
       const auto now0 = Clock::now();
       if (duration > 0 && now0 - start >= std::chrono::duration<double>(duration)) break;
       // Messages are consumed whenever they arrive; frames happen on the render clock only.
-      // One non-blocking round every frame, so a view slower than --fps still hears the link.
-      sub.poll(std::chrono::milliseconds(0));
+      drain();
       while (!g_stop) {
         const auto now = Clock::now();
         if (now >= next) break;
-        sub.poll(std::chrono::duration_cast<std::chrono::milliseconds>(next - now) + std::chrono::milliseconds(0));
+        if (sub.poll(std::chrono::duration_cast<std::chrono::milliseconds>(next - now))) trace_applied();
         if (Clock::now() < next && next - Clock::now() < std::chrono::milliseconds(1)) std::this_thread::sleep_until(next);
       }
+      // Whatever arrived while waiting (or while the last frame rendered) is applied before the
+      // frame: the frame always draws the newest state, and an EOF is seen now, not a frame later.
+      drain();
       const auto now = Clock::now();
       const double dt = std::chrono::duration<double>(now - last).count();
       last = now;
       const double t = std::chrono::duration<double>(now - start).count();
+      const std::int64_t t_update = trace.now();
       evaluator.update(lookup, sub.link_up(), dt);
       renderer.apply(evaluator.outputs());
       const bool want = dump_every > 0 && frame % static_cast<std::uint64_t>(dump_every) == 0;
       auto ft = renderer.render(false, want);
+      const std::int64_t t_rendered = trace.now();
       log_timing(frame, t, ft);
       if (want) dump(frame, t, ft.drawn);
+      trace.frame(frame, t_update, t_rendered, want ? trace.now() : 0);
       sub.send_status(renderer.stats().drawn, 0);
       ++frame;
       next += period;
