@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -86,6 +88,7 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
   rt.samples = std::max(1, options.msaa);
   rt.depth = platform::DepthFormat::Depth24;
   target_ = std::make_unique<platform::RenderTarget>(backend, rt);
+  unresolved_ = {platform::PixelRegion{0, 0, width_, height_}};
   pose_ = Pose::rest(scene);
   anim_time_.assign(scene.animations.size(), std::nan(""));
   visible_.assign(scene.nodes.size(), 1);
@@ -412,9 +415,16 @@ glm::vec2 Renderer::project(int node) const {
   return glm::vec2((ndc.x * 0.5f + 0.5f) * float(width_), (1.0f - (ndc.y * 0.5f + 0.5f)) * float(height_));
 }
 
-void Renderer::draw_scene() {
+void Renderer::draw_scene(const platform::PixelRegion* scissor) {
   const auto& gl = gl_;
   target_->bind();
+  // The scissor clips the clear and every draw below (and the text after it) to the region.
+  if (scissor) {
+    gl.Enable(GL_SCISSOR_TEST);
+    gl.Scissor(scissor->x, scissor->y, scissor->width, scissor->height);
+  } else {
+    gl.Disable(GL_SCISSOR_TEST);
+  }
   const auto& cc = scene_.config.clear_color;
   gl.ClearColor(float(cc[0]), float(cc[1]), float(cc[2]), float(cc[3]));
   gl.ClearDepthf(1.0f);
@@ -590,26 +600,208 @@ void Renderer::draw_scene() {
   gl.UseProgram(0);
 }
 
+namespace {
+platform::Align to_platform(TextAlign a) {
+  return a == TextAlign::Left ? platform::Align::Left : a == TextAlign::Center ? platform::Align::Center : platform::Align::Right;
+}
+bool drawable(const TextItem& t, const std::vector<char>& visible) {
+  return t.node >= 0 && static_cast<std::size_t>(t.node) < visible.size() && visible[static_cast<std::size_t>(t.node)] &&
+         !t.text.empty();
+}
+}  // namespace
+
+platform::TextRenderer& Renderer::text_renderer(int size_px) {
+  const int size = std::clamp(size_px, 4, 256);
+  auto it = text_.find(size);
+  if (it == text_.end()) {
+    const std::string font = options_.font_file.empty() ? std::string(METER_FONT_FILE) : options_.font_file;
+    it = text_.emplace(size, std::make_unique<platform::TextRenderer>(backend_, font, size)).first;
+  }
+  return *it->second;
+}
+
 void Renderer::draw_text() {
   for (const auto& t : outputs_.texts) {
-    if (t.node < 0 || !visible_[static_cast<std::size_t>(t.node)] || t.text.empty()) continue;
-    const int size = std::clamp(t.size_px, 4, 256);
-    auto it = text_.find(size);
-    if (it == text_.end()) {
-      const std::string font = options_.font_file.empty() ? std::string(METER_FONT_FILE) : options_.font_file;
-      it = text_.emplace(size, std::make_unique<platform::TextRenderer>(backend_, font, size)).first;
-    }
+    if (!drawable(t, visible_)) continue;
+    platform::TextRenderer& tr = text_renderer(t.size_px);
     const glm::vec2 p = project(t.node);
-    const platform::Align align = t.align == TextAlign::Left ? platform::Align::Left : t.align == TextAlign::Center ? platform::Align::Center : platform::Align::Right;
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    const platform::Color color{t.color.r, t.color.g, t.color.b, t.color.a};
     try {
-      it->second->draw(*target_, t.text, static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)), align,
-                       platform::Color{t.color.r, t.color.g, t.color.b, t.color.a});
+      tr.draw(*target_, t.text, x, y, to_platform(t.align), color);
     } catch (const platform::TextError&) {
       // Invalid UTF-8 from a signal: draw the placeholder rather than nothing.
-      it->second->draw(*target_, "?", static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)), align,
-                       platform::Color{t.color.r, t.color.g, t.color.b, t.color.a});
+      tr.draw(*target_, "?", x, y, to_platform(t.align), color);
     }
   }
+}
+
+// ---- Partial redraw: which pixels can differ from the last drawn frame -------------------------
+
+namespace {
+using platform::PixelRegion;
+
+long long area(const PixelRegion& r) { return r.empty() ? 0 : static_cast<long long>(r.width) * r.height; }
+PixelRegion unite(const PixelRegion& a, const PixelRegion& b) {
+  const int x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
+  const int x1 = std::max(a.x + a.width, b.x + b.width), y1 = std::max(a.y + a.height, b.y + b.height);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+bool overlap(const PixelRegion& a, const PixelRegion& b) {
+  return a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
+}
+
+// Clips to the target, then merges until the regions are disjoint (text is alpha-blended: a pixel
+// in two regions would get it twice) and at most kMaxRegions remain (each region is one more pass
+// over every draw call), merging first the pair whose union adds the least area.
+void normalise(std::vector<PixelRegion>& regions, int width, int height) {
+  constexpr std::size_t kMaxRegions = 4;
+  for (auto& r : regions) {
+    const int x0 = std::clamp(r.x, 0, width), y0 = std::clamp(r.y, 0, height);
+    const int x1 = std::clamp(r.x + r.width, 0, width), y1 = std::clamp(r.y + r.height, 0, height);
+    r = {x0, y0, x1 - x0, y1 - y0};
+  }
+  std::erase_if(regions, [](const PixelRegion& r) { return r.empty(); });
+  for (;;) {
+    bool merged = false;
+    for (std::size_t i = 0; i < regions.size() && !merged; ++i)
+      for (std::size_t j = i + 1; j < regions.size() && !merged; ++j)
+        if (overlap(regions[i], regions[j])) {
+          regions[i] = unite(regions[i], regions[j]);
+          regions.erase(regions.begin() + static_cast<std::ptrdiff_t>(j));
+          merged = true;
+        }
+    if (merged) continue;
+    if (regions.size() <= kMaxRegions) return;
+    std::size_t bi = 0, bj = 1;
+    long long best = std::numeric_limits<long long>::max();
+    for (std::size_t i = 0; i < regions.size(); ++i)
+      for (std::size_t j = i + 1; j < regions.size(); ++j) {
+        const long long cost = area(unite(regions[i], regions[j])) - area(regions[i]) - area(regions[j]);
+        if (cost < best) best = cost, bi = i, bj = j;
+      }
+    regions[bi] = unite(regions[bi], regions[bj]);
+    regions.erase(regions.begin() + static_cast<std::ptrdiff_t>(bj));
+  }
+}
+}  // namespace
+
+Renderer::DrawnDraw Renderer::drawn_state(std::size_t i) const {
+  const GpuDraw& d = *draws_[i];
+  const auto node_index = static_cast<std::size_t>(d.item->node);
+  const Node& node = scene_.nodes[node_index];
+  const Material& mat = scene_.materials[static_cast<std::size_t>(d.prim->material)];
+  const auto mi = static_cast<std::size_t>(d.prim->material);
+  DrawnDraw s;
+  s.visible = visible_[node_index] != 0;
+  s.world = world_[node_index];
+  s.base = outputs_.base_color.size() > mi && outputs_.base_color[mi] ? *outputs_.base_color[mi] : mat.base_color;
+  s.emissive = outputs_.emissive.size() > mi && outputs_.emissive[mi] ? *outputs_.emissive[mi] : mat.emissive;
+  if (node.skin >= 0) {
+    for (int j : scene_.skins[static_cast<std::size_t>(node.skin)].joints) {
+      const glm::mat4& jw = world_[static_cast<std::size_t>(j)];
+      s.deform.insert(s.deform.end(), &jw[0][0], &jw[0][0] + 16);
+    }
+  }
+  if (d.prim->morph_targets > 0) {
+    s.deform.insert(s.deform.end(), pose_.weights[node_index].begin(), pose_.weights[node_index].end());
+    for (const auto& m : outputs_.morph)
+      if (m.node == d.item->node) s.deform.insert(s.deform.end(), {float(m.target), m.weight});
+  }
+  return s;
+}
+
+std::vector<Renderer::DrawnText> Renderer::visible_texts() {
+  std::vector<DrawnText> out;
+  for (const auto& t : outputs_.texts) {
+    if (!drawable(t, visible_)) continue;
+    platform::TextRenderer& tr = text_renderer(t.size_px);
+    const glm::vec2 p = project(t.node);
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    platform::Rect ink;
+    try {
+      ink = tr.measure(t.text, x, y, to_platform(t.align));
+    } catch (const platform::TextError&) {
+      ink = tr.measure("?", x, y, to_platform(t.align));
+    }
+    // 2 px: glyph quads are placed at whole pixels but their edges are antialiased (linear filter).
+    constexpr int kPad = 2;
+    PixelRegion box;
+    if (!ink.empty())
+      box = {ink.x - kPad, height_ - (ink.y + ink.height) - kPad, ink.width + 2 * kPad, ink.height + 2 * kPad};
+    out.push_back({t, box});
+  }
+  return out;
+}
+
+std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp) {
+  if (!options_.partial_redraw || !drawn_valid_ || vp != drawn_vp_) return std::nullopt;
+  // A light that moved or changed lights every pixel.
+  for (const auto& [node, world] : drawn_lights_)
+    if (world_[static_cast<std::size_t>(node)] != world) return std::nullopt;
+
+  std::vector<PixelRegion> regions;
+  // Screen box of a draw's bounds under `world`; false when a corner is at or behind the eye
+  // (no finite box: redraw everything).
+  auto box = [&](const GpuDraw& d, const glm::mat4& world) -> bool {
+    const glm::mat4 m = vp * world;
+    float x0 = std::numeric_limits<float>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 p((k & 1) ? d.prim->bounds_max.x : d.prim->bounds_min.x, (k & 2) ? d.prim->bounds_max.y : d.prim->bounds_min.y,
+                        (k & 4) ? d.prim->bounds_max.z : d.prim->bounds_min.z);
+      const glm::vec4 c = m * glm::vec4(p, 1.0f);
+      if (!(c.w > 1e-6f)) return false;
+      const float sx = (c.x / c.w * 0.5f + 0.5f) * float(width_), sy = (c.y / c.w * 0.5f + 0.5f) * float(height_);
+      if (!std::isfinite(sx) || !std::isfinite(sy)) return false;
+      x0 = std::min(x0, sx), x1 = std::max(x1, sx), y0 = std::min(y0, sy), y1 = std::max(y1, sy);
+    }
+    // Pixels are covered by their centre (and MSAA samples inside them): floor/ceil plus 1 px.
+    const float lim = 4.0f * float(std::max(width_, height_));
+    x0 = std::clamp(x0, -lim, lim), x1 = std::clamp(x1, -lim, lim), y0 = std::clamp(y0, -lim, lim), y1 = std::clamp(y1, -lim, lim);
+    const int ix0 = int(std::floor(x0)) - 1, iy0 = int(std::floor(y0)) - 1;
+    const int ix1 = int(std::ceil(x1)) + 1, iy1 = int(std::ceil(y1)) + 1;
+    regions.push_back({ix0, iy0, ix1 - ix0, iy1 - iy0});
+    return true;
+  };
+  for (std::size_t i = 0; i < draws_.size(); ++i) {
+    const DrawnDraw now = drawn_state(i);
+    const DrawnDraw& was = drawn_draws_[i];
+    if (now == was) continue;
+    // Skinned or morphed geometry leaves the primitive's bounds.
+    if (!now.deform.empty() && now.deform != was.deform) return std::nullopt;
+    if (was.visible && !box(*draws_[i], was.world)) return std::nullopt;
+    if (now.visible && !box(*draws_[i], now.world)) return std::nullopt;
+  }
+  const std::vector<DrawnText> texts = visible_texts();
+  for (const auto& t : drawn_texts_)
+    if (std::find(texts.begin(), texts.end(), t) == texts.end()) regions.push_back(t.box);
+  for (const auto& t : texts)
+    if (std::find(drawn_texts_.begin(), drawn_texts_.end(), t) == drawn_texts_.end()) regions.push_back(t.box);
+
+  normalise(regions, width_, height_);
+  long long total = 0;
+  for (const auto& r : regions) total += area(r);
+  // Past half the target, scissored passes save little and cost extra passes: draw it all.
+  if (2 * total > static_cast<long long>(width_) * height_) return std::nullopt;
+  return regions;
+}
+
+void Renderer::remember_drawn(const glm::mat4& vp) {
+  drawn_vp_ = vp;
+  drawn_draws_.resize(draws_.size());
+  for (std::size_t i = 0; i < draws_.size(); ++i) drawn_draws_[i] = drawn_state(i);
+  drawn_texts_ = visible_texts();
+  drawn_lights_.clear();
+  for (std::size_t n = 0; n < scene_.nodes.size(); ++n)
+    if (scene_.nodes[n].light >= 0) drawn_lights_.emplace_back(static_cast<int>(n), world_[n]);
+  drawn_valid_ = true;
+}
+
+void Renderer::resolve_pending() {
+  // Many small resolves cost more than one full one; past 16, resolve everything.
+  if (unresolved_.size() > 16) unresolved_ = {PixelRegion{0, 0, width_, height_}};
+  target_->resolve(unresolved_);
+  unresolved_.clear();
 }
 
 FrameTiming Renderer::render(bool force, bool read_back) {
@@ -628,22 +820,55 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     return t;
   }
   auto t1 = Clock::now();
-  draw_scene();
-  draw_text();
+  const glm::mat4 vp = view_projection(nullptr);
+  const auto regions = force ? std::nullopt : damage(vp);
+  if (regions && regions->empty()) {
+    // Inputs changed but no pixel can have (e.g. a hidden node's text): the frame stands.
+    t.submit_ms = ms_since(t1);
+    dirty_ = false;
+    ++stats_.skipped;
+    if (read_back) {
+      auto t2 = Clock::now();
+      read();
+      t.gpu_readback_ms = ms_since(t2);
+    }
+    return t;
+  }
+  if (!regions) {
+    draw_scene(nullptr);
+    draw_text();
+    unresolved_ = {platform::PixelRegion{0, 0, width_, height_}};
+    t.redrawn_fraction = 1.0;
+  } else {
+    long long pixels = 0;
+    for (const auto& r : *regions) {
+      draw_scene(&r);
+      draw_text();
+      pixels += area(r);
+    }
+    gl_.Disable(GL_SCISSOR_TEST);
+    unresolved_.insert(unresolved_.end(), regions->begin(), regions->end());
+    t.redrawn_fraction = double(pixels) / (double(width_) * double(height_));
+    t.regions = static_cast<int>(regions->size());
+    ++stats_.partial_frames;
+  }
+  remember_drawn(vp);
   t.submit_ms = ms_since(t1);
   auto t2 = Clock::now();
   gl_.Finish();
-  if (read_back) image_ = target_->resolve_and_read();
+  if (read_back) read();
   t.gpu_readback_ms = ms_since(t2);
   platform::check_gl(gl_, scene_.source_name + ": drawing a frame");
   t.drawn = true;
   dirty_ = false;
   ++stats_.drawn;
+  stats_.redrawn_fraction_sum += t.redrawn_fraction;
   return t;
 }
 
 const platform::Image& Renderer::read() {
-  image_ = target_->resolve_and_read();
+  resolve_pending();
+  image_ = target_->read_resolved();
   return image_;
 }
 

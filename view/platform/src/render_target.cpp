@@ -1,5 +1,7 @@
 #include "meter/platform/render_target.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -166,24 +168,43 @@ void RenderTarget::bind() {
 }
 
 Image RenderTarget::resolve_and_read() {
-  if (!gl_) throw std::logic_error("RenderTarget::resolve_and_read on a moved-from target");
+  const PixelRegion all{0, 0, width_, height_};
+  resolve(std::span<const PixelRegion>(&all, 1));
+  return read_resolved();
+}
+
+void RenderTarget::resolve(std::span<const PixelRegion> regions) {
+  if (!gl_) throw std::logic_error("RenderTarget::resolve on a moved-from target");
+  if (samples_ <= 1) return;
   const Gl& gl = *gl_;
   if (gl.info.needs_framebuffer_srgb_enable && srgb_) {
     // With GL_FRAMEBUFFER_SRGB on, desktop GL resolves sRGB samples in linear space, as GLES does.
     gl.Enable(GL_FRAMEBUFFER_SRGB);
   }
-  if (samples_ > 1) {
-    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
-    gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
-    gl.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  // The scissor test clips blits too; a partial redraw leaves it enabled for its last region.
+  gl.Disable(GL_SCISSOR_TEST);
+  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
+  gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+  for (const PixelRegion& r : regions) {
+    const int x0 = std::clamp(r.x, 0, width_), y0 = std::clamp(r.y, 0, height_);
+    const int x1 = std::clamp(r.x + r.width, 0, width_), y1 = std::clamp(r.y + r.height, 0, height_);
+    if (x1 <= x0 || y1 <= y0) continue;
+    gl.BlitFramebuffer(x0, y0, x1, y1, x0, y0, x1, y1, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   }
+  gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
+  check_gl(gl, "RenderTarget::resolve (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+}
+
+Image RenderTarget::read_resolved() {
+  if (!gl_) throw std::logic_error("RenderTarget::read_resolved on a moved-from target");
+  const Gl& gl = *gl_;
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
   Image image(width_, height_);
   gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
-  check_gl(gl, "RenderTarget::resolve_and_read (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  check_gl(gl, "RenderTarget::read_resolved (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
   // GL rows are bottom-up; Image rows are top-down.
   const std::size_t row = static_cast<std::size_t>(width_) * 4;
   std::vector<std::uint8_t> tmp(row);

@@ -11,6 +11,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,12 @@ struct RendererOptions {
   // Draw the package's merged groups as one draw each (issue #10). Off: every member is drawn on
   // its own, exactly as without groups (the reference for equivalence tests and benchmarks).
   bool concatenate = true;
+  // Redraw only the screen regions whose pixels can have changed since the last drawn frame (a
+  // moving needle, a telltale switching, a text changing), each scissored; the rest of the target
+  // keeps the last frame, as a production cluster's partial update does. The result is the same
+  // image as a full redraw (tests/partial_redraw_test.cpp proves it pixel for pixel). Off: every
+  // drawn frame is a full redraw (the reference for tests and benchmarks).
+  bool partial_redraw = true;
 };
 
 struct FrameTiming {
@@ -40,6 +47,8 @@ struct FrameTiming {
   double submit_ms = 0.0;        // CPU time issuing GL calls
   double gpu_readback_ms = 0.0;  // glFinish (+ resolve and readback when the frame is read)
   bool drawn = false;            // false: frame skipped (inputs unchanged)
+  double redrawn_fraction = 0.0; // share of the target's pixels redrawn (1 = a full frame)
+  int regions = 0;               // scissored regions drawn (0 = a full frame or nothing)
 };
 
 struct RendererStats {
@@ -51,6 +60,8 @@ struct RendererStats {
   std::uint64_t vertices_transformed = 0;
   std::uint64_t index_rebuilds = 0;     // merged index arrays rebuilt (visibility changed)
   double concat_cpu_ms = 0.0;           // CPU time in member transforms + uploads (all frames)
+  std::uint64_t partial_frames = 0;     // drawn frames limited to damaged regions
+  double redrawn_fraction_sum = 0.0;    // sum over drawn frames of FrameTiming::redrawn_fraction
 };
 
 class Renderer {
@@ -88,8 +99,30 @@ class Renderer {
   void build_groups();
   void update_groups();
   void update_world();
-  void draw_scene();
+  void draw_scene(const platform::PixelRegion* scissor);
   void draw_text();
+  // What each draw looked like when last drawn; a change means its old and new screen boxes are
+  // damaged. `deform` holds joint matrices / morph weights (their bounds are not the primitive's).
+  struct DrawnDraw {
+    bool visible = false;
+    glm::mat4 world{0.0f};
+    glm::vec4 base{0.0f};
+    glm::vec3 emissive{0.0f};
+    std::vector<float> deform;
+    bool operator==(const DrawnDraw&) const = default;
+  };
+  struct DrawnText {
+    TextItem item;
+    platform::PixelRegion box;  // inked pixels, padded, GL window coordinates
+    bool operator==(const DrawnText&) const = default;
+  };
+  DrawnDraw drawn_state(std::size_t draw) const;
+  std::vector<DrawnText> visible_texts();
+  platform::TextRenderer& text_renderer(int size_px);
+  // Regions to redraw (disjoint), or nullopt when the whole target must be redrawn.
+  std::optional<std::vector<platform::PixelRegion>> damage(const glm::mat4& vp);
+  void remember_drawn(const glm::mat4& vp);
+  void resolve_pending();
   glm::mat4 view_projection(glm::vec3* eye) const;
 
   platform::GpuBackend& backend_;
@@ -117,6 +150,13 @@ class Renderer {
   int camera_node_ = -1;
   platform::Image image_;
   RendererStats stats_;
+  // Partial redraw bookkeeping (see RendererOptions::partial_redraw).
+  bool drawn_valid_ = false;
+  glm::mat4 drawn_vp_{0.0f};
+  std::vector<DrawnDraw> drawn_draws_;
+  std::vector<DrawnText> drawn_texts_;
+  std::vector<std::pair<int, glm::mat4>> drawn_lights_;  // light node, its world matrix
+  std::vector<platform::PixelRegion> unresolved_;         // drawn since the last MSAA resolve
 };
 
 }  // namespace meter::engine

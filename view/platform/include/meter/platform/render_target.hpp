@@ -12,9 +12,17 @@
 #include "meter/platform/gl_api.hpp"
 #include "meter/platform/image.hpp"
 
+#include <span>
 #include <string>
 
 namespace meter::platform {
+
+// A pixel box in GL window coordinates (origin bottom-left, like glScissor and glBlitFramebuffer).
+struct PixelRegion {
+  int x = 0, y = 0, width = 0, height = 0;
+  bool empty() const { return width <= 0 || height <= 0; }
+  bool operator==(const PixelRegion&) const = default;
+};
 
 enum class DepthFormat {
   None,
@@ -54,6 +62,12 @@ class RenderTarget {
   // Resolves MSAA by a blit into the single-sample framebuffer (in linear space for sRGB targets),
   // reads RGBA8 and flips rows to top-down. Leaves the drawing framebuffer bound.
   Image resolve_and_read();
+  // Resolves only `regions` into the single-sample framebuffer (no-op without MSAA). After a redraw
+  // limited to those regions the rest of the resolved image is still current, and an sRGB MSAA
+  // resolve costs as much as a full-screen pass on llvmpipe. Regions are clipped to the target.
+  void resolve(std::span<const PixelRegion> regions);
+  // Reads the single-sample framebuffer (the last resolve) as a top-down RGBA8 image.
+  Image read_resolved();
 
   int width() const { return width_; }
   int height() const { return height_; }
