@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
@@ -18,6 +19,7 @@
 
 #include "meter/engine/animation.hpp"
 #include "meter/engine/concatenation.hpp"
+#include "meter/platform/image.hpp"
 #include "meter/shadergen/glsl.hpp"
 
 namespace meter::engine {
@@ -120,6 +122,9 @@ class Converter {
   std::vector<int> parent_;
   std::vector<char> node_ok_;
   std::vector<char> in_loop_;
+  platform::Image environment_;  // decoded `meter_environment` image (empty = none)
+  float environment_strength_ = 1.0f;
+  std::string environment_name_;
   ConcatPlan plan_;              // mesh concatenation groups (issue #10)
   std::set<int> group_members_;  // nodes merged at runtime: their programs get vertex_alpha
 
@@ -323,12 +328,87 @@ class Converter {
     }
     const int scene = m_.defaultScene >= 0 ? m_.defaultScene : 0;
     if (!m_.scenes.empty() && static_cast<std::size_t>(scene) >= m_.scenes.size()) error("scene", "index out of range");
+    else if (!m_.scenes.empty()) validate_environment(static_cast<std::size_t>(scene));
     for (std::size_t s = 0; s < m_.scenes.size(); ++s) {
       for (int n : m_.scenes[s].nodes) {
         if (n < 0 || static_cast<std::size_t>(n) >= m_.nodes.size()) error(idx("scenes", s) + ".nodes", "node index " + std::to_string(n) + " out of range");
         else if (parent_[static_cast<std::size_t>(n)] >= 0) error(idx("scenes", s) + ".nodes", "node " + std::to_string(n) + " is not a root node");
       }
     }
+  }
+
+  // The world image Blender lit the scene with, named in the default scene's extras (Blender's
+  // exporter writes custom properties there; glTF itself has no environment map). The file is
+  // read relative to the glTF file and packed, so the package stays self-contained.
+  void validate_environment(std::size_t scene) {
+    const tinygltf::Value& extras = m_.scenes[scene].extras;
+    const std::string p = idx("scenes", scene) + ".extras.";
+    if (!extras.IsObject()) return;
+    const bool has_file = extras.Has("meter_environment"), has_strength = extras.Has("meter_environment_strength");
+    if (has_strength) {
+      const tinygltf::Value& v = extras.Get("meter_environment_strength");
+      const double k = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+      if (!v.IsNumber() || !std::isfinite(k) || k < 0.0 || k > 1e6) {
+        error(p + "meter_environment_strength", "expected a finite number >= 0 (Blender's Background strength)");
+      } else {
+        environment_strength_ = static_cast<float>(k);
+      }
+      if (!has_file) error(p + "meter_environment_strength", "given without meter_environment (the image it scales)");
+    }
+    if (!has_file) return;
+    const tinygltf::Value& v = extras.Get("meter_environment");
+    if (!v.IsString() || v.Get<std::string>().empty()) {
+      error(p + "meter_environment", "expected the file name of an equirectangular PNG, relative to the glTF file");
+      return;
+    }
+    environment_name_ = v.Get<std::string>();
+    const std::filesystem::path file = std::filesystem::path(file_).parent_path() / environment_name_;
+    try {
+      environment_ = platform::read_png(file);
+    } catch (const platform::ImageError& e) {
+      error(p + "meter_environment", "cannot use \"" + environment_name_ + "\": " + e.what());
+      return;
+    }
+    // Two texels per axis at least (the ambient cube and the mip chain need an image), and within
+    // what a package stores.
+    if (environment_.width < 2 || environment_.height < 2 || environment_.width > 16384 || environment_.height > 16384) {
+      error(p + "meter_environment", file.string() + ": " + std::to_string(environment_.width) + "x" +
+                                         std::to_string(environment_.height) + " pixels; expected 2..16384 per side");
+      environment_ = {};
+    }
+  }
+
+  // EEVEE's world ambient cube (shadergen kAmbientCube): for each signed axis a, the cosine-weighted
+  // mean of the map's linear radiance over the hemisphere around a, sum L max(0, d.a) dw / sum
+  // max(0, d.a) dw, with the texel directions of shadergen's equirect_uv (Blender's mapping).
+  static std::array<glm::vec3, 6> ambient_cube(const platform::Image& im, float strength) {
+    constexpr double kPi = 3.14159265358979323846;
+    std::array<double, 256> lin{};
+    for (int c = 0; c < 256; ++c) {
+      const double x = c / 255.0;
+      lin[std::size_t(c)] = x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4);
+    }
+    const glm::dvec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    glm::dvec3 sum[6] = {};
+    double weight[6] = {};
+    for (int y = 0; y < im.height; ++y) {
+      const double lat = (0.5 - (y + 0.5) / im.height) * kPi;  // row 0 = straight up (t = 0)
+      const double solid_angle = std::cos(lat);                  // per texel, up to a constant
+      for (int x = 0; x < im.width; ++x) {
+        const double phi = ((x + 0.5) / im.width - 0.5) * 2.0 * kPi;
+        const glm::dvec3 d(std::cos(lat) * std::cos(phi), std::sin(lat), std::cos(lat) * std::sin(phi));
+        const std::uint8_t* px = im.pixel(x, y);
+        const glm::dvec3 radiance(lin[px[0]], lin[px[1]], lin[px[2]]);
+        for (int a = 0; a < 6; ++a) {
+          const double w = std::max(0.0, glm::dot(d, axes[a])) * solid_angle;
+          sum[a] += radiance * w;
+          weight[a] += w;
+        }
+      }
+    }
+    std::array<glm::vec3, 6> out{};
+    for (int a = 0; a < 6; ++a) out[std::size_t(a)] = glm::vec3(sum[a] / std::max(weight[a], 1e-12) * double(strength));
+    return out;
   }
 
   void validate_nodes() {
@@ -1060,6 +1140,22 @@ class Converter {
       }
       s.textures.push_back(std::move(out));
     }
+    if (!environment_.empty()) {
+      // sRGB like Blender's "sRGB" image colour space (sampling returns linear radiance);
+      // mipmapped because rough surfaces read blurred levels; wraps in longitude, clamps at the poles.
+      Texture env;
+      env.name = "environment:" + environment_name_;
+      env.width = environment_.width;
+      env.height = environment_.height;
+      env.rgba = environment_.rgba;
+      env.srgb = true;
+      env.wrap_s = 0x2901 /*REPEAT*/;
+      env.wrap_t = 0x812F /*CLAMP_TO_EDGE*/;
+      s.environment.texture = static_cast<int>(s.textures.size());
+      s.environment.strength = environment_strength_;
+      s.environment.irradiance = ambient_cube(environment_, environment_strength_);
+      s.textures.push_back(std::move(env));
+    }
     // Meshes.
     for (std::size_t mi = 0; mi < m_.meshes.size(); ++mi) {
       const auto& mesh = m_.meshes[mi];
@@ -1278,6 +1374,9 @@ class Converter {
         f.morph_targets = prim.morph_targets;
         f.morph_normals = has_attr(AttributeSemantic::MorphNormal);
         f.lights = lit ? lights : shadergen::LightCounts{};
+        // Only scenes that name an environment get it, and only on models that can use it.
+        f.environment_map_2d = s.environment.present() && (mat.shading == shadergen::ShadingModel::BlinnPhong ||
+                                                           mat.shading == shadergen::ShadingModel::PbrMetallicRoughness);
         f.has_tangents = f.normal_texture && has_attr(AttributeSemantic::Tangent);
         // Concatenated members: visibility becomes vertex alpha. The unmerged draw of the same
         // node feeds a constant 1 (Renderer), so one program serves both ways of drawing.
@@ -1338,6 +1437,11 @@ class Converter {
     cv.set(U::Shininess, {m.shininess});
     cv.set(U::AmbientLight, {s.ambient.r, s.ambient.g, s.ambient.b});
     cv.set(U::Exposure, {static_cast<float>(std::exp2(cfg_.exposure))});
+    cv.set(U::EnvironmentIntensity, {s.environment.strength});
+    for (int a = 0; a < 6; ++a) {
+      const glm::vec3& e = s.environment.irradiance[std::size_t(a)];
+      cv.set(U::EnvironmentIrradiance, a, {e.r, e.g, e.b});
+    }
     for (int k = 0; k < 5; ++k) {
       const glm::mat3& t = m.uv_transform[std::size_t(k)];
       cv.set(U::TextureTransform, k, std::vector<float>(glm::value_ptr(t), glm::value_ptr(t) + 9));

@@ -312,6 +312,9 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
   for (const auto& d : s.draws) w.i32(d.node), w.i32(d.mesh), w.i32(d.primitive), w.i32(d.program);
   w.u32(static_cast<std::uint32_t>(s.groups.size()));  // version 2: mesh concatenation groups
   for (const auto& g : s.groups) w.str(g.name), w.vec(g.draws);
+  // version 3: the world environment (texture index, strength, ambient cube)
+  w.i32(s.environment.texture), w.f32(s.environment.strength);
+  for (const auto& e : s.environment.irradiance) w.v3(e);
   w.str(s.config.source_json);
 
   Writer out;
@@ -510,6 +513,10 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     g.draws = r.vec<int>("group.draws");
     s.groups.push_back(std::move(g));
   }
+  s.environment.texture = r.i32("environment.texture");
+  s.environment.strength = r.f32("environment.strength");
+  if (s.environment.strength < 0.0f) r.fail("negative environment.strength");
+  for (auto& e : s.environment.irradiance) e = r.v3("environment.irradiance");
   std::string config_json = r.str("config");
   if (!r.at_end()) r.fail("trailing bytes after the last section");
 
@@ -531,6 +538,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
   for (const auto& m : s.materials) {
     for (int t : m.texture) check_index(r, t, s.textures.size(), true, "material.texture");
   }
+  check_index(r, s.environment.texture, s.textures.size(), true, "environment.texture");
   for (const auto& k : s.skins) {
     for (int j : k.joints) check_index(r, j, nn, false, "skin.joints");
   }

@@ -52,6 +52,9 @@ shadergen::MaterialFeatures features_for(const Scene& s, const DrawItem& d, cons
   f.texture_transform = mat.has_uv_transform && (f.base_color_texture || f.metallic_roughness_texture || f.normal_texture ||
                                                   f.emissive_texture || f.occlusion_texture);
   f.has_tangents = f.normal_texture && has_attr(prim, AttributeSemantic::Tangent);
+  // The environment map needs a per-pixel normal too; cheaper models fall back to the config's
+  // uniform ambient (for an environment scene: the map's mean radiance).
+  f.environment_map_2d = per_pixel && s.environment.present();
   if (lit) {
     // The scene's lights, exactly as the converter counts them (every node carrying a light).
     shadergen::LightCounts lights;
@@ -147,17 +150,24 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     return e;
   };
 
-  // Programs: regenerate those whose draws ask for another model / precision (deduplicated by key).
+  if (q.environment == false && s.environment.present()) {
+    // The texture stays in the list (indices of other textures are unchanged); nothing samples it.
+    s.environment = Environment{};
+    report.environment_dropped = true;
+  }
+  // Programs: regenerate those whose draws ask for another model / precision, or that sample an
+  // environment the settings dropped (deduplicated by key).
   std::map<std::string, int> cache;
   std::set<int> mapped_materials;
   for (std::size_t i = 0; i < s.draws.size(); ++i) {
     DrawItem& d = s.draws[i];
     const QualityOverride e = effective(d.node);
-    if (!e.shading && !e.precision) continue;
     const shadergen::MaterialFeatures& stored = s.programs[std::size_t(d.program)].program.features;
+    const bool drop_environment = stored.environment_map_2d && !s.environment.present();
+    if (!e.shading && !e.precision && !drop_environment) continue;
     const ShadingModel shading = e.shading.value_or(stored.shading);
     const shadergen::Precision precision = e.precision.value_or(stored.precision);
-    if (shading == stored.shading && precision == stored.precision) continue;
+    if (shading == stored.shading && precision == stored.precision && !drop_environment) continue;
     const int mat = s.meshes[std::size_t(d.mesh)].primitives[std::size_t(d.primitive)].material;
     if ((shading == ShadingModel::BlinnPhong || shading == ShadingModel::Gouraud) &&
         s.materials[std::size_t(mat)].shading == ShadingModel::PbrMetallicRoughness && mapped_materials.insert(mat).second)
@@ -254,13 +264,17 @@ QualitySettings parse_quality(const std::string& text) {
     } else if (k == "msaa") {
       if (v != "1" && v != "2" && v != "4") throw bad("1, 2 or 4");
       q.msaa = std::stoi(v);
+    } else if (k == "environment") {
+      if (v == "on") q.environment = true;
+      else if (v == "off") q.environment = false;
+      else throw bad("on or off");
     } else if (k == "lod") {
       char* end = nullptr;
       const float f = std::strtof(v.c_str(), &end);
       if (v.empty() || *end != '\0' || !(f > 0.0f && f <= 1.0f)) throw bad("a fraction of triangles in (0, 1]");
       q.global.lod = f;
     } else {
-      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod)");
+      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment)");
     }
   }
   return q;
@@ -278,6 +292,7 @@ std::string describe_quality(const QualitySettings& q) {
   }
   if (q.filter) add(std::string("filter=") + filter_name(*q.filter));
   if (q.msaa) add("msaa=" + std::to_string(*q.msaa));
+  if (q.environment) add(std::string("environment=") + (*q.environment ? "on" : "off"));
   return out.empty() ? "default" : out;
 }
 

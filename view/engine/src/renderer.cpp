@@ -528,7 +528,13 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
         case UniformSemantic::Shininess: gl.Uniform1f(l, mat.shininess); break;
         case UniformSemantic::AmbientLight: gl.Uniform3f(l, scene_.ambient.r, scene_.ambient.g, scene_.ambient.b); break;
         case UniformSemantic::Exposure: gl.Uniform1f(l, static_cast<float>(std::exp2(scene_.config.exposure))); break;
-        case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, 1.0f); break;
+        case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, scene_.environment.strength); break;
+        case UniformSemantic::EnvironmentIrradiance:
+          if (u.index >= 0 && u.index < 6) {
+            const glm::vec3& e = scene_.environment.irradiance[static_cast<std::size_t>(u.index)];
+            gl.Uniform3f(l, e.r, e.g, e.b);
+          }
+          break;
         case UniformSemantic::LightColor:
         case UniformSemantic::LightIntensity:
         case UniformSemantic::LightPosition:
@@ -582,7 +588,8 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
       }
     }
     for (const auto& s : gp->samplers) {
-      const int tex = mat.texture[static_cast<std::size_t>(s.slot)];
+      const int tex = s.slot == shadergen::TextureSlot::Environment ? scene_.environment.texture
+                                                                     : mat.texture[static_cast<std::size_t>(s.slot)];
       gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + s.unit));
       gl.BindTexture(GL_TEXTURE_2D, tex >= 0 ? textures_[static_cast<std::size_t>(tex)] : white_texture_);
       gl.Uniform1i(s.location, s.unit);

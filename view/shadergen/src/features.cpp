@@ -65,6 +65,7 @@ const char* to_string(UniformSemantic s) {
     case UniformSemantic::MorphWeights: return "MorphWeights";
     case UniformSemantic::TextureTransform: return "TextureTransform";
     case UniformSemantic::EnvironmentIntensity: return "EnvironmentIntensity";
+    case UniformSemantic::EnvironmentIrradiance: return "EnvironmentIrradiance";
     case UniformSemantic::Exposure: return "Exposure";
     case UniformSemantic::UberSwitches: return "UberSwitches";
     case UniformSemantic::UberLightCounts: return "UberLightCounts";

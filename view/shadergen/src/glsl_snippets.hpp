@@ -101,4 +101,15 @@ inline constexpr const char* kEquirect = R"(vec2 equirect_uv(vec3 d) {
 }
 )";
 
+// EEVEE's (Blender 2.8-3.x) world diffuse lighting, the "HL2" ambient cube: six colours, one per
+// signed axis, blended by the squared normal components (they sum to 1). Each colour is the
+// cosine-weighted mean radiance of the map around its axis (the converter integrates it), so a
+// Lambert surface gets albedo * ambient_cube(n), as EEVEE's diffuse does with its world probe.
+inline constexpr const char* kAmbientCube =
+    R"(vec3 ambient_cube(vec3 n, vec3 px, vec3 nx, vec3 py, vec3 ny, vec3 pz, vec3 nz) {
+  vec3 n2 = n * n;
+  return n2.x * (n.x >= 0.0 ? px : nx) + n2.y * (n.y >= 0.0 ? py : ny) + n2.z * (n.z >= 0.0 ? pz : nz);
+}
+)";
+
 }  // namespace meter::shadergen::detail

@@ -97,7 +97,12 @@ std::vector<FeatureCase> feature_cases() {
        U{"u_light0_inner_cone_cos", "u_light0_outer_cone_cos", "u_light0_direction"}, A{},
        {"spot_attenuation("}, {}},
       {"environment map", pbr(), [](auto& f) { f.environment_map_2d = true; },
-       U{"u_environment_intensity"}, A{}, {"equirect_uv(", "textureLod(u_environment_texture"}, {}},
+       U{"u_environment_intensity", "u_environment_irradiance_px", "u_environment_irradiance_nz"}, A{},
+       {"equirect_uv(", "textureLod(u_environment_texture", "ambient_cube("}, {}},
+      {"blinn-phong environment map", with(ShadingModel::BlinnPhong),
+       [](auto& f) { f.environment_map_2d = true; },
+       U{"u_environment_intensity", "u_environment_irradiance_py", "u_specular_color"}, A{},
+       {"equirect_uv(", "ambient_cube("}, {}},
       {"blinn-phong lights", with(ShadingModel::BlinnPhong), [](auto& f) { f.lights.point = 2; },
        U{"u_shininess", "u_specular_color", "u_camera_position", "u_light1_position"}, A{},
        {"blinn_phong_specular("}, {}},
@@ -156,6 +161,38 @@ INSTANTIATE_TEST_SUITE_P(AllFlags, FeatureFlag,
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return n;
                          });
+
+// "Simulate only the effects a scene calls for": a program without environment_map_2d has no
+// environment sampler, uniform or code at all (no cost for scenes without a world image), and one
+// with it lights diffuse from the map's ambient cube instead of the uniform ambient.
+TEST(Generate, EnvironmentCodeExistsOnlyWhenTheFeatureIsOn) {
+  for (ShadingModel m : {ShadingModel::Unlit, ShadingModel::Flat, ShadingModel::Gouraud,
+                         ShadingModel::BlinnPhong, ShadingModel::PbrMetallicRoughness}) {
+    SCOPED_TRACE(to_string(m));
+    MaterialFeatures f = with(m);
+    f.lights.directional = 1;
+    f.base_color_texture = true;
+    const Program p = generate(f);
+    for (const auto& s : p.samplers) EXPECT_NE(s.slot, TextureSlot::Environment) << s.name;
+    for (const auto& u : p.uniforms) {
+      EXPECT_NE(u.semantic, UniformSemantic::EnvironmentIntensity) << u.name;
+      EXPECT_NE(u.semantic, UniformSemantic::EnvironmentIrradiance) << u.name;
+    }
+    EXPECT_FALSE(contains(p.fragment_source, "environment")) << p.fragment_source;
+    EXPECT_FALSE(contains(p.fragment_source, "equirect")) << p.fragment_source;
+    if (m != ShadingModel::BlinnPhong && m != ShadingModel::PbrMetallicRoughness) continue;
+    f.environment_map_2d = true;
+    const Program e = generate(f);
+    int env_samplers = 0, irradiance = 0;
+    for (const auto& s : e.samplers) env_samplers += s.slot == TextureSlot::Environment;
+    for (const auto& u : e.uniforms) irradiance += u.semantic == UniformSemantic::EnvironmentIrradiance;
+    EXPECT_EQ(env_samplers, 1);
+    EXPECT_EQ(irradiance, 6);  // one colour per signed axis
+    EXPECT_EQ(e.find_uniform(UniformSemantic::AmbientLight), nullptr);
+    EXPECT_NE(p.find_uniform(UniformSemantic::AmbientLight), nullptr);
+    EXPECT_TRUE(compiles(e));
+  }
+}
 
 TEST(Generate, PlainPbrHasNoOptionalCode) {
   const Program p = generate(pbr());

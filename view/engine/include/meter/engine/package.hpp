@@ -21,7 +21,8 @@
 namespace meter::engine {
 
 // 2: mesh concatenation groups (issue #10) after the draws.
-inline constexpr std::uint32_t kPackageVersion = 2;
+// 3: the world environment (issue #9: texture index, strength, ambient cube) after the groups.
+inline constexpr std::uint32_t kPackageVersion = 3;
 inline constexpr char kPackageMagic[8] = {'M', 'E', 'T', 'E', 'R', 'S', 'C', 'N'};
 
 std::vector<std::uint8_t> serialize_scene(const Scene& scene);

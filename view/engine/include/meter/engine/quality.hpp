@@ -6,7 +6,10 @@
 //   LOD             meshoptimizer's meshopt_simplify keeps a fraction of each primitive's triangles;
 //   texture filter  nearest / bilinear / trilinear sampler state (global: textures are shared);
 //   MSAA            1 / 2 / 4 samples: a RendererOptions value, carried here so one settings
-//                   object describes a whole ladder point.
+//                   object describes a whole ladder point;
+//   environment     off: drop the scene's environment map (programs regenerated without it; the
+//                   config's uniform ambient lights the scene instead), the engine before issue #9's
+//                   environment support. Only scenes that have one are affected.
 //
 // Why after conversion and not inside convert_gltf: the ladder is a runtime choice (the frame-rate
 // governor of a later issue picks a level on the target), and a Scene already holds the features
@@ -40,6 +43,7 @@ struct QualitySettings {
   std::map<std::string, QualityOverride> objects;  // node name -> override; wins over global per field
   std::optional<TextureFilter> filter;             // all textures
   std::optional<int> msaa;                         // 1, 2 or 4: give to RendererOptions::msaa
+  std::optional<bool> environment;                 // false: no environment map (global)
 };
 
 struct QualityReport {
@@ -49,6 +53,7 @@ struct QualityReport {
   float max_simplify_error = 0.0f;  // meshoptimizer's relative error (fraction of the mesh extent)
   int groups_dropped = 0;           // merged groups whose members no longer share one program
   int textures_changed = 0;
+  bool environment_dropped = false;  // the scene had an environment map and settings turned it off
 };
 
 // Applies `settings` to `scene`. Throws SceneError for an unknown node name, a LOD outside (0, 1],
@@ -60,7 +65,7 @@ std::optional<shadergen::ShadingModel> parse_shading_model(const std::string& te
 const char* filter_name(TextureFilter f);             // "nearest" | "bilinear" | "trilinear"
 
 // Parses a ladder point written as comma-separated key=value pairs, e.g.
-// "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2" (every key optional; "" = no
+// "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2,environment=off" (every key optional; "" = no
 // change). Throws SceneError naming the pair and what was expected.
 QualitySettings parse_quality(const std::string& text);
 // The canonical text of the global part ("shading=..,msaa=.." in a fixed order; "default" if empty).

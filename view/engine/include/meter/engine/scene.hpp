@@ -98,8 +98,9 @@ struct Material {
   float alpha_cutoff = 0.5f;
   glm::vec3 specular_color{0.5f};  // Blinn-Phong / Gouraud
   float shininess = 32.0f;
-  // Per shadergen::TextureSlot (BaseColor .. Occlusion; Environment unused): texture index or -1,
-  // texcoord set, KHR_texture_transform matrix (identity when absent).
+  // Per shadergen::TextureSlot (BaseColor .. Occlusion; Environment unused: it is scene-wide,
+  // Scene::environment): texture index or -1, texcoord set, KHR_texture_transform matrix
+  // (identity when absent).
   std::array<int, 6> texture{-1, -1, -1, -1, -1, -1};
   std::array<int, 6> texcoord{0, 0, 0, 0, 0, 0};
   std::array<glm::mat3, 6> uv_transform{glm::mat3(1.0f), glm::mat3(1.0f), glm::mat3(1.0f),
@@ -163,6 +164,19 @@ struct MergedGroup {
   std::vector<int> draws;
 };
 
+// The world's equirectangular environment image (glTF scene extras `meter_environment`, the
+// image Blender's world shader samples; docs/engine.md, "Environment"). Only scenes that name one
+// have it; programs then get shadergen's environment_map_2d feature (and only then).
+struct Environment {
+  int texture = -1;       // index into Scene::textures (sRGB, mipmapped), -1 = no environment
+  float strength = 1.0f;  // Blender's Background strength (`meter_environment_strength`)
+  // Diffuse light from the map as EEVEE stores it for the world (an "ambient cube"): the
+  // cosine-weighted mean linear radiance (times strength) around +X, -X, +Y, -Y, +Z, -Z (glTF axes),
+  // i.e. irradiance / pi. A normal n receives sum(n_i^2 * side(sign n_i, i)).
+  std::array<glm::vec3, 6> irradiance{};
+  bool present() const { return texture >= 0; }
+};
+
 struct Scene {
   std::vector<Node> nodes;
   std::vector<int> roots;
@@ -179,6 +193,7 @@ struct Scene {
   SceneConfig config;            // validated against this scene at conversion time
   std::string source_name;       // input file name, for messages
   glm::vec3 ambient{0.0f};       // config "ambient" (linear)
+  Environment environment;       // from the glTF scene extras; absent for most scenes
 
   int find_node(std::string_view name) const;       // -1 when absent
   int find_material(std::string_view name) const;

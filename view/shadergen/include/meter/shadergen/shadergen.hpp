@@ -54,7 +54,9 @@ struct MaterialFeatures {
   int morph_targets = 0;           // 0 = no morphing; else number of POSITION targets/weights
   bool morph_normals = false;      // targets also carry NORMAL deltas
   LightCounts lights;
-  bool environment_map_2d = false;  // equirectangular reflection texture (lit models)
+  // Equirectangular world image (lit per-pixel models): specular reflection from the texture,
+  // diffuse from its ambient cube (EnvironmentIrradiance) instead of the uniform AmbientLight.
+  bool environment_map_2d = false;
   bool has_tangents = false;        // TANGENT attribute present (else derived from derivatives)
 
   // Canonical, unique per distinct generated program (program cache / dedup key). Features the
@@ -93,6 +95,9 @@ enum class UniformSemantic {
   MorphWeights,        // float[N]
   TextureTransform,    // mat3, index = int(TextureSlot)
   EnvironmentIntensity,// float multiplier of the environment texture
+  // vec3 diffuse light of the environment around one axis (index 0..5 = +X, -X, +Y, -Y, +Z, -Z):
+  // cosine-weighted mean linear radiance, EEVEE's world "ambient cube" (environment_map_2d only)
+  EnvironmentIrradiance,
   Exposure,            // float linear scale 2^exposure applied to the final colour (Blender: 0 -> 1)
   UberSwitches,        // ivec4 runtime switches of generate_uber() only (see docs/shaders.md)
   UberLightCounts,     // ivec3 directional/point/spot counts in use, generate_uber() only

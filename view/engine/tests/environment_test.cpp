@@ -1,0 +1,165 @@
+// Environment maps (issue #9): the converter reads `meter_environment` from the glTF scene extras,
+// refuses a missing or malformed file by name, packs the image, integrates its ambient cube, and
+// gives the environment feature only to the programs that can use it, only in scenes that have
+// one; the package keeps it.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "meter/engine/converter.hpp"
+#include "meter/engine/package.hpp"
+#include "meter/platform/image.hpp"
+#include "test_scenes.hpp"
+
+using namespace meter::engine;
+namespace fs = std::filesystem;
+using meter::shadergen::ShadingModel;
+using meter::shadergen::TextureSlot;
+
+namespace {
+
+// The dial scene with `extras` put on its scene (glTF "scenes[0].extras"), written next to it.
+std::string dial_with_extras(const std::string& dir, const nlohmann::json& extras) {
+  const std::string file = test::write_dial_scene(dir);
+  nlohmann::json j;
+  std::ifstream(file) >> j;
+  j["scenes"][0]["extras"] = extras;
+  std::ofstream(file) << j.dump();
+  return file;
+}
+
+// 16 x 8 equirect: upper half (sky, +Y) pure blue, lower half pure red. sRGB 255 = linear 1.
+void write_two_tone(const fs::path& file) {
+  meter::platform::Image im(16, 8);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      auto* p = im.pixel(x, y);
+      p[0] = y < 4 ? 0 : 255, p[1] = 0, p[2] = y < 4 ? 255 : 0;
+    }
+  meter::platform::write_png(im, file);
+}
+
+Scene convert(const std::string& gltf) {
+  return convert_gltf(gltf, parse_scene_config(test::dial_config_json()), ConvertOptions{false}).scene;
+}
+
+// The diagnostics of a conversion that must fail validation.
+std::vector<Diagnostic> errors_of(const std::string& gltf) {
+  try {
+    convert(gltf);
+  } catch (const ConvertError& e) {
+    return e.errors;
+  }
+  ADD_FAILURE() << gltf << " converted although it should not";
+  return {};
+}
+
+bool has_error(const std::vector<Diagnostic>& errs, const std::string& path, const std::string& text) {
+  for (const auto& d : errs)
+    if (d.path == path && d.message.find(text) != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST(Environment, SceneWithoutOneGetsNoEnvironmentCode) {
+  const Scene s = convert(test::write_dial_scene(test::scratch_dir("env_none")));
+  EXPECT_FALSE(s.environment.present());
+  for (const auto& p : s.programs) {
+    EXPECT_FALSE(p.program.features.environment_map_2d) << p.program.features.key();
+    for (const auto& smp : p.program.samplers) EXPECT_NE(smp.slot, TextureSlot::Environment);
+  }
+}
+
+TEST(Environment, ExtrasArePackedIntegratedAndUsedByLitPerPixelPrograms) {
+  const auto dir = test::scratch_dir("env_two_tone");
+  write_two_tone(fs::path(dir) / "sky.png");
+  const Scene s = convert(dial_with_extras(dir, {{"meter_environment", "sky.png"}, {"meter_environment_strength", 2.0}}));
+  ASSERT_TRUE(s.environment.present());
+  EXPECT_FLOAT_EQ(s.environment.strength, 2.0f);
+  const Texture& t = s.textures.at(std::size_t(s.environment.texture));
+  EXPECT_EQ(t.width, 16);
+  EXPECT_EQ(t.height, 8);
+  EXPECT_TRUE(t.srgb);  // sampled as linear radiance, like Blender's sRGB image
+  // Ambient cube: the hemisphere around +Y sees only sky, around -Y only ground; around a
+  // horizontal axis half of each, symmetric, so exactly the mean. Strength 2 scales all.
+  const auto& c = s.environment.irradiance;
+  const float tol = 1e-4f;
+  EXPECT_NEAR(c[2].b, 2.0f, tol);  // +Y: sky only
+  EXPECT_NEAR(c[2].r, 0.0f, tol);
+  EXPECT_NEAR(c[3].r, 2.0f, tol);  // -Y: ground only
+  EXPECT_NEAR(c[3].b, 0.0f, tol);
+  for (int a : {0, 1, 4, 5}) {
+    EXPECT_NEAR(c[std::size_t(a)].r, 1.0f, tol) << a;
+    EXPECT_NEAR(c[std::size_t(a)].b, 1.0f, tol) << a;
+    EXPECT_NEAR(c[std::size_t(a)].g, 0.0f, tol) << a;
+  }
+  // Lit per-pixel programs (the PBR telltale) sample it; the unlit dial and needle do not.
+  int with_env = 0, without_env = 0;
+  for (const auto& p : s.programs) {
+    const bool lit_pp = p.program.features.shading == ShadingModel::PbrMetallicRoughness ||
+                        p.program.features.shading == ShadingModel::BlinnPhong;
+    EXPECT_EQ(p.program.features.environment_map_2d, lit_pp) << p.program.features.key();
+    (p.program.features.environment_map_2d ? with_env : without_env)++;
+  }
+  EXPECT_GT(with_env, 0);
+  EXPECT_GT(without_env, 0);
+
+  // The package keeps the environment (and round-trips byte for byte).
+  const auto bytes = serialize_scene(s);
+  const Scene back = deserialize_scene(bytes, "env.msp");
+  EXPECT_EQ(back.environment.texture, s.environment.texture);
+  EXPECT_FLOAT_EQ(back.environment.strength, 2.0f);
+  EXPECT_EQ(back.environment.irradiance, s.environment.irradiance);
+  EXPECT_EQ(serialize_scene(back), bytes);
+}
+
+TEST(Environment, BadExtrasAreNamedWithFileAndField) {
+  const std::string file_field = "scenes[0].extras.meter_environment";
+  const std::string strength_field = "scenes[0].extras.meter_environment_strength";
+  {
+    const auto dir = test::scratch_dir("env_missing");
+    EXPECT_TRUE(has_error(errors_of(dial_with_extras(dir, {{"meter_environment", "nowhere.png"}})), file_field, "nowhere.png"));
+  }
+  {
+    const auto dir = test::scratch_dir("env_not_png");
+    std::ofstream(fs::path(dir) / "sky.png") << "not a png\n";
+    EXPECT_TRUE(has_error(errors_of(dial_with_extras(dir, {{"meter_environment", "sky.png"}})), file_field, "sky.png"));
+  }
+  {
+    const auto dir = test::scratch_dir("env_not_string");
+    EXPECT_TRUE(has_error(errors_of(dial_with_extras(dir, {{"meter_environment", 3}})), file_field, "file name"));
+  }
+  {
+    const auto dir = test::scratch_dir("env_negative");
+    write_two_tone(fs::path(dir) / "sky.png");
+    EXPECT_TRUE(has_error(errors_of(dial_with_extras(dir, {{"meter_environment", "sky.png"}, {"meter_environment_strength", -1}})),
+                          strength_field, ">= 0"));
+  }
+  {
+    const auto dir = test::scratch_dir("env_strength_alone");
+    EXPECT_TRUE(has_error(errors_of(dial_with_extras(dir, {{"meter_environment_strength", 1.0}})), strength_field, "without"));
+  }
+  {
+    const auto dir = test::scratch_dir("env_tiny");
+    meter::platform::write_png(meter::platform::Image(1, 1), fs::path(dir) / "dot.png");
+    EXPECT_TRUE(has_error(errors_of(dial_with_extras(dir, {{"meter_environment", "dot.png"}})), file_field, "2..16384"));
+  }
+}
+
+// A corrupt package cannot point the environment at a texture it does not have.
+TEST(Environment, PackageRefusesAnEnvironmentIndexOutOfRange) {
+  const auto dir = test::scratch_dir("env_corrupt");
+  Scene s = convert(test::write_dial_scene(dir));
+  s.environment.texture = int(s.textures.size()) + 3;
+  const auto bytes = serialize_scene(s);
+  try {
+    deserialize_scene(bytes, "bad.msp");
+    FAIL() << "accepted an out-of-range environment.texture";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("environment.texture"), std::string::npos) << e.what();
+  }
+}
