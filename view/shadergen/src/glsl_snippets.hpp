@@ -21,12 +21,16 @@ inline constexpr const char* kRangeAttenuation = R"(float range_attenuation(floa
 }
 )";
 
-// KHR_lights_punctual spot cone: linear in cos between outer and inner cone, squared.
+// Spot cone as Blender draws it (EEVEE and Cycles: smoothstep over a blend band of
+// (1 - cos(size/2)) * spot_blend in cos), from the cone angles Blender's glTF exporter writes:
+// outer = size/2, inner = outer * (1 - spot_blend). The glTF spec's non-normative example (linear
+// in cos from outer to inner, squared) spreads the edge over the whole inner..outer band.
 inline constexpr const char* kSpotAttenuation =
     R"(float spot_attenuation(float cos_angle, float inner_cos, float outer_cos) {
-  float scale = 1.0 / max(0.001, inner_cos - outer_cos);
-  float t = clamp((cos_angle - outer_cos) * scale, 0.0, 1.0);
-  return t * t;
+  float outer = acos(outer_cos);
+  float blend = (outer - acos(inner_cos)) / max(outer, 1e-4);
+  float t = (cos_angle - outer_cos) / max((1.0 - outer_cos) * blend, 1e-6);
+  return smoothstep(0.0, 1.0, t);
 }
 )";
 
