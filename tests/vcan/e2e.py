@@ -38,6 +38,13 @@ VIEW_RENDER_OPTS = ["--size", "640x240", "--msaa", "1"]
 # Guest vCPUs for the end-to-end runs ($METER_E2E_CPUS, default 2): the controller, canplayer and
 # the guest's network stack share them; the view runs on the host.
 E2E_CPUS = int(os.environ.get("METER_E2E_CPUS", "2"))
+# Link-loss timeout of both ends ($METER_E2E_LINK_TIMEOUT_MS; the guest reads the same variable).
+# 2 s, not the 300 ms default of two processes on one machine: on this loaded 2-core host the
+# view's single thread was measured stalling up to 1.1 s between frames (PNG encoding while builds
+# and the TCG guest take the cores), and the guest's controller up to 0.8 s between flushes; with
+# 300 ms both sides declared the link lost during such stalls. A real inter-chip link configures
+# its own timeout the same way. A peer that dies still shows at once: its socket closes (EOF).
+LINK_TIMEOUT_MS = int(os.environ.setdefault("METER_E2E_LINK_TIMEOUT_MS", "2000"))
 
 
 def require(*paths):
@@ -59,6 +66,24 @@ def scene_package():
     return pkg
 
 
+def mapped_ids(dbc, mapping):
+    """CAN ids of the DBC messages a mapping's sources name (MESSAGE.SIGNAL), read independently of
+    the controller: BO_ lines of the DBC, source lines of the map."""
+    ids = {}
+    with open(dbc, encoding="latin-1") as f:
+        for line in f:
+            p = line.split()
+            if len(p) >= 3 and p[0] == "BO_":
+                ids[p[2].rstrip(":")] = int(p[1]) & 0x1FFFFFFF
+    used = set()
+    with open(mapping) as f:
+        for line in f:
+            key, _, value = line.split("#")[0].partition("=")
+            if key.strip() == "source":
+                used |= {ids[s.strip().split(".")[0]] for s in value.split(",") if "." in s}
+    return used
+
+
 # ---- frames.csv: what the view drew, one row per dumped PNG ---------------------------------
 def norm_status(text):
     """'timed-out', 'TimedOut', 'timed_out' -> 'timedout' (protocol::to_string spells them
@@ -67,10 +92,11 @@ def norm_status(text):
 
 
 class Row:
-    __slots__ = ("frame", "time", "values", "status", "raw_status", "failsafe", "link")
+    __slots__ = ("frame", "time", "values", "status", "raw_status", "failsafe", "link", "texts")
 
-    def __init__(self, frame, t, values, status, link, failsafe=None):
+    def __init__(self, frame, t, values, status, link, failsafe=None, texts=None):
         self.frame, self.time, self.values, self.link = frame, t, values, link
+        self.texts = texts or {}     # readout node -> the exact text it drew
         self.raw_status = dict(status)
         self.status = {k: norm_status(x) for k, x in status.items()}
         self.failsafe = failsafe or {}
@@ -96,8 +122,11 @@ def read_frames_csv(path):
             raise AssertionError(f"{path}:1: expected frame and time columns, got {cols}")
         lcol = next((c for c in cols if c.lower() in ("link", "link_up")), None)
         for n, r in enumerate(reader, 2):
-            values, status, failsafe = {}, {}, {}
+            values, status, failsafe, texts = {}, {}, {}, {}
             for c in cols:
+                if c.endswith(".text"):
+                    texts[c[:-len(".text")]] = r[c]     # "<node>.text": what a readout drew
+                    continue
                 if c in (fcol, tcol, lcol) or c.lower() in META:
                     continue
                 base, _, suffix = c.rpartition(".")
@@ -114,7 +143,7 @@ def read_frames_csv(path):
             if lcol:
                 link = r[lcol].strip().lower() in ("1", "up", "true", "yes")
             try:
-                rows.append(Row(int(r[fcol]), float(r[tcol]), values, status, link, failsafe))
+                rows.append(Row(int(r[fcol]), float(r[tcol]), values, status, link, failsafe, texts))
             except ValueError as e:
                 raise AssertionError(f"{path}:{n}: bad frame/time field: {e}") from e
     if not rows:
@@ -257,6 +286,29 @@ def offline_render(pkg, row, outdir):
     return np.asarray(Image.open(os.path.join(outdir, pngs[0])).convert("RGB"))
 
 
+def text_bindings():
+    """The scene's readouts: node -> (signal, printf format, value map), from the scene config."""
+    with open(SCENE_CFG) as f:
+        cfg = json.load(f)
+    return {b["node"]: (b["signal"], b.get("format", "%g"), b.get("map", {}))
+            for b in cfg.get("bindings", []) if b.get("kind") == "text"}
+
+
+def texts_match_values(row, bindings):
+    """True when every live readout of the row drew the text its signal's csv value formats to.
+    The csv holds a needle's smoothed value while its readout draws the newest value, so while a
+    needle moves the two differ by a digit (seen: csv 47.3, readout "48"); an offline render of
+    the csv values reproduces the frame only when they agree."""
+    for node, (sig, fmt, mapping) in bindings.items():
+        if node not in row.texts or not row.valid(sig):
+            continue
+        x = row.values[sig]
+        want = mapping.get(str(int(x))) if x == int(x) and str(int(x)) in mapping else fmt % x
+        if row.texts[node] != want:
+            return False
+    return True
+
+
 def live_frame(viewdir, row):
     return np.asarray(Image.open(os.path.join(viewdir, f"frame_{row.frame:06d}.png")).convert("RGB"))
 
@@ -278,6 +330,8 @@ class Run:
         with open(os.path.join(outdir, "view.log"), "w") as log:
             p = subprocess.Popen([VIEW, "--link", f"tcp:127.0.0.1:{self.port}", "--scene", pkg,
                                   "--out", outdir, "--fps", str(FPS), "--dump-every", "1", *VIEW_RENDER_OPTS,
+                                  "--link-timeout", str(LINK_TIMEOUT_MS),
+                                  "--trace", os.path.join(outdir, "view-trace.csv"),
                                   "--duration", str(self.timeout)], stdout=log, stderr=subprocess.STDOUT)
         self.views.append((outdir, p, time.monotonic()))
         return outdir, p
@@ -344,9 +398,14 @@ class Run:
             kind, _, rest = ph.partition(":")
             if kind in ("replay", "replay-bg"):
                 start, dur = rest.split(":")
-                subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "replay"), "-o",
-                                os.path.join(self.out, f"window_{start}_{dur}.log"),
+                win = os.path.join(self.out, f"window_{start}_{dur}")
+                subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "replay"), "-o", win + ".log",
                                 "--start", start, "--duration", dur, self.log], check=True)
+                # The guest maps these onto vcan0 and runs canplayer directly (guest_scenario.sh).
+                with open(win + ".log") as f:
+                    ifaces = sorted({line.split()[1] for line in f if line.strip()})
+                with open(win + ".ifaces", "w") as f:
+                    f.write("".join(i + "\n" for i in ifaces))
         self.vm = v.with_vcan([GUEST, self.out, BIN, str(self.port), str(self.go_port),
                                self.dbc, self.mapping, self.log] + self.phases,
                               self.out, timeout=self.timeout, cpus=E2E_CPUS,

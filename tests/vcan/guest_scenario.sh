@@ -20,12 +20,23 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 mkdir -p "$out/state"
 ctrl=""
 bg=()
-event() { echo "$(date +%s.%N) $*" >>"$out/events.log"; }
+starts=0
+link_timeout_ms=${METER_E2E_LINK_TIMEOUT_MS:-300}
+if [[ -n ${METER_E2E_NETSTAT:-} ]]; then
+  # Diagnosis: the guest's TCP queues (tx_queue:rx_queue) every 0.2 s, without forking processes.
+  mkfifo /tmp/netstat.fifo
+  ( exec 9<>/tmp/netstat.fifo; while :; do echo "$EPOCHREALTIME"; echo "$(</proc/net/tcp)"; read -r -t 0.2 -u 9; done \
+      >"$out/tcp.txt" ) & netstat=$!
+fi
+# $EPOCHREALTIME, not date: every exec costs tens of ms in a TCG guest.
+event() { echo "$EPOCHREALTIME $*" >>"$out/events.log"; }
 fail() { event "FAIL $*"; echo "guest_scenario: $*" >&2; echo "fail $*" >"$out/result.txt"; exit 1; }
 
 start_controller() {
+  ((++starts))
   "$bin/meter-controller" run --input can:vcan0 --dbc "$dbc" --map "$map" \
-      --link "tcp:0.0.0.0:$port" --state-dir "$out/state" >>"$out/controller.log" 2>&1 &
+      --link "tcp:0.0.0.0:$port" --state-dir "$out/state" --link-timeout "$link_timeout_ms" \
+      --trace "$out/controller-trace-$starts.csv" >>"$out/controller.log" 2>&1 &
   ctrl=$!
   event "controller started pid $ctrl"
   sleep 0.5
@@ -49,14 +60,24 @@ for phase in "$@"; do
        event "go received" ;;
     replay:*:*|replay-bg:*:*)
       IFS=: read -r kind start dur <<<"$phase"
-      # The host prepares the window (vcan/replay -o) so that the guest, where every awk pass
-      # over the log costs seconds under TCG, starts canplayer at once.
-      play=(-i vcan0 --start "$start" --duration "$dur" "$log")
-      [[ -f $out/window_${start}_${dur}.log ]] && play=(-i vcan0 --as-is "$out/window_${start}_${dur}.log")
-      if [[ $kind == replay ]]; then
-        "$root/vcan/replay" "${play[@]}" || fail "replay failed"
+      # The host prepares the window (vcan/replay -o, which validates and cuts it) and lists its
+      # interfaces, so the guest starts canplayer itself at once: vcan/replay's own passes over
+      # the log (cut, sort, wc, ip) took 3.7 s under TCG before the first frame, and the view
+      # looked seconds "behind the bus" that had not started yet (measured with --trace: canplayer
+      # then keeps time within 1 ms over 25 s).
+      win=$out/window_${start}_${dur}
+      if [[ -f $win.log && -f $win.ifaces ]]; then
+        mapfile -t ifs <"$win.ifaces"
+        play=(canplayer -I "$win.log" -l 1)
+        for i in "${ifs[@]}"; do play+=("vcan0=$i"); done
       else
-        "$root/vcan/replay" "${play[@]}" & bg+=($!)
+        play=("$root/vcan/replay" -i vcan0 --start "$start" --duration "$dur" "$log")
+      fi
+      event "replay starts"
+      if [[ $kind == replay ]]; then
+        "${play[@]}" || fail "replay failed"
+      else
+        "${play[@]}" & bg+=($!)
       fi ;;
     sleep:*) sleep "${phase#sleep:}" ;;
     kill-controller) kill -KILL "$ctrl"; wait "$ctrl" 2>/dev/null; ctrl="" ;;
@@ -65,8 +86,12 @@ for phase in "$@"; do
       # 0x0D0 is ID_D0 (steering/yaw/accelerations) in the ft86 DBC: decoded by the controller,
       # drawn by no gauge. Random payloads, no gap: as fast as the kernel takes them (-i: keep going
       # on ENOBUFS; no -x, since on vcan a frame without local loopback reaches no reader at all).
+      read -r tx0 </sys/class/net/vcan0/statistics/tx_packets
       timeout "${phase#flood:}" cangen vcan0 -g 0 -i -I 0D0 -L 8 -D r 2>>"$out/cangen.log"
-      rc=$?; ((rc == 124)) || fail "cangen exited with $rc before its time was up" ;;
+      rc=$?; ((rc == 124)) || fail "cangen exited with $rc before its time was up"
+      # How hard the bus was flooded (all frames on vcan0 in the phase, the replay's included).
+      read -r tx1 </sys/class/net/vcan0/statistics/tx_packets
+      event "flood frames $((tx1 - tx0))" ;;
     rss:*)
       [[ -n $ctrl ]] || fail "rss: no controller running"
       echo "${phase#rss:} $(awk '/^VmRSS:/ {print $2}' "/proc/$ctrl/status")" >>"$out/rss.txt" ;;
@@ -74,6 +99,7 @@ for phase in "$@"; do
   esac
 done
 for p in "${bg[@]}"; do wait "$p" || fail "background replay failed"; done
+[[ -n ${netstat:-} ]] && kill "$netstat"
 
 # The controller must have survived everything after its last (re)start, and stop cleanly.
 [[ -n $ctrl ]] && { kill -0 "$ctrl" 2>/dev/null || fail "meter-controller died during the run (see controller.log)"; }
