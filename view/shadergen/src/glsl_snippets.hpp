@@ -44,6 +44,10 @@ inline constexpr const char* kBlinnPhongSpecular =
 
 // glTF 2.0 spec appendix B: Lambert diffuse + GGX (Trowbridge-Reitz) D, separable Smith-GGX
 // visibility, Schlick Fresnel; returns outgoing radiance for irradiance e from direction l.
+// One deviation, to match the authoring tool: the diffuse lobe is NOT scaled by (1 - F). Blender
+// 3.x's Principled BSDF (EEVEE, Cycles) adds the specular layer on top of the full Lambert
+// diffuse; the spec's energy split made every lit dielectric ~4 % darker than Blender (measured:
+// 1.2-2.4 dB lower PSNR on diffuse, specular, spot, omni; docs/fidelity.md).
 inline constexpr const char* kPbrBrdf =
     R"(vec3 pbr_light(vec3 n, vec3 v, vec3 l, vec3 e, vec3 c_diff, vec3 f0, float alpha) {
   float n_dot_l = dot(n, l);
@@ -58,7 +62,7 @@ inline constexpr const char* kPbrBrdf =
   float distribution = a2 / (PI * dd * dd);
   float visibility = 1.0 / ((n_dot_l + sqrt(a2 + (1.0 - a2) * n_dot_l * n_dot_l)) *
                             (n_dot_v + sqrt(a2 + (1.0 - a2) * n_dot_v * n_dot_v)));
-  vec3 diffuse = (1.0 - fresnel) * c_diff / PI;
+  vec3 diffuse = c_diff / PI;
   vec3 specular = fresnel * (distribution * visibility);
   return (diffuse + specular) * e * n_dot_l;
 }
