@@ -14,6 +14,9 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
 #include <time.h>
 
 #include <CLI/CLI.hpp>
@@ -199,9 +202,11 @@ class FramesCsv {
 // CLOCK_REALTIME (the clock of the controller's trace and of SocketCAN's kernel timestamps), so
 // bench/latency can split a CAN frame's way to the PNG by stage. Rows:
 //   a,<t_ns>,<sender monotonic ns>,<sequence>      a poll applied changes (newest frame's stamp)
-//   r,<t_ns update>,<frame>,<t_ns rendered>,<t_ns png written or 0>
+//   r,<t_ns update>,<frame>,<t_ns rendered>          frame drawn and read back
+//   w,<t_ns>,<frame>                                 its PNG written (writer thread)
 class Trace {
  public:
+  // Rows come from the render loop and from the PNG writer thread.
   explicit Trace(const std::string& path) {
     if (path.empty()) return;
     out_.open(path);
@@ -214,14 +219,106 @@ class Trace {
     return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
   }
   void applied(std::int64_t sender_ns, std::uint64_t seq) {
-    if (out_.is_open()) out_ << "a," << now() << "," << sender_ns << "," << seq << "\n";
+    if (!out_.is_open()) return;
+    std::lock_guard lock(mutex_);
+    out_ << "a," << now() << "," << sender_ns << "," << seq << "\n";
   }
-  void frame(std::uint64_t n, std::int64_t t_update, std::int64_t t_rendered, std::int64_t t_png) {
-    if (out_.is_open()) out_ << "r," << t_update << "," << n << "," << t_rendered << "," << t_png << "\n";
+  void frame(std::uint64_t n, std::int64_t t_update, std::int64_t t_rendered) {
+    if (!out_.is_open()) return;
+    std::lock_guard lock(mutex_);
+    out_ << "r," << t_update << "," << n << "," << t_rendered << "\n";
+  }
+  void png_written(std::uint64_t n) {
+    if (!out_.is_open()) return;
+    std::lock_guard lock(mutex_);
+    out_ << "w," << now() << "," << n << "\n";
   }
 
  private:
+  std::mutex mutex_;
   std::ofstream out_;
+};
+
+// Writes dumped frames as PNG on its own thread. Encoding one 640x240 PNG took 80-190 ms on the
+// loaded CI host (measured with --trace), longer than a frame at 10 fps: done on the render
+// thread it kept the link unserviced for that long every frame (no heartbeats, so the controller
+// declared the view lost, and updates waited in the socket) and made the view miss its frame
+// clock. At most kMaxPending images wait; a caller that finds the queue full waits (every dumped
+// frame is written), servicing whatever `while_full` does meanwhile.
+class PngWriter {
+ public:
+  static constexpr std::size_t kMaxPending = 3;
+  explicit PngWriter(Trace& trace) : trace_(trace), thread_([this] { run(); }) {}
+  ~PngWriter() { finish(); }
+  PngWriter(const PngWriter&) = delete;
+  PngWriter& operator=(const PngWriter&) = delete;
+
+  template <typename WhileFull>
+  void write(const platform::Image& image, std::filesystem::path file, std::uint64_t frame, WhileFull&& while_full) {
+    for (;;) {
+      {
+        std::lock_guard lock(mutex_);
+        rethrow();
+        if (queue_.size() < kMaxPending) {
+          queue_.push_back(Job{image, std::move(file), frame});
+          break;
+        }
+      }
+      while_full();
+    }
+    wake_.notify_one();
+  }
+  // Writes what is queued and stops the thread; throws the first write error, if any.
+  void finish() {
+    {
+      std::lock_guard lock(mutex_);
+      if (done_) return;
+      done_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  void check() {
+    std::lock_guard lock(mutex_);
+    rethrow();
+  }
+
+ private:
+  struct Job {
+    platform::Image image;
+    std::filesystem::path file;
+    std::uint64_t frame;
+  };
+  void rethrow() {
+    if (!error_.empty()) throw Failure(error_);
+  }
+  void run() {
+    for (;;) {
+      Job job;
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait(lock, [&] { return done_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        job = std::move(queue_.front());
+      }
+      try {
+        platform::write_png(job.image, job.file);
+        trace_.png_written(job.frame);
+      } catch (const std::exception& e) {
+        std::lock_guard lock(mutex_);
+        if (error_.empty()) error_ = e.what();
+      }
+      std::lock_guard lock(mutex_);
+      queue_.pop_front();  // only now: the queue bound counts the image being written
+    }
+  }
+  Trace& trace_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<Job> queue_;
+  bool done_ = false;
+  std::string error_;
+  std::thread thread_;
 };
 
 }  // namespace
@@ -349,11 +446,15 @@ int main(int argc, char** argv) {
     auto next = start;
     auto last = start;
     std::uint64_t frame = 0;
+    PngWriter png_writer(trace);
     auto dump = [&](std::uint64_t n, double t, bool drawn) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(n));
-      platform::write_png(renderer.last_image(), fs::path(out_dir) / name);
+      // The row is the state this image was rendered with; the file follows from the writer.
       csv.row(n, t, name, sub.link_up(), drawn);
+      png_writer.write(renderer.last_image(), fs::path(out_dir) / name, n, [&] {
+        if (sub.poll(std::chrono::milliseconds(5))) trace_applied();
+      });
     };
     while (!g_stop) {
       const auto now0 = Clock::now();
@@ -380,8 +481,8 @@ int main(int argc, char** argv) {
       auto ft = renderer.render(false, want);
       const std::int64_t t_rendered = trace.now();
       log_timing(frame, t, ft);
+      trace.frame(frame, t_update, t_rendered);
       if (want) dump(frame, t, ft.drawn);
-      trace.frame(frame, t_update, t_rendered, want ? trace.now() : 0);
       sub.send_status(renderer.stats().drawn, 0);
       ++frame;
       next += period;
@@ -391,6 +492,8 @@ int main(int argc, char** argv) {
       renderer.read();
       dump(frame - 1, std::chrono::duration<double>(Clock::now() - start).count(), false);
     }
+    png_writer.finish();  // every dumped frame is on disk before the exit status says so
+    png_writer.check();
     const auto& st = renderer.stats();
     std::cerr << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped << " skipped (inputs unchanged)\n";
     return 0;
