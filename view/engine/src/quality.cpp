@@ -75,12 +75,16 @@ shadergen::MaterialFeatures features_for(const Scene& s, const DrawItem& d, cons
 
 // A PBR material shown with a Blinn-Phong-style model keeps the converter's defaults (specular 0.5,
 // shininess 32) unless mapped: the usual conversion is alpha = roughness^2, shininess = 2/alpha^2 - 2
-// (same highlight width), specular = F0 (0.04 for dielectrics, base colour for metals).
+// (same highlight width), specular = F0 (0.04 for dielectrics, base colour for metals), diffuse =
+// the PBR diffuse colour (black for metals: a chrome part lit as a white Lambert surface plus its
+// reflection would be blown out).
 void map_pbr_to_phong(Material& m) {
   const float a = std::max(m.roughness * m.roughness, 0.02f);
   m.shininess = std::clamp(2.0f / (a * a) - 2.0f, 1.0f, 2048.0f);
-  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), glm::vec3(m.base_color), m.metallic);
+  const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
+  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), glm::vec3(m.base_color), metallic);
   m.specular_color = f0;
+  m.base_color = glm::vec4(glm::vec3(m.base_color) * (1.0f - metallic), m.base_color.a);
 }
 
 void simplify(Primitive& p, float lod, QualityReport& report) {
