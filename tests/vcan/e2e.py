@@ -309,6 +309,24 @@ def texts_match_values(row, bindings):
     return True
 
 
+# The demo drive's golden frames: these states rendered offline, speed and rpm valid and nothing
+# else (so a golden depends on scene and renderer only, never on a run), committed as
+# tests/vcan/golden/demo_<name>.png; tests/vcan/regen_golden.py rewrites them.
+GOLDEN_DIR = os.path.join(v.SOURCE_DIR, "tests", "vcan", "golden")
+GOLDEN_STATES = {"idle": {SPEED: 0.0, RPM: 800.0},
+                 "city": {SPEED: 50.0, RPM: 2000.0},
+                 "motorway": {SPEED: 120.0, RPM: 2800.0}}
+
+
+def golden_path(name):
+    return os.path.join(GOLDEN_DIR, f"demo_{name}.png")
+
+
+def golden_state_render(pkg, name, outdir):
+    state = GOLDEN_STATES[name]
+    return offline_render(pkg, Row(0, 0.0, dict(state), {s: "valid" for s in state}, True), outdir)
+
+
 def live_frame(viewdir, row):
     return np.asarray(Image.open(os.path.join(viewdir, f"frame_{row.frame:06d}.png")).convert("RGB"))
 

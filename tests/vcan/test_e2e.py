@@ -113,7 +113,6 @@ class DemoOverVcan(E2eBase):
     """The bundled drive cycle, judged against the controller's own decode (itself checked
     against canmatrix here) and against committed golden frames."""
     START, DUR = 0.0, 40.0
-    GOLDEN_DIR = os.path.join(v.SOURCE_DIR, "tests", "vcan", "golden")
     # The named state's render vs the committed golden: the same scene, renderer and state give
     # the same pixels (inf on one machine); the margin is for another Mesa/llvmpipe build's
     # rasterisation. A wrong scene, colours, needle scale or a readout digit off is ~25 dB or less
@@ -161,11 +160,8 @@ class DemoOverVcan(E2eBase):
         subprocess.run([os.path.join(v.SOURCE_DIR, "scripts", "make-video"), viewdir], check=True)
 
     def check_golden(self, run, viewdir, rows):
-        """Golden frames: offline renders of three named states of the drive cycle, committed. The
-        live frame whose drawn values are nearest each state must match it."""
-        states = {"idle": {e2e.SPEED: 0.0, e2e.RPM: 800.0},
-                  "city": {e2e.SPEED: 50.0, e2e.RPM: 2000.0},
-                  "motorway": {e2e.SPEED: 120.0, e2e.RPM: 2800.0}}
+        """Golden frames: renders of three named states of the drive cycle, committed. The live frame
+        nearest each state must equal the render of its own row, and the state's render the golden."""
         pkg = e2e.scene_package()
         bindings = e2e.text_bindings()
         # Settled frames whose readouts agree with their csv values (see check_pixels): a frame
@@ -173,8 +169,7 @@ class DemoOverVcan(E2eBase):
         live = [r for r in e2e.judged_rows(rows, {e2e.SPEED: None, e2e.RPM: None})
                 if e2e.texts_match_values(r, bindings)]
         self.assertTrue(live, "no settled live frame to compare with the golden frames")
-        for name, state in states.items():
-            golden = os.path.join(self.GOLDEN_DIR, f"demo_{name}.png")
+        for name, state in e2e.GOLDEN_STATES.items():
             near = [r for r in live if abs(r.values[e2e.SPEED] - state[e2e.SPEED]) <= 5.0
                     and abs(r.values[e2e.RPM] - state[e2e.RPM]) <= 300.0]
             self.assertTrue(near, f"{name}: no settled live frame within 5 km/h and 300 rpm of {state}")
@@ -188,19 +183,20 @@ class DemoOverVcan(E2eBase):
             # renders like the committed golden (a regression test of scene and renderer).
             own = e2e.offline_render(pkg, base, os.path.join(run.out, f"golden_frame_{name}"))
             p_own = e2e.psnr(e2e.live_frame(viewdir, base), own)
-            exact = e2e.Row(base.frame, base.time, dict(state), {s: "valid" for s in state}, True)
-            ref = e2e.offline_render(pkg, exact, os.path.join(run.out, f"golden_state_{name}"))
+            ref = e2e.golden_state_render(pkg, name, os.path.join(run.out, f"golden_state_{name}"))
+            golden = e2e.golden_path(name)
             if os.environ.get("METER_REGEN_GOLDEN") == "1":
-                os.makedirs(self.GOLDEN_DIR, exist_ok=True)
                 e2e.Image.fromarray(ref).save(golden)
-            self.assertTrue(os.path.exists(golden), f"{golden} missing: run once with METER_REGEN_GOLDEN=1")
+            self.assertTrue(os.path.exists(golden), f"{golden} missing: run tests/vcan/regen_golden.py")
             g = e2e.np.asarray(e2e.Image.open(golden).convert("RGB"))
             p_golden, p_live = e2e.psnr(ref, g), e2e.psnr(e2e.live_frame(viewdir, base), g)
             print(f"e2e_demo: {name}: frame {base.frame} ({base.values[e2e.SPEED]:.1f} km/h, "
                   f"{base.values[e2e.RPM]:.0f} rpm) vs its row {p_own:.1f} dB; state vs golden {p_golden:.1f} dB; "
                   f"frame vs golden {p_live:.1f} dB (not judged: different state)")
             self.assertGreaterEqual(p_own, PIXEL_PSNR_DB, f"{name}: live frame {base.frame} vs its csv row {p_own:.1f} dB")
-            self.assertGreaterEqual(p_golden, self.GOLDEN_PSNR_DB, f"{name}: the state's render vs golden {p_golden:.1f} dB")
+            self.assertGreaterEqual(p_golden, self.GOLDEN_PSNR_DB,
+                                    f"{name}: the state's render vs {golden}: {p_golden:.1f} dB (after a deliberate "
+                                    f"scene or renderer change: tests/vcan/regen_golden.py)")
 
 
 class Faults(E2eBase):
