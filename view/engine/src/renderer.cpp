@@ -464,6 +464,9 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
     } else if (!visible_[static_cast<std::size_t>(d->item->node)]) {
       continue;
     }
+    // A draw whose screen box misses the scissor cannot change a pixel of this pass; on llvmpipe
+    // skipping it saves its vertex work and triangle setup, which the scissor alone does not.
+    if (scissor && outside(*d, *scissor, vp)) continue;
     const glm::vec3 c = (d->prim->bounds_min + d->prim->bounds_max) * 0.5f;
     glm::vec4 clip = vp * world_[static_cast<std::size_t>(d->item->node)] * glm::vec4(c, 1.0f);
     d->sort_depth = clip.w;
@@ -741,6 +744,39 @@ std::vector<Renderer::DrawnText> Renderer::visible_texts() {
   return out;
 }
 
+std::optional<PixelRegion> Renderer::screen_box(const Primitive& prim, const glm::mat4& world, const glm::mat4& vp) const {
+  const glm::mat4 m = vp * world;
+  float x0 = std::numeric_limits<float>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec3 p((k & 1) ? prim.bounds_max.x : prim.bounds_min.x, (k & 2) ? prim.bounds_max.y : prim.bounds_min.y,
+                      (k & 4) ? prim.bounds_max.z : prim.bounds_min.z);
+    const glm::vec4 c = m * glm::vec4(p, 1.0f);
+    if (!(c.w > 1e-6f)) return std::nullopt;
+    const float sx = (c.x / c.w * 0.5f + 0.5f) * float(width_), sy = (c.y / c.w * 0.5f + 0.5f) * float(height_);
+    if (!std::isfinite(sx) || !std::isfinite(sy)) return std::nullopt;
+    x0 = std::min(x0, sx), x1 = std::max(x1, sx), y0 = std::min(y0, sy), y1 = std::max(y1, sy);
+  }
+  // Pixels are covered by their centre (and MSAA samples inside them): floor/ceil plus 1 px.
+  const float lim = 4.0f * float(std::max(width_, height_));
+  x0 = std::clamp(x0, -lim, lim), x1 = std::clamp(x1, -lim, lim), y0 = std::clamp(y0, -lim, lim), y1 = std::clamp(y1, -lim, lim);
+  const int ix0 = int(std::floor(x0)) - 1, iy0 = int(std::floor(y0)) - 1;
+  const int ix1 = int(std::ceil(x1)) + 1, iy1 = int(std::ceil(y1)) + 1;
+  return PixelRegion{ix0, iy0, ix1 - ix0, iy1 - iy0};
+}
+
+bool Renderer::outside(const GpuDraw& d, const PixelRegion& scissor, const glm::mat4& vp) const {
+  auto misses = [&](const GpuDraw& one) {
+    const Node& node = scene_.nodes[static_cast<std::size_t>(one.item->node)];
+    if (node.skin >= 0 || one.prim->morph_targets > 0) return false;  // bounds unknown: draw it
+    const auto b = screen_box(*one.prim, world_[static_cast<std::size_t>(one.item->node)], vp);
+    return b && !overlap(*b, scissor);
+  };
+  if (!d.group) return misses(d);
+  for (const auto& m : d.group->members)
+    if (m.visible && !misses(*m.draw)) return false;
+  return true;
+}
+
 std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp) {
   if (!options_.partial_redraw || !drawn_valid_ || vp != drawn_vp_) return std::nullopt;
   // A light that moved or changed lights every pixel.
@@ -751,24 +787,9 @@ std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp) {
   // Screen box of a draw's bounds under `world`; false when a corner is at or behind the eye
   // (no finite box: redraw everything).
   auto box = [&](const GpuDraw& d, const glm::mat4& world) -> bool {
-    const glm::mat4 m = vp * world;
-    float x0 = std::numeric_limits<float>::max(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (int k = 0; k < 8; ++k) {
-      const glm::vec3 p((k & 1) ? d.prim->bounds_max.x : d.prim->bounds_min.x, (k & 2) ? d.prim->bounds_max.y : d.prim->bounds_min.y,
-                        (k & 4) ? d.prim->bounds_max.z : d.prim->bounds_min.z);
-      const glm::vec4 c = m * glm::vec4(p, 1.0f);
-      if (!(c.w > 1e-6f)) return false;
-      const float sx = (c.x / c.w * 0.5f + 0.5f) * float(width_), sy = (c.y / c.w * 0.5f + 0.5f) * float(height_);
-      if (!std::isfinite(sx) || !std::isfinite(sy)) return false;
-      x0 = std::min(x0, sx), x1 = std::max(x1, sx), y0 = std::min(y0, sy), y1 = std::max(y1, sy);
-    }
-    // Pixels are covered by their centre (and MSAA samples inside them): floor/ceil plus 1 px.
-    const float lim = 4.0f * float(std::max(width_, height_));
-    x0 = std::clamp(x0, -lim, lim), x1 = std::clamp(x1, -lim, lim), y0 = std::clamp(y0, -lim, lim), y1 = std::clamp(y1, -lim, lim);
-    const int ix0 = int(std::floor(x0)) - 1, iy0 = int(std::floor(y0)) - 1;
-    const int ix1 = int(std::ceil(x1)) + 1, iy1 = int(std::ceil(y1)) + 1;
-    regions.push_back({ix0, iy0, ix1 - ix0, iy1 - iy0});
-    return true;
+    const auto b = screen_box(*d.prim, world, vp);
+    if (b) regions.push_back(*b);
+    return b.has_value();
   };
   for (std::size_t i = 0; i < draws_.size(); ++i) {
     const DrawnDraw now = drawn_state(i);

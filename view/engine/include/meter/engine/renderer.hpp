@@ -119,6 +119,11 @@ class Renderer {
   DrawnDraw drawn_state(std::size_t draw) const;
   std::vector<DrawnText> visible_texts();
   platform::TextRenderer& text_renderer(int size_px);
+  // Pixel box (GL window coordinates, padded) of a primitive's bounds; nullopt when a corner is
+  // at or behind the eye (no finite box).
+  std::optional<platform::PixelRegion> screen_box(const Primitive& prim, const glm::mat4& world, const glm::mat4& vp) const;
+  // True when nothing `d` draws (every visible member, for a merged group) can touch `scissor`.
+  bool outside(const GpuDraw& d, const platform::PixelRegion& scissor, const glm::mat4& vp) const;
   // Regions to redraw (disjoint), or nullopt when the whole target must be redrawn.
   std::optional<std::vector<platform::PixelRegion>> damage(const glm::mat4& vp);
   void remember_drawn(const glm::mat4& vp);
