@@ -334,7 +334,9 @@ def live_frame(viewdir, row):
 
 # ---- one run: VM (controller + replay phases) and the view on the host ------------------------
 class Run:
-    def __init__(self, name, phases, log, dbc, mapping, timeout=110):
+    # 150 s for the whole VM run: boot (12 s quiet, 60 s seen under heavy load), the longest
+    # replay (40 s) and the waits around it.
+    def __init__(self, name, phases, log, dbc, mapping, timeout=150):
         self.name, self.phases, self.log, self.dbc, self.mapping = name, phases, log, dbc, mapping
         self.timeout = timeout
         self.out = v.fresh_dir(name)
