@@ -30,9 +30,10 @@ std::int64_t realtime_ns() {
 
 // --trace: one CSV line per pipeline event, so the time from a frame's kernel receive timestamp to
 // the link can be split by stage offline (bench/latency). Rows:
-//   f,<read_ns>,<frame_ts_ns>,<can id>          frame handed to the model (ts: kernel stamp on can:)
+//   f,<t_ns>,<frame_ts_ns>,<can id>             the model has decoded the frame (ts: kernel stamp on can:)
 //   p,<t_ns>,<signal id>,<value>                a changed output handed to the publisher
 //   s,<t_ns>,<bytes sent total>,<deltas total>  the link wrote bytes to the socket
+//   c,<t_ns>,<CLOCK_MONOTONIC ns>,              once: maps the link's send stamps onto t_ns
 // Buffered in memory-sized blocks: the controller's loop must not wait for a disk (or a 9p share).
 class Trace {
  public:
@@ -42,6 +43,10 @@ class Trace {
     out_.open(path);
     if (!out_) throw std::runtime_error(path + ": cannot write the trace");
     out_ << "event,t_ns,a,b\n";
+    // The link's frames carry CLOCK_MONOTONIC send stamps: this pair maps them onto the trace.
+    timespec mono;
+    clock_gettime(CLOCK_MONOTONIC, &mono);
+    out_ << "c," << realtime_ns() << "," << static_cast<std::int64_t>(mono.tv_sec) * 1000000000LL + mono.tv_nsec << ",\n";
   }
   bool on() const { return out_.is_open(); }
   void frame(const CanFrame& f) {
