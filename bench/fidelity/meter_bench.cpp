@@ -267,11 +267,10 @@ std::string fmt(double v, int prec = 2) {
 // bar without an entry is reported as "not analysed" so a new regression is never explained away.
 std::string known_cause(const std::string& scene) {
   static const std::map<std::string, std::string> causes = {
-      {"reflection", "The mirror shows the environment's grid lines and softbox edges sharp and aliased: one mip-filtered lookup "
-                     "per pixel (LOD sqrt(roughness) * log2(width) = 2.0 for this chrome) and nothing filters across the pixel's "
-                     "footprint on the curved surface, where EEVEE averages 64 samples per pixel; the error sits on those edges and "
-                     "falls with supersampling. Fix planned: LOD from the reflection vector's screen derivatives (the texture "
-                     "footprint) or supersampling where the budget allows"},
+      {"reflection", "The mirror shows the environment's grid lines and softbox edges: one mip-filtered lookup per pixel "
+                     "(LOD from the reflection vector's screen footprint) where EEVEE averages 64 samples per pixel; the error "
+                     "sits on those edges and falls with supersampling. Fix planned: anisotropic filtering of the footprint or "
+                     "supersampling where the budget allows"},
       {"bump", "The hammered dimples' rims (normal-map detail) alias under MSAA 4, which does not multisample shading, while "
                "EEVEE averages 64 samples per pixel: the error sits on the rims and falls with supersampling. Fix planned: "
                "specular anti-aliasing of the normal map (Toksvig-style roughness from the mip's normal length)"},
@@ -403,7 +402,9 @@ int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path
         "brackets):\n\n"
         "- **Environment maps** (the converter loads the image the scene extras name, `meter_environment`; "
         "docs/engine.md, \"Environment\"): reflection 19.02 (12.03) → 35.38 (28.47), envmap2d 31.85 (24.92) → "
-        "42.33 (35.76). Of that, EEVEE's LOD mapping (sqrt(roughness) instead of roughness) is 1.41 dB on reflection. "
+        "42.33 (35.76); then the mirror's LOD from the reflection vector's screen footprint: reflection 37.75 (30.90). "
+        "Of that, EEVEE's roughness-to-LOD mapping (sqrt(roughness) instead of roughness) is 1.41 dB and the footprint "
+        "2.37 dB (twice the footprint: 0.35 dB). "
         "`meter-bench fidelity --quality environment=off` reproduces the before column.\n"
         "- **Spot cone as Blender draws it** (smoothstep over (1 − cos(size/2)) · blend, docs/shaders.md): spot 29.25 "
         "(26.49) → 40.07 (37.48); cluster (two spot-lit dials) 27.02 → 27.44. For this scene's cone (inner 17°, outer "

@@ -295,6 +295,7 @@ Program generate(const MaterialFeatures& requested) {
         args += ", " + name;
       }
       b.fs_functions += detail::kEquirect;
+      b.fs_functions += detail::kEnvironmentFootprint;
       b.fs_functions += detail::kAmbientCube;
       env_diffuse = "ambient_cube(n" + args + ")";
     }
@@ -332,8 +333,9 @@ Program generate(const MaterialFeatures& requested) {
         // roughness * max lod it gains 1.4 dB on the reflection scene (docs/fidelity.md).
         fb += "  vec3 r = reflect(-v, n);\n";
         fb += "  float max_lod = log2(float(textureSize(u_environment_texture, 0).x));\n";
-        fb += "  vec3 environment = textureLod(u_environment_texture, equirect_uv(r), sqrt(roughness) * "
-              "max_lod).rgb * u_environment_intensity;\n";
+        fb += "  float env_lod = max(sqrt(roughness) * max_lod, environment_footprint_lod(r, max_lod));\n";
+        fb += "  vec3 environment = textureLod(u_environment_texture, equirect_uv(r), env_lod).rgb * "
+              "u_environment_intensity;\n";
         fb += "  color += (c_diff * " + env_diffuse + " + specular_weight * environment) * ao;\n";
       } else {
         fb += "  color += (c_diff + specular_weight) * u_ambient_light * ao;\n";
@@ -354,9 +356,11 @@ Program generate(const MaterialFeatures& requested) {
       if (f.environment_map_2d) {
         fb += "  color += base_color.rgb * " + env_diffuse + " * ao;\n";
         fb += "  vec3 r = reflect(-v, n);\n";
-        // textureLod at 0, not texture(): the equirect seam (u wraps 1 -> 0) would make the
-        // derivative-based LOD pick the coarsest mip along a one-pixel line.
-        fb += "  color += u_specular_color * textureLod(u_environment_texture, equirect_uv(r), 0.0).rgb * "
+        // textureLod at the footprint LOD, not texture(): the equirect seam (u wraps 1 -> 0) would
+        // make the UV-derivative LOD pick the coarsest mip along a one-pixel line.
+        fb += "  float max_lod = log2(float(textureSize(u_environment_texture, 0).x));\n";
+        fb += "  color += u_specular_color * textureLod(u_environment_texture, equirect_uv(r), "
+              "environment_footprint_lod(r, max_lod)).rgb * "
               "u_environment_intensity * ao;\n";
       } else {
         fb += "  color += base_color.rgb * u_ambient_light * ao;\n";
