@@ -205,10 +205,10 @@ LAG_RANGE = (-2.0, 8.0)     # the view never runs ahead by > 2 s nor behind by >
 SETTLE_AFTER_LINK_S = 2.0   # after a (re)connect the view's needle smoothing starts from failsafe
 
 
-def judged_rows(rows, envs):
-    """Rows that draw live, valid values for every judged signal and have done so for
-    SETTLE_AFTER_LINK_S: after a (re)connect or a signal turning valid, the view animates the
-    needle in from its failsafe position."""
+def judged_rows(rows, envs, settle=SETTLE_AFTER_LINK_S):
+    """Rows that draw live, valid values for every judged signal and have done so for `settle`
+    seconds: after a (re)connect or a signal turning valid, the view animates the needle in from
+    its failsafe position."""
     out, since = [], None
     for r in rows:
         if r.link is False or not all(r.valid(s) for s in envs):
@@ -216,7 +216,7 @@ def judged_rows(rows, envs):
             continue
         if since is None:
             since = r.time
-        if r.time - since >= SETTLE_AFTER_LINK_S:
+        if r.time - since >= settle:
             out.append(r)
     return out
 
