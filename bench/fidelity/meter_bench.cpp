@@ -272,8 +272,9 @@ std::string known_cause(const std::string& scene) {
                      "sits on those edges and falls with supersampling. Fix planned: anisotropic filtering of the footprint or "
                      "supersampling where the budget allows"},
       {"bump", "The hammered dimples' rims (normal-map detail) alias under MSAA 4, which does not multisample shading, while "
-               "EEVEE averages 64 samples per pixel: the error sits on the rims and falls with supersampling. Fix planned: "
-               "specular anti-aliasing of the normal map (Toksvig-style roughness from the mip's normal length)"},
+               "EEVEE averages 64 samples per pixel: the error sits on the rims and falls with supersampling. Toksvig-style "
+               "roughness from the mip's normal length was tried and bought 0.06 dB (not kept). Fix planned: per-sample "
+               "shading or supersampling of normal-mapped materials where the budget allows"},
       {"cluster", "Thin, high-contrast detail (ticks, numerals, needle and bezel outlines) carries almost all the error; the "
                   "reference is a JPEG (quality 85: the engine's own frame through the same JPEG scores 35.6 dB against "
                   "itself, a ceiling for any render) with EEVEE soft shadows (needle hubs) the engine does not draw. Fix "
@@ -404,7 +405,7 @@ int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path
         "docs/engine.md, \"Environment\"): reflection 19.02 (12.03) → 35.38 (28.47), envmap2d 31.85 (24.92) → "
         "42.33 (35.76); then the mirror's LOD from the reflection vector's screen footprint: reflection 37.75 (30.90). "
         "Of that, EEVEE's roughness-to-LOD mapping (sqrt(roughness) instead of roughness) is 1.41 dB and the footprint "
-        "2.37 dB (twice the footprint: 0.35 dB). "
+        "2.37 dB (a footprint twice as wide gains only 0.35 dB). "
         "`meter-bench fidelity --quality environment=off` reproduces the before column.\n"
         "- **Spot cone as Blender draws it** (smoothstep over (1 − cos(size/2)) · blend, docs/shaders.md): spot 29.25 "
         "(26.49) → 40.07 (37.48); cluster (two spot-lit dials) 27.02 → 27.44. For this scene's cone (inner 17°, outer "
