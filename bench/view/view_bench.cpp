@@ -223,13 +223,23 @@ int main() {
               c.p99_ms / fill_p99);
 
   // 3b. What a live view really draws: a drive at 60 fps, needles smoothed towards moving values,
-  // readouts changing, an indicator blinking; full redraw vs partial redraw, MSAA 4 vs 1.
+  // readouts changing, an indicator blinking; the uber-shader baseline vs the generated programs,
+  // full redraw vs partial redraw, MSAA 4 vs 1.
   std::printf("\n## 3b. cluster 1280x480 on EGL through a 5 s drive at 60 fps (300 frames, not forced)\n");
   std::printf("%-22s %10s %10s %10s %12s %14s\n", "mode", "median ms", "p99 ms", "p99/fill", "drawn", "mean redrawn");
-  for (int msaa : {4, 1}) {
-    for (bool partial : {false, true}) {
+  struct Mode {
+    int msaa;
+    bool partial, uber;
+  };
+  for (const Mode m : {Mode{4, false, true}, Mode{4, false, false}, Mode{4, true, false}, Mode{1, false, false},
+                       Mode{1, true, false}}) {
+    {
+      const int msaa = m.msaa;
+      const bool partial = m.partial;
       engine::RendererOptions o;
       o.width = 1280, o.height = 480, o.msaa = msaa, o.partial_redraw = partial;
+      const shadergen::Program uber = shadergen::generate_uber();
+      if (m.uber) o.uber_shader = &uber;
       engine::Renderer r(*egl, cluster, o);
       engine::BindingEvaluator ev(cluster);
       std::map<int, engine::SignalValue> values;
@@ -257,7 +267,7 @@ int main() {
       const auto& st = r.stats();
       const double p99 = percentile(v, 0.99);
       char mode[32];
-      std::snprintf(mode, sizeof mode, "MSAA %d %s", msaa, partial ? "partial" : "full");
+      std::snprintf(mode, sizeof mode, "MSAA %d %s%s", msaa, partial ? "partial" : "full", m.uber ? " uber" : "");
       std::printf("%-22s %10.2f %10.2f %9.2fx %6llu/%-5llu %13.1f%%\n", mode, percentile(v, 0.5), p99, p99 / fill_p99,
                   static_cast<unsigned long long>(st.drawn), static_cast<unsigned long long>(st.frames),
                   100.0 * st.redrawn_fraction_sum / double(std::max<std::uint64_t>(1, st.drawn)));

@@ -56,6 +56,8 @@ struct Renderer::GpuDraw {
   std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
   float sort_depth = 0.0f;
   Renderer::GpuGroup* group = nullptr;  // set on a merged group's representative only
+  // The program generated for this draw: blend and cull state, and (uber mode) the switches.
+  const shadergen::Program* shape = nullptr;
 };
 
 // One merged group: world-space vertices of every member in one dynamic buffer, indices of the
@@ -118,18 +120,47 @@ Renderer::~Renderer() {
 
 std::string Renderer::backend_info() const { return backend_.renderer_info(); }
 
+namespace {
+bool is_light_semantic(UniformSemantic s) {
+  return s == UniformSemantic::LightColor || s == UniformSemantic::LightIntensity || s == UniformSemantic::LightPosition ||
+         s == UniformSemantic::LightDirection || s == UniformSemantic::LightRange ||
+         s == UniformSemantic::LightInnerConeCos || s == UniformSemantic::LightOuterConeCos;
+}
+
+// Runtime switches of shadergen::generate_uber() for a draw generated with `f` (the bit layout is
+// uber.cpp's). Slot 0: vertex stage, slot 1: fragment stage.
+glm::ivec4 uber_switches(const shadergen::MaterialFeatures& f, int slot) {
+  using shadergen::ShadingModel;
+  int textures = 0;
+  const bool tex[5] = {f.base_color_texture, f.metallic_roughness_texture, f.normal_texture, f.emissive_texture,
+                       f.occlusion_texture};
+  for (int k = 0; k < 5; ++k) textures |= tex[k] ? 1 << k : 0;
+  if (slot == 0) return {0, 0, (f.vertex_colors ? 1 : 0) | (f.skin_joints > 0 ? 2 : 0), 0};
+  const int model = f.shading == ShadingModel::Unlit ? 0 : f.shading == ShadingModel::PbrMetallicRoughness ? 2 : 1;
+  const int bits = (f.double_sided ? 4 : 0) | (f.has_tangents ? 8 : 0) | (f.texture_transform ? 16 : 0);
+  return {model, textures, bits, static_cast<int>(f.alpha) | static_cast<int>(f.texcoord1_slots << 4)};
+}
+}  // namespace
+
 void Renderer::build() {
-  // Programs.
-  for (std::size_t i = 0; i < scene_.programs.size(); ++i) {
-    const auto& p = scene_.programs[i].program;
+  // Programs: the package's generated ones, or (benchmark baseline) the uber-shader alone.
+  auto add_program = [&](const shadergen::Program& p, const std::string& label) {
     auto gp = std::make_unique<GpuProgram>();
     gp->info = &p;
-    gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source,
-                                            scene_.source_name + " program " + std::to_string(i));
+    gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source, label);
     for (const auto& u : p.uniforms) {
       GpuProgram::Uniform gu;
-      gu.location = gl_.GetUniformLocation(gp->program, u.name.c_str());
       gu.semantic = u.semantic;
+      if (is_light_semantic(u.semantic) && u.array_size > 1) {
+        // The uber-shader's light arrays: one location per element, each set like a single light.
+        for (int k = 0; k < u.array_size; ++k) {
+          gu.location = gl_.GetUniformLocation(gp->program, (u.name + "[" + std::to_string(k) + "]").c_str());
+          gu.index = u.index + k;
+          if (gu.location >= 0) gp->uniforms.push_back(gu);
+        }
+        continue;
+      }
+      gu.location = gl_.GetUniformLocation(gp->program, u.name.c_str());
       gu.index = u.index;
       gu.array_size = u.array_size;
       if (gu.location >= 0) gp->uniforms.push_back(gu);  // the driver may drop unused uniforms
@@ -139,6 +170,14 @@ void Renderer::build() {
       if (gs.location >= 0) gp->samplers.push_back(gs);
     }
     programs_.push_back(std::move(gp));
+  };
+  if (options_.uber_shader) {
+    if (!options_.uber_shader->uber) throw SceneError("RendererOptions::uber_shader is not an uber-shader program");
+    add_program(*options_.uber_shader, scene_.source_name + " uber-shader");
+    options_.concatenate = false;  // the uber-shader has no vertex-alpha input
+  } else {
+    for (std::size_t i = 0; i < scene_.programs.size(); ++i)
+      add_program(scene_.programs[i].program, scene_.source_name + " program " + std::to_string(i));
   }
   // Textures.
   for (const auto& t : scene_.textures) {
@@ -182,7 +221,8 @@ void Renderer::build() {
     auto gd = std::make_unique<GpuDraw>();
     gd->item = &d;
     gd->prim = &prim;
-    gd->program = programs_[static_cast<std::size_t>(d.program)].get();
+    gd->shape = &scene_.programs[static_cast<std::size_t>(d.program)].program;
+    gd->program = programs_[options_.uber_shader ? 0 : static_cast<std::size_t>(d.program)].get();
     gd->index_count = static_cast<GLsizei>(prim.indices.size());
     gl_.GenVertexArrays(1, &gd->vao);
     gl_.BindVertexArray(gd->vao);
@@ -470,16 +510,21 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
     const glm::vec3 c = (d->prim->bounds_min + d->prim->bounds_max) * 0.5f;
     glm::vec4 clip = vp * world_[static_cast<std::size_t>(d->item->node)] * glm::vec4(c, 1.0f);
     d->sort_depth = clip.w;
-    (d->program->info->blend ? blended : opaque).push_back(d.get());
+    (d->shape->blend ? blended : opaque).push_back(d.get());
   }
   std::stable_sort(opaque.begin(), opaque.end(), [](auto* a, auto* b) { return a->sort_depth < b->sort_depth; });
   std::stable_sort(blended.begin(), blended.end(), [](auto* a, auto* b) { return a->sort_depth > b->sort_depth; });
 
+  // First index and count of each light type (directional, point, spot) in the sorted list.
+  int light_first[3] = {0, 0, 0}, light_count[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < lights.size(); ++k) {
+    const int type = static_cast<int>(scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(lights[k])].light)].type);
+    if (light_count[type]++ == 0) light_first[type] = static_cast<int>(k);
+  }
   std::vector<float> scratch;
   GpuProgram* current = nullptr;
   auto draw_one = [&](GpuDraw* d) {
     GpuProgram* gp = d->program;
-    const auto& info = *gp->info;
     const auto node_index = static_cast<std::size_t>(d->item->node);
     const Node& node = scene_.nodes[node_index];
     const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
@@ -490,7 +535,8 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
       gl.UseProgram(gp->program);
       current = gp;
     }
-    if (info.blend) {
+    const shadergen::Program& shape = *d->shape;
+    if (shape.blend) {
       gl.Enable(GL_BLEND);
       gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
       gl.DepthMask(GL_FALSE);
@@ -498,7 +544,7 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
       gl.Disable(GL_BLEND);
       gl.DepthMask(GL_TRUE);
     }
-    if (info.cull_back_faces) {
+    if (shape.cull_back_faces) {
       gl.Enable(GL_CULL_FACE);
       gl.CullFace(GL_BACK);
     } else {
@@ -545,8 +591,15 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
         case UniformSemantic::LightRange:
         case UniformSemantic::LightInnerConeCos:
         case UniformSemantic::LightOuterConeCos: {
-          if (u.index < 0 || static_cast<std::size_t>(u.index) >= lights.size()) break;
-          const int ln = lights[static_cast<std::size_t>(u.index)];
+          int index = u.index;
+          if (gp->info->uber) {
+            // Uber arrays: index = 2 * type + k (k-th light of that type); generated programs
+            // index the type-sorted list directly.
+            const int type = index / 2, k = index % 2;
+            index = k < light_count[type] ? light_first[type] + k : -1;
+          }
+          if (index < 0 || static_cast<std::size_t>(index) >= lights.size()) break;
+          const int ln = lights[static_cast<std::size_t>(index)];
           const Light& li = scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(ln)].light)];
           const glm::mat4& lw = world_[static_cast<std::size_t>(ln)];
           if (u.semantic == UniformSemantic::LightColor) gl.Uniform3f(l, li.color.r, li.color.g, li.color.b);
@@ -586,8 +639,16 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
         case UniformSemantic::TextureTransform:
           if (u.index >= 0 && u.index < 6) gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(mat.uv_transform[static_cast<std::size_t>(u.index)]));
           break;
-        case UniformSemantic::UberSwitches:
-        case UniformSemantic::UberLightCounts: break;  // uber baseline only; never in a package
+        case UniformSemantic::UberSwitches: {  // uber baseline only; never in a package
+          const glm::ivec4 sw = uber_switches(shape.features, u.index);
+          gl.Uniform4i(l, sw.x, sw.y, sw.z, sw.w);
+          break;
+        }
+        case UniformSemantic::UberLightCounts: {
+          const auto& c = shape.features.lights;
+          gl.Uniform3i(l, std::min(c.directional, 2), std::min(c.point, 2), std::min(c.spot, 2));
+          break;
+        }
       }
     }
     for (const auto& s : gp->samplers) {

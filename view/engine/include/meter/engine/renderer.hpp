@@ -40,6 +40,13 @@ struct RendererOptions {
   // image as a full redraw (tests/partial_redraw_test.cpp proves it pixel for pixel). Off: every
   // drawn frame is a full redraw (the reference for tests and benchmarks).
   bool partial_redraw = true;
+  // Benchmark baseline only (bench/view): when set, every draw goes through this ONE uber-shader
+  // (shadergen::generate_uber(), made by the caller: the runtime does not link the generator)
+  // with runtime switches set per draw from its generated program's features, as an engine
+  // without a shader generator would. It has no Flat/Gouraud (drawn per pixel as Blinn-Phong),
+  // morph targets, environment map or vertex alpha, so concatenation is off in this mode and the
+  // image is close to, not always equal to, the generated programs'. Must outlive the renderer.
+  const shadergen::Program* uber_shader = nullptr;
 };
 
 struct FrameTiming {

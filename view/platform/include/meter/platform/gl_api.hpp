@@ -127,6 +127,8 @@ namespace meter::platform {
   X(Uniform1i, PFNGLUNIFORM1IPROC)                                               \
   X(Uniform1iv, PFNGLUNIFORM1IVPROC)                                             \
   X(Uniform2i, PFNGLUNIFORM2IPROC)                                               \
+  X(Uniform3i, PFNGLUNIFORM3IPROC)                                               \
+  X(Uniform4i, PFNGLUNIFORM4IPROC)                                               \
   X(Uniform1f, PFNGLUNIFORM1FPROC)                                               \
   X(Uniform2f, PFNGLUNIFORM2FPROC)                                               \
   X(Uniform3f, PFNGLUNIFORM3FPROC)                                               \
