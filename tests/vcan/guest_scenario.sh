@@ -24,8 +24,8 @@ starts=0
 link_timeout_ms=${METER_E2E_LINK_TIMEOUT_MS:-300}
 if [[ -n ${METER_E2E_NETSTAT:-} ]]; then
   # Diagnosis: the guest's TCP queues (tx_queue:rx_queue) every 0.2 s, without forking processes.
-  mkfifo /tmp/netstat.fifo
-  ( exec 9<>/tmp/netstat.fifo; while :; do echo "$EPOCHREALTIME"; echo "$(</proc/net/tcp)"; read -r -t 0.2 -u 9; done \
+  mkfifo "$out/netstat.fifo"
+  ( exec 9<>"$out/netstat.fifo"; while :; do echo "$EPOCHREALTIME"; echo "$(</proc/net/tcp)"; read -r -t 0.2 -u 9; done \
       >"$out/tcp.txt" ) & netstat=$!
 fi
 # $EPOCHREALTIME, not date: every exec costs tens of ms in a TCG guest.
