@@ -471,9 +471,12 @@ std::vector<Ladder> ladder() {
           {"gouraud", "shading=gouraud,precision=highp,filter=trilinear,msaa=4"},
           {"flat", "shading=flat,precision=highp,filter=trilinear,msaa=4"},
           {"unlit", "shading=unlit,precision=highp,filter=trilinear,msaa=4"},
+          // MSAA 8 where the driver has it (llvmpipe clamps to 4: the row then equals the base).
+          {"msaa8", "shading=pbr,precision=highp,filter=trilinear,msaa=8"},
           {"msaa2", "shading=pbr,precision=highp,filter=trilinear,msaa=2"},
           {"msaa1", "shading=pbr,precision=highp,filter=trilinear,msaa=1"},
           {"mediump", "shading=pbr,precision=mediump,filter=trilinear,msaa=4"},
+          {"anisotropic", "shading=pbr,precision=highp,filter=anisotropic,msaa=4"},
           {"bilinear", "shading=pbr,precision=highp,filter=bilinear,msaa=4"},
           {"nearest", "shading=pbr,precision=highp,filter=nearest,msaa=4"},
           {"lod0.5", base + ",lod=0.5"},

@@ -240,7 +240,17 @@ TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
   unknown.objects["NoSuchNode"].lod = 0.5f;
   EXPECT_THROW(engine::apply_quality(bad, unknown), engine::SceneError);
   EXPECT_THROW(engine::parse_quality("lod=0"), engine::SceneError);
-  EXPECT_THROW(engine::parse_quality("msaa=8"), engine::SceneError);
+  EXPECT_THROW(engine::parse_quality("msaa=3"), engine::SceneError);
+  EXPECT_THROW(engine::parse_quality("filter=aniso"), engine::SceneError);
+  EXPECT_EQ(engine::parse_quality("msaa=8").msaa, 8);
+  // Anisotropic: trilinear sampling plus a 16x anisotropy degree on every texture (bump: the
+  // scene with a normal map, so there are textures to change).
+  engine::Scene a = convert(all_scenes()[5]);
+  ASSERT_FALSE(a.textures.empty());
+  engine::apply_quality(a, engine::parse_quality("filter=anisotropic"));
+  for (const auto& t : a.textures) EXPECT_EQ(t.max_anisotropy, 16.0f);
+  engine::apply_quality(a, engine::parse_quality("filter=trilinear"));
+  for (const auto& t : a.textures) EXPECT_EQ(t.max_anisotropy, 1.0f);
   EXPECT_THROW(engine::parse_quality("shading=phong"), engine::SceneError);
   EXPECT_THROW(engine::parse_quality("speed"), engine::SceneError);
   EXPECT_EQ(engine::describe_quality(engine::parse_quality("msaa=2,shading=flat")), "shading=flat,msaa=2");

@@ -123,6 +123,7 @@ const char* filter_name(TextureFilter f) {
     case TextureFilter::Nearest: return "nearest";
     case TextureFilter::Bilinear: return "bilinear";
     case TextureFilter::Trilinear: return "trilinear";
+    case TextureFilter::Anisotropic: return "anisotropic";
   }
   return "?";
 }
@@ -130,8 +131,8 @@ const char* filter_name(TextureFilter f) {
 QualityReport apply_quality(Scene& s, const QualitySettings& q) {
   QualityReport report;
   const std::string where = s.source_name + ": quality: ";
-  if (q.msaa && *q.msaa != 1 && *q.msaa != 2 && *q.msaa != 4)
-    throw SceneError(where + "msaa = " + std::to_string(*q.msaa) + ", expected 1, 2 or 4");
+  if (q.msaa && *q.msaa != 1 && *q.msaa != 2 && *q.msaa != 4 && *q.msaa != 8)
+    throw SceneError(where + "msaa = " + std::to_string(*q.msaa) + ", expected 1, 2, 4 or 8");
   auto check_lod = [&](const QualityOverride& o, const std::string& who) {
     if (o.lod && !(*o.lod > 0.0f && *o.lod <= 1.0f))
       throw SceneError(where + who + ": lod = " + std::to_string(*o.lod) + ", expected a fraction of triangles in (0, 1]");
@@ -235,6 +236,8 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
       t.min_filter = *q.filter == TextureFilter::Nearest    ? kGlNearest
                      : *q.filter == TextureFilter::Bilinear ? kGlLinear
                                                             : kGlLinearMipmapLinear;
+      // 16x: the usual ceiling of hardware and of llvmpipe; the renderer clamps to the driver's.
+      t.max_anisotropy = *q.filter == TextureFilter::Anisotropic ? 16.0f : 1.0f;
       ++report.textures_changed;
     }
   }
@@ -264,9 +267,10 @@ QualitySettings parse_quality(const std::string& text) {
       if (v == "nearest") q.filter = TextureFilter::Nearest;
       else if (v == "bilinear") q.filter = TextureFilter::Bilinear;
       else if (v == "trilinear") q.filter = TextureFilter::Trilinear;
-      else throw bad("nearest, bilinear or trilinear");
+      else if (v == "anisotropic") q.filter = TextureFilter::Anisotropic;
+      else throw bad("nearest, bilinear, trilinear or anisotropic");
     } else if (k == "msaa") {
-      if (v != "1" && v != "2" && v != "4") throw bad("1, 2 or 4");
+      if (v != "1" && v != "2" && v != "4" && v != "8") throw bad("1, 2, 4 or 8");
       q.msaa = std::stoi(v);
     } else if (k == "environment") {
       if (v == "on") q.environment = true;

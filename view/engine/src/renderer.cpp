@@ -193,6 +193,15 @@ void Renderer::build() {
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, t.wrap_s);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, t.wrap_t);
+    if (t.max_anisotropy > 1.0f) {
+      // EXT_texture_filter_anisotropic (llvmpipe has it on both backends); without it the query
+      // fails and the texture stays trilinear.
+      constexpr GLenum kMaxAnisotropy = 0x84FE, kMaxSupported = 0x84FF;
+      GLfloat supported = 1.0f;
+      gl_.GetFloatv(kMaxSupported, &supported);
+      if (gl_.GetError() == GL_NO_ERROR && supported > 1.0f)
+        gl_.TexParameterf(GL_TEXTURE_2D, kMaxAnisotropy, std::min(t.max_anisotropy, supported));
+    }
     textures_.push_back(tex);
   }
   {

@@ -4,9 +4,11 @@
 //   shading model   programs regenerated with another shadergen::ShadingModel (unlit .. PBR);
 //   precision       programs regenerated with mediump or highp float precision;
 //   LOD             meshoptimizer's meshopt_simplify keeps a fraction of each primitive's triangles;
-//   texture filter  nearest / bilinear / trilinear sampler state (global: textures are shared);
-//   MSAA            1 / 2 / 4 samples: a RendererOptions value, carried here so one settings
-//                   object describes a whole ladder point;
+//   texture filter  nearest / bilinear / trilinear / anisotropic (trilinear + 16x anisotropy)
+//                   sampler state (global: textures are shared);
+//   MSAA            1 / 2 / 4 / 8 samples: a RendererOptions value, carried here so one settings
+//                   object describes a whole ladder point (the target clamps it to GL_MAX_SAMPLES,
+//                   4 on llvmpipe, and says so);
 //   environment     off: drop the scene's environment map (programs regenerated without it; the
 //                   config's uniform ambient lights the scene instead), the engine before issue #9's
 //                   environment support. Only scenes that have one are affected.
@@ -28,7 +30,7 @@
 
 namespace meter::engine {
 
-enum class TextureFilter { Nearest, Bilinear, Trilinear };
+enum class TextureFilter { Nearest, Bilinear, Trilinear, Anisotropic };
 
 // One object's (or the global) choice; unset fields keep what the converter produced.
 struct QualityOverride {
@@ -42,7 +44,7 @@ struct QualitySettings {
   QualityOverride global;
   std::map<std::string, QualityOverride> objects;  // node name -> override; wins over global per field
   std::optional<TextureFilter> filter;             // all textures
-  std::optional<int> msaa;                         // 1, 2 or 4: give to RendererOptions::msaa
+  std::optional<int> msaa;                         // 1, 2, 4 or 8: give to RendererOptions::msaa
   std::optional<bool> environment;                 // false: no environment map (global)
 };
 
@@ -57,12 +59,12 @@ struct QualityReport {
 };
 
 // Applies `settings` to `scene`. Throws SceneError for an unknown node name, a LOD outside (0, 1],
-// an MSAA count other than 1/2/4, or a feature set shadergen rejects (message names the node).
+// an MSAA count other than 1/2/4/8, or a feature set shadergen rejects (message names the node).
 QualityReport apply_quality(Scene& scene, const QualitySettings& settings);
 
 // "pbr" | "blinn-phong" | "gouraud" | "flat" | "unlit" (the scene-config spelling); nullopt otherwise.
 std::optional<shadergen::ShadingModel> parse_shading_model(const std::string& text);
-const char* filter_name(TextureFilter f);             // "nearest" | "bilinear" | "trilinear"
+const char* filter_name(TextureFilter f);  // "nearest" | "bilinear" | "trilinear" | "anisotropic"
 
 // Parses a ladder point written as comma-separated key=value pairs, e.g.
 // "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2,environment=off" (every key optional; "" = no

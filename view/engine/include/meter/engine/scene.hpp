@@ -117,6 +117,9 @@ struct Texture {
   bool srgb = false;
   int min_filter = 0x2703 /*LINEAR_MIPMAP_LINEAR*/, mag_filter = 0x2601 /*LINEAR*/;
   int wrap_s = 0x2901 /*REPEAT*/, wrap_t = 0x2901;
+  // EXT_texture_filter_anisotropic degree; 1 = off. Set by the quality ladder at load time, not
+  // stored in packages (a runtime choice like MSAA).
+  float max_anisotropy = 1.0f;
 };
 
 struct Camera {
