@@ -11,6 +11,34 @@
 namespace meter::engine {
 
 namespace {
+// Affine interpolation: every user varying gets the `noperspective` qualifier of
+// NV_shader_noperspective_interpolation. Vertex outputs and fragment inputs are the varyings
+// (vertex inputs are attributes, the fragment output is the colour); `flat` ones stay as they are.
+std::string make_affine(const std::string& source, bool vertex_stage) {
+  const std::string qualifier = vertex_stage ? "out " : "in ";
+  std::istringstream in(source);
+  std::ostringstream out;
+  std::string line;
+  bool extension_added = false;
+  while (std::getline(in, line)) {
+    std::size_t body = 0;
+    if (line.rfind("layout(", 0) == 0) {  // SPIRV-Cross output: "layout(location = 0) in ..."
+      const auto close = line.find(')');
+      body = close == std::string::npos ? 0 : line.find_first_not_of(' ', close + 1);
+      if (body == std::string::npos) body = 0;
+    }
+    if (line.compare(body, qualifier.size(), qualifier) == 0 && line.find("gl_") == std::string::npos)
+      line.insert(body, "noperspective ");
+    out << line << '\n';
+    if (!extension_added && line.rfind("#version", 0) == 0) {
+      out << "#extension GL_NV_shader_noperspective_interpolation : require\n";
+      extension_added = true;
+    }
+  }
+  if (!extension_added) throw SceneError("interpolation=affine: a program source has no #version line");
+  return out.str();
+}
+
 
 using shadergen::AttributeSemantic;
 using shadergen::ShadingModel;
@@ -241,6 +269,13 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
       ++report.textures_changed;
     }
   }
+  if (q.affine == true) {
+    for (ProgramEntry& e : s.programs) {
+      e.program.vertex_source = make_affine(e.program.vertex_source, true);
+      e.program.fragment_source = make_affine(e.program.fragment_source, false);
+      ++report.programs_made_affine;
+    }
+  }
   return report;
 }
 
@@ -272,6 +307,10 @@ QualitySettings parse_quality(const std::string& text) {
     } else if (k == "msaa") {
       if (v != "1" && v != "2" && v != "4" && v != "8") throw bad("1, 2, 4 or 8");
       q.msaa = std::stoi(v);
+    } else if (k == "interpolation") {
+      if (v == "affine") q.affine = true;
+      else if (v == "perspective") q.affine = false;
+      else throw bad("affine or perspective");
     } else if (k == "environment") {
       if (v == "on") q.environment = true;
       else if (v == "off") q.environment = false;
@@ -282,7 +321,7 @@ QualitySettings parse_quality(const std::string& text) {
       if (v.empty() || *end != '\0' || !(f > 0.0f && f <= 1.0f)) throw bad("a fraction of triangles in (0, 1]");
       q.global.lod = f;
     } else {
-      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment)");
+      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, interpolation)");
     }
   }
   return q;
@@ -301,6 +340,7 @@ std::string describe_quality(const QualitySettings& q) {
   if (q.filter) add(std::string("filter=") + filter_name(*q.filter));
   if (q.msaa) add("msaa=" + std::to_string(*q.msaa));
   if (q.environment) add(std::string("environment=") + (*q.environment ? "on" : "off"));
+  if (q.affine) add(std::string("interpolation=") + (*q.affine ? "affine" : "perspective"));
   return out.empty() ? "default" : out;
 }
 

@@ -9,6 +9,10 @@
 //   MSAA            1 / 2 / 4 / 8 samples: a RendererOptions value, carried here so one settings
 //                   object describes a whole ladder point (the target clamps it to GL_MAX_SAMPLES,
 //                   4 on llvmpipe, and says so);
+//   interpolation   affine: varyings interpolated in screen space, without perspective
+//                   correction (the EClay paper's trade), through GLES 3's
+//                   NV_shader_noperspective_interpolation (Mesa has it; a driver without it
+//                   fails to compile and says so). Global: every program is patched;
 //   environment     off: drop the scene's environment map (programs regenerated without it; the
 //                   config's uniform ambient lights the scene instead), the engine before issue #9's
 //                   environment support. Only scenes that have one are affected.
@@ -46,6 +50,7 @@ struct QualitySettings {
   std::optional<TextureFilter> filter;             // all textures
   std::optional<int> msaa;                         // 1, 2, 4 or 8: give to RendererOptions::msaa
   std::optional<bool> environment;                 // false: no environment map (global)
+  std::optional<bool> affine;                      // true: no perspective correction (global)
 };
 
 struct QualityReport {
@@ -56,6 +61,7 @@ struct QualityReport {
   int groups_dropped = 0;           // merged groups whose members no longer share one program
   int textures_changed = 0;
   bool environment_dropped = false;  // the scene had an environment map and settings turned it off
+  int programs_made_affine = 0;
 };
 
 // Applies `settings` to `scene`. Throws SceneError for an unknown node name, a LOD outside (0, 1],
@@ -67,8 +73,8 @@ std::optional<shadergen::ShadingModel> parse_shading_model(const std::string& te
 const char* filter_name(TextureFilter f);  // "nearest" | "bilinear" | "trilinear" | "anisotropic"
 
 // Parses a ladder point written as comma-separated key=value pairs, e.g.
-// "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2,environment=off" (every key optional; "" = no
-// change). Throws SceneError naming the pair and what was expected.
+// "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2,environment=off,interpolation=affine"
+// (every key optional; "" = no change). Throws SceneError naming the pair and what was expected.
 QualitySettings parse_quality(const std::string& text);
 // The canonical text of the global part ("shading=..,msaa=.." in a fixed order; "default" if empty).
 std::string describe_quality(const QualitySettings& settings);
