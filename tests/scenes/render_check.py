@@ -24,12 +24,15 @@ import subprocess
 import sys
 
 GOLDEN_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "golden")
-# Golden-frame tolerance (full-frame PSNR). Measured on the committed goldens: EGL and OSMesa
-# frames are bit-identical (llvmpipe both); the three states differ from each other by 21 dB;
-# blanking a single telltale (ABS, or the right turn arrow) in the bulb-check frame gives 35.0 dB.
-# 36 dB therefore fails one dark lamp, yet leaves headroom for rasteriser / rounding differences
-# between Mesa versions, which change a few edge pixels by a few levels.
-GOLDEN_MIN_PSNR = 36.0
+# Golden-frame tolerance (full-frame PSNR). Measured on the committed goldens (engine 98fbc41):
+# EGL and OSMesa frames are bit-identical (llvmpipe both); the states differ from each other by
+# 21 dB; the bulb-check state with one lamp off scores 34.2 (FuelLow) to 40.6 dB (CoolantTemp, a
+# thin icon) against the bulb-check golden, so 42 dB fails any single dark lamp. Rasteriser /
+# rounding differences between Mesa versions move a few edge pixels by a few levels (thousands
+# of pixels by 8 levels would still be 51 dB). A deliberate change of the look (shading, scene)
+# fails it by design: rewrite the goldens (METER_UPDATE_GOLDEN=1, see docs/scenes.md). The old
+# 36 dB let an engine change through unnoticed (38.1 dB) and no longer failed a dark lamp.
+GOLDEN_MIN_PSNR = 42.0
 
 FEATURES = ("ambient", "diffuse", "specular", "shininess", "emission", "bump", "reflection",
             "envmap2d", "skinning", "morphing", "spot", "omni")
