@@ -691,7 +691,12 @@ bool drawable(const TextItem& t, const std::vector<char>& visible) {
 }  // namespace
 
 platform::TextRenderer& Renderer::text_renderer(int size_px) {
-  const int size = std::clamp(size_px, 4, 256);
+  // Text sizes are designed at the scene config's size; a target of another size (--size, the
+  // half-size frames of the vcan tests) scales them with its height, so the layout keeps its
+  // proportions instead of readouts running into each other.
+  const int design_height = scene_.config.size[1] > 0 ? scene_.config.size[1] : height_;
+  const double scaled = double(size_px) * double(height_) / double(design_height);
+  const int size = std::clamp(static_cast<int>(std::lround(scaled)), 4, 256);
   auto it = text_.find(size);
   if (it == text_.end()) {
     const std::string font = options_.font_file.empty() ? std::string(METER_FONT_FILE) : options_.font_file;
