@@ -913,7 +913,8 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   auto t0 = Clock::now();
   update_world();
   t.update_ms = ms_since(t0);
-  if (!dirty_ && !force) {
+  // A skipped frame still answers a read with the frame that stands.
+  auto skip = [&] {
     ++stats_.skipped;
     if (read_back) {
       auto t2 = Clock::now();
@@ -921,7 +922,8 @@ FrameTiming Renderer::render(bool force, bool read_back) {
       t.gpu_readback_ms = ms_since(t2);
     }
     return t;
-  }
+  };
+  if (!dirty_ && !force) return skip();
   auto t1 = Clock::now();
   const glm::mat4 vp = view_projection(nullptr);
   const auto regions = force ? std::nullopt : damage(vp);
@@ -929,13 +931,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     // Inputs changed but no pixel can have (e.g. a hidden node's text): the frame stands.
     t.submit_ms = ms_since(t1);
     dirty_ = false;
-    ++stats_.skipped;
-    if (read_back) {
-      auto t2 = Clock::now();
-      read();
-      t.gpu_readback_ms = ms_since(t2);
-    }
-    return t;
+    return skip();
   }
   if (!regions) {
     draw_scene(nullptr);

@@ -31,14 +31,7 @@ namespace {
 constexpr double kMaxDifferingFraction = 1e-4;
 constexpr int kMaxLevelDifference = 64;
 
-const Scene& cluster() {
-  static Scene s = [] {
-    const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-    auto cfg = load_scene_config(dir + "cluster.scene.json");
-    return convert_gltf(dir + "cluster.glb", cfg, ConvertOptions{}).scene;
-  }();
-  return s;
-}
+const Scene& cluster() { return test::cluster_scene(); }
 
 struct Diff {
   std::size_t differing = 0;

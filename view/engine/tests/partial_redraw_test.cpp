@@ -27,13 +27,7 @@ namespace {
 // differing pixel means a damaged region was missed (a stale needle ghost, a half-old text).
 constexpr int kMaxLevelDifference = 0;
 
-const Scene& cluster() {
-  static Scene s = [] {
-    const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-    return convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), ConvertOptions{}).scene;
-  }();
-  return s;
-}
+const Scene& cluster() { return test::cluster_scene(); }
 
 const Scene& dial() {
   static Scene s = [] {

@@ -9,6 +9,8 @@
 
 #include <tiny_gltf.h>
 
+#include "meter/engine/converter.hpp"
+
 namespace meter::engine::test {
 namespace {
 
@@ -111,6 +113,14 @@ struct Builder {
 };
 
 }  // namespace
+
+const Scene& cluster_scene() {
+  static const Scene s = [] {
+    const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
+    return convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), ConvertOptions{}).scene;
+  }();
+  return s;
+}
 
 std::string scratch_dir(const std::string& name) {
   namespace fs = std::filesystem;

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "meter/engine/scene.hpp"
+
 namespace meter::engine::test {
 
 // A dial: dark unlit face, red unlit needle on node "Needle" driven by animation "SpeedNeedle"
@@ -14,6 +16,9 @@ std::string write_dial_scene(const std::string& dir);
 
 // The matching scene config (320x160, bindings for speed, ABS, fuel, speed text, link loss).
 std::string dial_config_json();
+
+// scenes/cluster converted with its own config (groups included, optimized), once per process.
+const Scene& cluster_scene();
 
 // A fresh empty directory under the build tree for one test.
 std::string scratch_dir(const std::string& name);

@@ -19,13 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const Scene& cluster() {
-  static Scene s = [] {
-    const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-    return convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), ConvertOptions{}).scene;
-  }();
-  return s;
-}
+const Scene& cluster() { return test::cluster_scene(); }
 
 platform::Image render(platform::GpuBackend& backend, const Scene& scene, bool uber, double speed) {
   RendererOptions o;
