@@ -852,7 +852,15 @@ bool Renderer::outside(const GpuDraw& d, const PixelRegion& scissor, const glm::
   return true;
 }
 
-std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp) {
+Renderer::Snapshot Renderer::snapshot() {
+  Snapshot now;
+  now.draws.reserve(draws_.size());
+  for (std::size_t i = 0; i < draws_.size(); ++i) now.draws.push_back(drawn_state(i));
+  now.texts = visible_texts();
+  return now;
+}
+
+std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp, const Snapshot& now_state) {
   if (!options_.partial_redraw || !drawn_valid_ || vp != drawn_vp_) return std::nullopt;
   // A light that moved or changed lights every pixel.
   for (const auto& [node, world] : drawn_lights_)
@@ -867,7 +875,7 @@ std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp) {
     return b.has_value();
   };
   for (std::size_t i = 0; i < draws_.size(); ++i) {
-    const DrawnDraw now = drawn_state(i);
+    const DrawnDraw& now = now_state.draws[i];
     const DrawnDraw& was = drawn_draws_[i];
     if (now == was) continue;
     // Skinned or morphed geometry leaves the primitive's bounds.
@@ -875,7 +883,7 @@ std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp) {
     if (was.visible && !box(*draws_[i], was.world)) return std::nullopt;
     if (now.visible && !box(*draws_[i], now.world)) return std::nullopt;
   }
-  const std::vector<DrawnText> texts = visible_texts();
+  const std::vector<DrawnText>& texts = now_state.texts;
   for (const auto& t : drawn_texts_)
     if (std::find(texts.begin(), texts.end(), t) == texts.end()) regions.push_back(t.box);
   for (const auto& t : texts)
@@ -889,11 +897,10 @@ std::optional<std::vector<PixelRegion>> Renderer::damage(const glm::mat4& vp) {
   return regions;
 }
 
-void Renderer::remember_drawn(const glm::mat4& vp) {
+void Renderer::remember_drawn(const glm::mat4& vp, Snapshot now) {
   drawn_vp_ = vp;
-  drawn_draws_.resize(draws_.size());
-  for (std::size_t i = 0; i < draws_.size(); ++i) drawn_draws_[i] = drawn_state(i);
-  drawn_texts_ = visible_texts();
+  drawn_draws_ = std::move(now.draws);
+  drawn_texts_ = std::move(now.texts);
   drawn_lights_.clear();
   for (std::size_t n = 0; n < scene_.nodes.size(); ++n)
     if (scene_.nodes[n].light >= 0) drawn_lights_.emplace_back(static_cast<int>(n), world_[n]);
@@ -926,7 +933,9 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   if (!dirty_ && !force) return skip();
   auto t1 = Clock::now();
   const glm::mat4 vp = view_projection(nullptr);
-  const auto regions = force ? std::nullopt : damage(vp);
+  // What every draw and text looks like now: compared with the last drawn frame, then remembered.
+  Snapshot now = snapshot();
+  const auto regions = force ? std::nullopt : damage(vp, now);
   if (regions && regions->empty()) {
     // Inputs changed but no pixel can have (e.g. a hidden node's text): the frame stands.
     t.submit_ms = ms_since(t1);
@@ -951,7 +960,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     t.regions = static_cast<int>(regions->size());
     ++stats_.partial_frames;
   }
-  remember_drawn(vp);
+  remember_drawn(vp, std::move(now));
   t.submit_ms = ms_since(t1);
   auto t2 = Clock::now();
   gl_.Finish();

@@ -131,9 +131,16 @@ class Renderer {
   std::optional<platform::PixelRegion> screen_box(const Primitive& prim, const glm::mat4& world, const glm::mat4& vp) const;
   // True when nothing `d` draws (every visible member, for a merged group) can touch `scissor`.
   bool outside(const GpuDraw& d, const platform::PixelRegion& scissor, const glm::mat4& vp) const;
+  // The current state of every draw and drawable text, computed once per drawn frame: compared
+  // by damage(), then kept by remember_drawn().
+  struct Snapshot {
+    std::vector<DrawnDraw> draws;  // per draw
+    std::vector<DrawnText> texts;  // drawable texts
+  };
+  Snapshot snapshot();
   // Regions to redraw (disjoint), or nullopt when the whole target must be redrawn.
-  std::optional<std::vector<platform::PixelRegion>> damage(const glm::mat4& vp);
-  void remember_drawn(const glm::mat4& vp);
+  std::optional<std::vector<platform::PixelRegion>> damage(const glm::mat4& vp, const Snapshot& now);
+  void remember_drawn(const glm::mat4& vp, Snapshot now);
   void resolve_pending();
   glm::mat4 view_projection(glm::vec3* eye) const;
 
