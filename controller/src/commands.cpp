@@ -22,12 +22,6 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-std::int64_t realtime_ns() {
-  timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);  // the clock of SocketCAN's kernel receive timestamps
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
-
 // --trace: one CSV line per pipeline event, so the time from a frame's kernel receive timestamp to
 // the link can be split by stage offline (bench/latency). Rows:
 //   f,<t_ns>,<frame_ts_ns>,<can id>             the model has decoded the frame (ts: kernel stamp on can:)

@@ -81,11 +81,13 @@ SocketCanInput::~SocketCanInput() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-std::int64_t SocketCanInput::now_ns() const {
+std::int64_t realtime_ns() {
   timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);  // kernel SO_TIMESTAMPNS stamps are CLOCK_REALTIME
+  clock_gettime(CLOCK_REALTIME, &ts);
   return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
 }
+
+std::int64_t SocketCanInput::now_ns() const { return realtime_ns(); }  // kernel stamps' clock
 
 std::string SocketCanInput::describe() const { return "SocketCAN " + iface_; }
 

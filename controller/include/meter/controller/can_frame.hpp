@@ -48,4 +48,8 @@ std::string format_candump_line(const CanFrame& frame, std::string_view interfac
 std::uint8_t can_fd_dlc_to_len(std::uint8_t dlc);
 bool is_valid_fd_len(std::size_t len);
 
+// Now on CLOCK_REALTIME in ns: the clock of SocketCAN's kernel receive timestamps (SO_TIMESTAMPNS),
+// so live frames, the model clock and the --trace rows compare directly.
+std::int64_t realtime_ns();
+
 }  // namespace meter::controller
