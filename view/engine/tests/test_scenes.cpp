@@ -1,7 +1,12 @@
 #include "test_scenes.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -124,7 +129,21 @@ const Scene& cluster_scene() {
 
 std::string scratch_dir(const std::string& name) {
   namespace fs = std::filesystem;
-  fs::path p = fs::path(METER_BINARY_DIR) / "test-scratch" / "engine" / name;
+  // One directory per test process: ctest -j runs a suite's tests (e.g. the egl and osmesa
+  // instances of one render test) as concurrent processes, which must not write and delete the
+  // same files. Directories of processes that have ended are removed on the first call.
+  const fs::path root = fs::path(METER_BINARY_DIR) / "test-scratch" / "engine";
+  static const fs::path mine = [&] {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(root, ec)) {
+      const std::string n = e.path().filename().string();
+      if (n.empty() || n.find_first_not_of("0123456789") != std::string::npos) continue;
+      const long pid = std::strtol(n.c_str(), nullptr, 10);
+      if (pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove_all(e.path(), ec);
+    }
+    return root / std::to_string(getpid());
+  }();
+  fs::path p = mine / name;
   fs::remove_all(p);
   fs::create_directories(p);
   return p.string();
