@@ -70,6 +70,18 @@ Gl load_gl(GetProcAddress get_proc, std::string_view backend_name, bool is_gles)
         load((std::string("glGetQueryObjectui64v") + suffix).c_str()));
     info.has_timer_query = gl.QueryCounter && gl.GetQueryObjectui64v;
   }
+  // Image copies: same rule (version or extension decides, not the pointer).
+  const char* copy_suffix = nullptr;
+  if (is_gles ? (info.major > 3 || (info.major == 3 && info.minor >= 2)) : (info.major > 4 || (info.major == 4 && info.minor >= 3)))
+    copy_suffix = "";
+  else if (is_gles && has_extension(gl, "GL_EXT_copy_image"))
+    copy_suffix = "EXT";
+  else if (is_gles && has_extension(gl, "GL_OES_copy_image"))
+    copy_suffix = "OES";
+  if (copy_suffix) {
+    gl.CopyImageSubData = reinterpret_cast<PfnCopyImageSubData>(load((std::string("glCopyImageSubData") + copy_suffix).c_str()));
+    info.has_copy_image = gl.CopyImageSubData != nullptr;
+  }
   while (gl.GetError() != GL_NO_ERROR) {
   }
   return gl;

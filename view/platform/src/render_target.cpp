@@ -195,6 +195,36 @@ void RenderTarget::resolve(std::span<const PixelRegion> regions) {
   check_gl(gl, "RenderTarget::resolve (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
 }
 
+void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRegion> regions) {
+  if (!gl_ || !source.gl_) throw std::logic_error("RenderTarget::copy_from with a moved-from target");
+  const Gl& gl = *gl_;
+  if (!gl.CopyImageSubData) {
+    throw std::invalid_argument("RenderTarget::copy_from: " + gl.info.version +
+                                " has no glCopyImageSubData (GLES 3.2, GL 4.3 or EXT/OES_copy_image)");
+  }
+  if (source.width_ != width_ || source.height_ != height_ || source.samples_ != samples_ ||
+      source.srgb_ != srgb_ || source.depth_ != depth_) {
+    throw std::invalid_argument("RenderTarget::copy_from: source " +
+                                describe(source.width_, source.height_, source.samples_, source.srgb_, source.depth_) +
+                                " differs from target " + describe(width_, height_, samples_, srgb_, depth_));
+  }
+  // Single-sample targets draw into a colour texture; multisample ones into renderbuffers.
+  const bool ms = samples_ > 1;
+  const GLuint src_color = ms ? source.msaa_color_rb_ : source.color_tex_, dst_color = ms ? msaa_color_rb_ : color_tex_;
+  const GLenum color_target = ms ? GL_RENDERBUFFER : GL_TEXTURE_2D;
+  const GLuint src_depth = ms ? source.msaa_depth_rb_ : source.depth_rb_, dst_depth = ms ? msaa_depth_rb_ : depth_rb_;
+  for (const PixelRegion& r : regions) {
+    const int x0 = std::clamp(r.x, 0, width_), y0 = std::clamp(r.y, 0, height_);
+    const int x1 = std::clamp(r.x + r.width, 0, width_), y1 = std::clamp(r.y + r.height, 0, height_);
+    if (x1 <= x0 || y1 <= y0) continue;
+    gl.CopyImageSubData(src_color, color_target, 0, x0, y0, 0, dst_color, color_target, 0, x0, y0, 0, x1 - x0, y1 - y0, 1);
+    if (depth_ != DepthFormat::None)
+      gl.CopyImageSubData(src_depth, GL_RENDERBUFFER, 0, x0, y0, 0, dst_depth, GL_RENDERBUFFER, 0, x0, y0, 0, x1 - x0,
+                          y1 - y0, 1);
+  }
+  check_gl(gl, "RenderTarget::copy_from (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+}
+
 Image RenderTarget::read_resolved() {
   if (!gl_) throw std::logic_error("RenderTarget::read_resolved on a moved-from target");
   const Gl& gl = *gl_;

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <span>
 
 #include "gl_test_util.hpp"
 #include "meter/platform/image.hpp"
@@ -197,6 +199,62 @@ void main() { o = u_color; }
       mp::check_gl(g, "depth test");
     }
   }
+}
+
+TEST_P(RenderTargetTest, CopyFromCopiesColourAndDepthOfEverySampleInTheRegions) {
+  // Both llvmpipe backends have it (GLES 3.2 / GL 4.5); the engine's static layer depends on it.
+  ASSERT_TRUE(gl().info.has_copy_image) << gl().info.version;
+  for (int samples : {1, 4}) {
+    SCOPED_TRACE("samples " + std::to_string(samples));
+    const mp::RenderTargetOptions o{.width = 32, .height = 16, .samples = samples};
+    mp::RenderTarget source(*backend_, o), target(*backend_, o);
+    mp::test::ColorProgram program(gl());
+    auto clear = [&](mp::RenderTarget& t, float r, float g, float b) {
+      t.bind();
+      gl().ClearColor(r, g, b, 1);
+      gl().ClearDepthf(1.0f);
+      gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    };
+    // Source: a diagonal edge (partly covered pixels: only a per-sample copy keeps them) at depth 0.5.
+    clear(source, 0.1f, 0.0f, 0.0f);
+    gl().Enable(GL_DEPTH_TEST);
+    gl().DepthFunc(GL_LESS);
+    program.draw({-1, -1, 1, 1, 0, 1, 1, -1, 1, 1, 0, 1, -1, 1, 1, 1, 0, 1});
+    clear(target, 0.0f, 0.0f, 1.0f);
+    const mp::PixelRegion left{0, 0, 16, 16}, outside{40, 0, 8, 8};  // the second is clipped away
+    const mp::PixelRegion regions[] = {left, outside};
+    target.copy_from(source, regions);
+    // A full-screen draw at the same depth 0.5 with GL_LESS: rejected exactly where copied depth
+    // is 0.5, so it also shows the depth was copied (cleared depth 1 lets it through).
+    for (mp::RenderTarget* t : {&source, &target}) {
+      t->bind();
+      program.draw({-1, -1, 0, 1, 0, 1, 3, -1, 0, 1, 0, 1, -1, 3, 0, 1, 0, 1});
+    }
+    gl().Disable(GL_DEPTH_TEST);
+    const mp::Image a = source.resolve_and_read(), b = target.resolve_and_read();
+    int differing_left = 0, not_green_right = 0, edge_pixels = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const std::uint8_t* p = a.pixel(x, y);
+        const std::uint8_t* q = b.pixel(x, y);
+        if (x < 16) {
+          differing_left += std::memcmp(p, q, 4) != 0;
+          edge_pixels += p[0] > 0 && p[0] < 255;  // mixed: yellow triangle and green samples
+        } else {
+          not_green_right += !(q[0] == 0 && q[1] == 255 && q[2] == 0);
+        }
+      }
+    EXPECT_EQ(differing_left, 0);
+    EXPECT_EQ(not_green_right, 0);
+    if (samples > 1) {
+      EXPECT_GT(edge_pixels, 4);
+    }
+  }
+  mp::RenderTarget a(*backend_, {.width = 8, .height = 8, .samples = 4}), other_size(*backend_, {.width = 8, .height = 9, .samples = 4}),
+      other_samples(*backend_, {.width = 8, .height = 8, .samples = 1});
+  const mp::PixelRegion all{0, 0, 8, 8};
+  EXPECT_THROW(a.copy_from(other_size, std::span(&all, 1)), std::invalid_argument);
+  EXPECT_THROW(a.copy_from(other_samples, std::span(&all, 1)), std::invalid_argument);
 }
 
 TEST_P(RenderTargetTest, SamplesAreValidatedAndClamped) {

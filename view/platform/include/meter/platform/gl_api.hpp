@@ -190,9 +190,17 @@ namespace meter::platform {
 // extension on GLES (EXT_disjoint_timer_query, "...EXT" names; the loader tries both).
 using PfnQueryCounter = void(GL_APIENTRYP)(GLuint id, GLenum target);
 using PfnGetQueryObjectui64v = void(GL_APIENTRYP)(GLuint id, GLenum pname, GLuint64* params);
+// Raw texel copy between images of the same format and sample count (GLES 3.2 / desktop GL 4.3
+// core; EXT_copy_image or OES_copy_image on older GLES). The only way to copy multisample pixels
+// on GLES, where glBlitFramebuffer into a multisample framebuffer is an error.
+using PfnCopyImageSubData = void(GL_APIENTRYP)(GLuint src, GLenum src_target, GLint src_level, GLint src_x,
+                                               GLint src_y, GLint src_z, GLuint dst, GLenum dst_target,
+                                               GLint dst_level, GLint dst_x, GLint dst_y, GLint dst_z,
+                                               GLsizei width, GLsizei height, GLsizei depth);
 #define METER_GL_OPTIONAL_FUNCTIONS(X)                 \
   X(QueryCounter, PfnQueryCounter)                     \
-  X(GetQueryObjectui64v, PfnGetQueryObjectui64v)
+  X(GetQueryObjectui64v, PfnGetQueryObjectui64v)       \
+  X(CopyImageSubData, PfnCopyImageSubData)
 
 // What kind of GL the table talks to; decides the few places where desktop GL and GLES differ.
 struct GlInfo {
@@ -202,6 +210,7 @@ struct GlInfo {
   int max_samples = 1;          // GL_MAX_SAMPLES
   int max_texture_size = 0;     // GL_MAX_TEXTURE_SIZE
   bool has_timer_query = false; // GL_TIME_ELAPSED queries usable (QueryCounter/GetQueryObjectui64v)
+  bool has_copy_image = false;  // CopyImageSubData usable (RenderTarget::copy_from)
   // Desktop GL encodes into sRGB attachments only with glEnable(GL_FRAMEBUFFER_SRGB); on GLES the
   // encode is always on. RenderTarget::bind() enables it when this is true.
   bool needs_framebuffer_srgb_enable = false;

@@ -68,6 +68,11 @@ class RenderTarget {
   void resolve(std::span<const PixelRegion> regions);
   // Reads the single-sample framebuffer (the last resolve) as a top-down RGBA8 image.
   Image read_resolved();
+  // Copies `regions` of the drawing buffers (colour and depth, every sample) of `source` into this
+  // target's, unchanged bit for bit: a cached layer restored under a partial redraw. Needs
+  // GlInfo::has_copy_image and a source of the same size, samples, colour and depth format
+  // (std::invalid_argument otherwise). Regions are clipped to the target; the scissor is ignored.
+  void copy_from(const RenderTarget& source, std::span<const PixelRegion> regions);
 
   int width() const { return width_; }
   int height() const { return height_; }
