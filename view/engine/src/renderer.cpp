@@ -58,6 +58,9 @@ struct Renderer::GpuDraw {
   Renderer::GpuGroup* group = nullptr;  // set on a merged group's representative only
   // The program generated for this draw: blend and cull state, and (uber mode) the switches.
   const shadergen::Program* shape = nullptr;
+  // Can look different from one frame to the next (classify_draws); false: static-layer material.
+  // A merged group's representative: true when any member can change.
+  bool changeable = false;
 };
 
 // One merged group: world-space vertices of every member in one dynamic buffer, indices of the
@@ -269,6 +272,7 @@ void Renderer::build() {
       break;
     }
   }
+  classify_draws();
 }
 
 void Renderer::build_groups() {
@@ -324,6 +328,54 @@ void Renderer::build_groups() {
     gl_.BindVertexArray(0);
     groups_.push_back(std::move(g));
   }
+}
+
+void Renderer::classify_draws() {
+  // What the scene's animations and bindings can reach. An animation nobody drives stays at
+  // config.time, but it is counted as moving anyway: this decides what may be cached, so it errs
+  // towards drawing more, never towards a stale layer (render() also checks the layer each frame).
+  std::vector<char> node_moves(scene_.nodes.size(), 0), material_changes(scene_.materials.size(), 0);
+  auto mark = [](std::vector<char>& v, int i) {
+    if (i >= 0 && static_cast<std::size_t>(i) < v.size()) v[static_cast<std::size_t>(i)] = 1;
+  };
+  for (const auto& a : scene_.animations)
+    for (const auto& ch : a.channels) mark(node_moves, ch.node);
+  for (const auto& b : scene_.config.bindings) {
+    if (b.kind == BindingKind::Visibility || b.kind == BindingKind::Morph) mark(node_moves, scene_.find_node(b.node));
+    if (b.kind == BindingKind::Emissive || b.kind == BindingKind::Color) mark(material_changes, scene_.find_material(b.material));
+  }
+  // Transforms and visibility are inherited: below a moving node everything moves.
+  std::vector<int> stack(scene_.roots.begin(), scene_.roots.end());
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    for (int c : scene_.nodes[static_cast<std::size_t>(n)].children) {
+      if (node_moves[static_cast<std::size_t>(n)]) node_moves[static_cast<std::size_t>(c)] = 1;
+      stack.push_back(c);
+    }
+  }
+  for (auto& d : draws_) {
+    const auto node = static_cast<std::size_t>(d->item->node);
+    d->changeable = node_moves[node] || material_changes[static_cast<std::size_t>(d->prim->material)] ||
+                    scene_.nodes[node].skin >= 0 || d->prim->morph_targets > 0;
+  }
+  for (auto& g : groups_) {
+    GpuDraw* rep = draws_[static_cast<std::size_t>(g->info->draws.front())].get();
+    for (const auto& m : g->members) rep->changeable = rep->changeable || m.draw->changeable;
+  }
+  // A layer pays off only if it has content and outlives a frame: not when the view can move (an
+  // animated camera, or no camera, where the view frames the bounds of moving draws too) or a
+  // light can (every pixel changes), which would redraw it every frame.
+  bool any_static_opaque = false;
+  for (std::size_t i = 0; i < draws_.size(); ++i) {
+    const GpuDraw& d = *draws_[i];
+    const bool drawn_alone_or_for_group = draw_group_[i] < 0 || d.group;
+    if (drawn_alone_or_for_group && !d.changeable && !d.shape->blend) any_static_opaque = true;
+  }
+  bool view_fixed = camera_node_ >= 0 && !node_moves[static_cast<std::size_t>(camera_node_)];
+  for (std::size_t n = 0; n < scene_.nodes.size(); ++n)
+    if (scene_.nodes[n].light >= 0 && node_moves[n]) view_fixed = false;
+  layer_pays_ = any_static_opaque && view_fixed;
 }
 
 void Renderer::update_groups() {
@@ -464,9 +516,9 @@ glm::vec2 Renderer::project(int node) const {
   return glm::vec2((ndc.x * 0.5f + 0.5f) * float(width_), (1.0f - (ndc.y * 0.5f + 0.5f)) * float(height_));
 }
 
-void Renderer::draw_scene(const platform::PixelRegion* scissor) {
+void Renderer::draw_scene(platform::RenderTarget& target, const platform::PixelRegion* scissor, DrawSet set) {
   const auto& gl = gl_;
-  target_->bind();
+  target.bind();
   // The scissor clips the clear and every draw below (and the text after it) to the region.
   if (scissor) {
     gl.Enable(GL_SCISSOR_TEST);
@@ -478,7 +530,8 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
   gl.ClearColor(float(cc[0]), float(cc[1]), float(cc[2]), float(cc[3]));
   gl.ClearDepthf(1.0f);
   gl.DepthMask(GL_TRUE);
-  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  // Over the static layer the region already holds its copy (colour and depth).
+  if (set != DrawSet::OverStatic) gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl.Enable(GL_DEPTH_TEST);
   gl.DepthFunc(GL_LEQUAL);
   glm::vec3 eye(0.0f);
@@ -516,12 +569,16 @@ void Renderer::draw_scene(const platform::PixelRegion* scissor) {
     // A draw whose screen box misses the scissor cannot change a pixel of this pass; on llvmpipe
     // skipping it saves its vertex work and triangle setup, which the scissor alone does not.
     if (scissor && outside(*d, *scissor, vp)) continue;
+    const bool in_layer = !d->shape->blend && !d->changeable;
+    if ((set == DrawSet::StaticOpaque && !in_layer) || (set == DrawSet::OverStatic && in_layer)) continue;
     const glm::vec3 c = (d->prim->bounds_min + d->prim->bounds_max) * 0.5f;
     glm::vec4 clip = vp * world_[static_cast<std::size_t>(d->item->node)] * glm::vec4(c, 1.0f);
     d->sort_depth = clip.w;
     (d->shape->blend ? blended : opaque).push_back(d.get());
   }
   std::stable_sort(opaque.begin(), opaque.end(), [](auto* a, auto* b) { return a->sort_depth < b->sort_depth; });
+  // Static before changeable (the layer's order); each part stays front-to-back.
+  std::stable_partition(opaque.begin(), opaque.end(), [](auto* d) { return !d->changeable; });
   std::stable_sort(blended.begin(), blended.end(), [](auto* a, auto* b) { return a->sort_depth > b->sort_depth; });
 
   // First index and count of each light type (directional, point, spot) in the sorted list.
@@ -901,10 +958,38 @@ void Renderer::remember_drawn(const glm::mat4& vp, Snapshot now) {
   drawn_vp_ = vp;
   drawn_draws_ = std::move(now.draws);
   drawn_texts_ = std::move(now.texts);
-  drawn_lights_.clear();
-  for (std::size_t n = 0; n < scene_.nodes.size(); ++n)
-    if (scene_.nodes[n].light >= 0) drawn_lights_.emplace_back(static_cast<int>(n), world_[n]);
+  drawn_lights_ = light_worlds();
   drawn_valid_ = true;
+}
+
+std::vector<std::pair<int, glm::mat4>> Renderer::light_worlds() const {
+  std::vector<std::pair<int, glm::mat4>> out;
+  for (std::size_t n = 0; n < scene_.nodes.size(); ++n)
+    if (scene_.nodes[n].light >= 0) out.emplace_back(static_cast<int>(n), world_[n]);
+  return out;
+}
+
+bool Renderer::layer_current(const glm::mat4& vp, const Snapshot& now) const {
+  if (!layer_ || !layer_valid_ || vp != layer_vp_ || light_worlds() != layer_lights_) return false;
+  // Static by the scene's description; checked anyway, so a misjudged draw costs a rebuild, never a
+  // stale pixel.
+  for (std::size_t i = 0; i < draws_.size(); ++i)
+    if (!draws_[i]->changeable && !(now.draws[i] == layer_draws_[i])) return false;
+  return true;
+}
+
+void Renderer::build_layer(const glm::mat4& vp, const Snapshot& now) {
+  if (!layer_) {
+    platform::RenderTargetOptions rt;
+    rt.width = width_, rt.height = height_, rt.samples = target_->samples(), rt.depth = target_->depth();
+    layer_ = std::make_unique<platform::RenderTarget>(backend_, rt);
+  }
+  draw_scene(*layer_, nullptr, DrawSet::StaticOpaque);
+  layer_vp_ = vp;
+  layer_draws_ = now.draws;
+  layer_lights_ = light_worlds();
+  layer_valid_ = true;
+  ++stats_.layer_builds;
 }
 
 void Renderer::resolve_pending() {
@@ -935,7 +1020,13 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   const glm::mat4 vp = view_projection(nullptr);
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
   Snapshot now = snapshot();
-  const auto regions = force ? std::nullopt : damage(vp, now);
+  auto regions = force ? std::nullopt : damage(vp, now);
+  // The static layer: used by unforced frames (a forced frame is drawn from scratch), where the
+  // backend can copy multisample pixels and the scene makes it worth keeping (classify_draws).
+  const bool layered = !force && options_.partial_redraw && options_.static_layer && gl_.info.has_copy_image &&
+                       layer_pays_;
+  const bool layer_ok = layered && layer_current(vp, now);
+  if (layered && !layer_ok) regions = std::nullopt;  // the layer must be redrawn: a full frame
   if (regions && regions->empty()) {
     // Inputs changed but no pixel can have (e.g. a hidden node's text): the frame stands.
     t.submit_ms = ms_since(t1);
@@ -943,14 +1034,22 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     return skip();
   }
   if (!regions) {
-    draw_scene(nullptr);
+    if (layered) {
+      if (!layer_ok) build_layer(vp, now);
+      const platform::PixelRegion all{0, 0, width_, height_};
+      target_->copy_from(*layer_, std::span<const platform::PixelRegion>(&all, 1));
+      draw_scene(*target_, nullptr, DrawSet::OverStatic);
+    } else {
+      draw_scene(*target_, nullptr, DrawSet::Everything);
+    }
     draw_text();
     unresolved_ = {platform::PixelRegion{0, 0, width_, height_}};
     t.redrawn_fraction = 1.0;
   } else {
     long long pixels = 0;
+    if (layered) target_->copy_from(*layer_, *regions);
     for (const auto& r : *regions) {
-      draw_scene(&r);
+      draw_scene(*target_, &r, layered ? DrawSet::OverStatic : DrawSet::Everything);
       draw_text();
       pixels += area(r);
     }

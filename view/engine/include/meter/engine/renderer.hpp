@@ -40,6 +40,14 @@ struct RendererOptions {
   // image as a full redraw (tests/partial_redraw_test.cpp proves it pixel for pixel). Off: every
   // drawn frame is a full redraw (the reference for tests and benchmarks).
   bool partial_redraw = true;
+  // With partial_redraw: keep the opaque draws that nothing in the scene can change (no animation
+  // channel, visibility/colour/morph binding, skin or morph targets on them or their ancestors) in
+  // a second target, drawn once, with their depth. A redrawn region then starts as a copy of that
+  // layer (colour and depth of every sample, glCopyImageSubData) and only the draws that can change,
+  // the blended ones and the texts are drawn over it: the dial face under a moving needle is not
+  // shaded again every frame. Costs one more target of the same size and samples (about 20 MB at
+  // 1280x480 MSAA 4). Used only where glCopyImageSubData exists (GLES 3.2 / GL 4.3 / copy_image).
+  bool static_layer = true;
   // Benchmark baseline only (bench/view): when set, every draw goes through this ONE uber-shader
   // (shadergen::generate_uber(), made by the caller: the runtime does not link the generator)
   // with runtime switches set per draw from its generated program's features, as an engine
@@ -68,6 +76,7 @@ struct RendererStats {
   std::uint64_t index_rebuilds = 0;     // merged index arrays rebuilt (visibility changed)
   double concat_cpu_ms = 0.0;           // CPU time in member transforms + uploads (all frames)
   std::uint64_t partial_frames = 0;     // drawn frames limited to damaged regions
+  std::uint64_t layer_builds = 0;       // static layer (re)drawn (RendererOptions::static_layer)
   double redrawn_fraction_sum = 0.0;    // sum over drawn frames of FrameTiming::redrawn_fraction
 };
 
@@ -106,7 +115,15 @@ class Renderer {
   void build_groups();
   void update_groups();
   void update_world();
-  void draw_scene(const platform::PixelRegion* scissor);
+  // Which draws a pass submits. Everything: the scene as is. StaticOpaque: the static layer's
+  // content. OverStatic: what is drawn over a copy of the static layer (draws that can change, and
+  // every blended draw). Within the opaque draws, static ones always come first, then the ones that
+  // can change, so every path writes each sample in the same order (the same image, bit for bit).
+  enum class DrawSet { Everything, StaticOpaque, OverStatic };
+  void draw_scene(platform::RenderTarget& target, const platform::PixelRegion* scissor, DrawSet set);
+  // Marks the draws that can look different from one frame to the next (GpuDraw::changeable) and
+  // decides whether a static layer can pay off (layer_pays_).
+  void classify_draws();
   void draw_text();
   // What each draw looked like when last drawn; a change means its old and new screen boxes are
   // damaged. `deform` holds joint matrices / morph weights (their bounds are not the primitive's).
@@ -141,6 +158,10 @@ class Renderer {
   // Regions to redraw (disjoint), or nullopt when the whole target must be redrawn.
   std::optional<std::vector<platform::PixelRegion>> damage(const glm::mat4& vp, const Snapshot& now);
   void remember_drawn(const glm::mat4& vp, Snapshot now);
+  std::vector<std::pair<int, glm::mat4>> light_worlds() const;
+  // True when the static layer holds what the static draws look like now under `vp`.
+  bool layer_current(const glm::mat4& vp, const Snapshot& now) const;
+  void build_layer(const glm::mat4& vp, const Snapshot& now);
   void resolve_pending();
   glm::mat4 view_projection(glm::vec3* eye) const;
 
@@ -176,6 +197,13 @@ class Renderer {
   std::vector<DrawnText> drawn_texts_;
   std::vector<std::pair<int, glm::mat4>> drawn_lights_;  // light node, its world matrix
   std::vector<platform::PixelRegion> unresolved_;         // drawn since the last MSAA resolve
+  // Static layer (see RendererOptions::static_layer): created at the first unforced full frame.
+  std::unique_ptr<platform::RenderTarget> layer_;
+  bool layer_pays_ = false;  // static opaque draws under a fixed camera and fixed lights
+  bool layer_valid_ = false;
+  glm::mat4 layer_vp_{0.0f};
+  std::vector<DrawnDraw> layer_draws_;                   // per draw, as drawn into the layer
+  std::vector<std::pair<int, glm::mat4>> layer_lights_;
 };
 
 }  // namespace meter::engine
