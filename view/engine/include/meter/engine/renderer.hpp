@@ -5,8 +5,10 @@
 //   construction  programs compiled, buffers/VAOs/textures uploaded, uniform locations looked up;
 //   apply()       only animations whose time changed are re-sampled; world matrices recomputed only
 //                 when some node moved; a frame is marked dirty only when an output differs;
-//   draw()        sorts (opaque front-to-back, blended back-to-front) and submits; skipped by the
-//                 caller (render_if_dirty) when nothing changed since the last drawn frame.
+//   render()      skipped when nothing changed since the last drawn frame; otherwise redraws the
+//                 damaged regions (or everything): opaque static draws, then opaque changeable ones
+//                 (each front-to-back), then blended back-to-front, then texts. Under a partial
+//                 redraw the static part comes from the static layer (RendererOptions).
 #pragma once
 
 #include <map>
