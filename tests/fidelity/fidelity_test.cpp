@@ -50,8 +50,8 @@ std::vector<SceneFiles> all_scenes() {
 }
 
 engine::Scene convert(const SceneFiles& s) {
-  engine::SceneConfig c = engine::load_scene_config(s.config);
-  c.groups.clear();  // concatenation has its own equivalence tests; its grouping rules are in flux (issue #10)
+  // As shipped, concatenation groups included (merged == unmerged: concat_render_test).
+  const engine::SceneConfig c = engine::load_scene_config(s.config);
   return engine::convert_gltf(s.glb, c, engine::ConvertOptions{}).scene;
 }
 
