@@ -5,11 +5,16 @@
 // view says it drew, and the drawn speed must follow the log.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "meter/controller/can_frame.hpp"
@@ -96,6 +101,39 @@ std::vector<FrameRow> read_frames_csv(const fs::path& file) {
   return rows;
 }
 
+// scenes/minimal-gauge converted into dir/gauge.msp.
+void convert_gauge(const fs::path& dir) {
+  ChildProcess convert({built_executable("meter-convert"), kSource + "/scenes/minimal-gauge/minimal-gauge.glb",
+                        "--config", kSource + "/scenes/minimal-gauge/minimal-gauge.scene.json", "-o",
+                        (dir / "gauge.msp").string()},
+                       (dir / "convert.log").string());
+  auto rc = convert.wait_for(std::chrono::seconds(60));
+  ASSERT_TRUE(rc.has_value()) << "meter-convert hung";
+  ASSERT_EQ(*rc, 0) << convert.log();
+}
+
+// Rows of a CSV with a header, as column name -> cell.
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    std::string cell;
+    while (std::getline(s, cell, ',')) cells.push_back(cell);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 }  // namespace
 
 TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
@@ -105,16 +143,8 @@ TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
   const fs::path log = dir / "speed.log";
   write_speed_log(log);
 
-  {
-    ChildProcess convert({built_executable("meter-convert"),
-                          kSource + "/scenes/minimal-gauge/minimal-gauge.glb", "--config",
-                          kSource + "/scenes/minimal-gauge/minimal-gauge.scene.json", "-o",
-                          (dir / "gauge.msp").string()},
-                         (dir / "convert.log").string());
-    auto rc = convert.wait_for(std::chrono::seconds(60));
-    ASSERT_TRUE(rc.has_value()) << "meter-convert hung";
-    ASSERT_EQ(*rc, 0) << convert.log();
-  }
+  convert_gauge(dir);
+  if (HasFatalFailure()) return;
 
   const std::string link = "unix:" + (dir / "link.sock").string();
   // The view starts first and keeps retrying until the controller listens, as in the car.
@@ -163,4 +193,60 @@ TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
   EXPECT_GT(at_rest, 0) << "the needle was never seen at rest before the ramp";
   EXPECT_GT(at_speed, 5) << "the needle never settled in the R39 band of 100 km/h";
   EXPECT_LE(max_shown, 100.0 * 1.1 + 4.0) << "overshoot beyond the R39 band";
+}
+
+// Live dumps besides every Nth frame: at given times on the view's clock, and on request
+// (SIGUSR1). No controller is needed: without one the view draws its failsafe look, frame by frame.
+TEST(EndToEnd, LiveViewDumpsAtGivenTimesAndOnRequest) {
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "e2e" / "dump_at";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "frames");
+  convert_gauge(dir);
+  if (HasFatalFailure()) return;
+  // 2.5 and 2.52 usually share a frame. The request is sent just after the 0.5 s dump, far from
+  // the later times, so its frame is its own.
+  const std::vector<double> times = {0.5, 2.5, 2.52, 3.5};
+  ChildProcess view({built_executable("meter-view"), "--scene", (dir / "gauge.msp").string(), "--backend", "egl",
+                     "--link", "unix:" + (dir / "nobody.sock").string(), "--fps", "20", "--duration", "4",
+                     "--dump-at", "0.5s,2.5s", "--dump-at", "2520ms", "--dump-at", "3.5", "--timing-csv",
+                     (dir / "timing.csv").string(), "--out", (dir / "frames").string()},
+                    (dir / "view.log").string());
+  // The request comes once the view is surely in its loop (the 0.5 s dump is on disk).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!fs::exists(dir / "frames" / "frames.csv") || read_csv(dir / "frames" / "frames.csv").empty()) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "no dump at 0.5 s:\n" << view.log();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  view.signal(SIGUSR1);
+  const auto rc = view.wait_for(std::chrono::seconds(40));
+  ASSERT_TRUE(rc.has_value()) << "meter-view did not finish:\n" << view.log();
+  ASSERT_EQ(*rc, 0) << view.log();
+
+  const auto all = read_csv(dir / "timing.csv");
+  const auto dumped = read_csv(dir / "frames" / "frames.csv");
+  ASSERT_GT(all.size(), 20u) << "4 s at 20 fps";
+  std::set<std::string> dumped_frames;
+  for (const auto& r : dumped) {
+    dumped_frames.insert(r.at("frame"));
+    EXPECT_TRUE(fs::exists(dir / "frames" / r.at("png"))) << r.at("png");
+  }
+  // Each time is served by the first frame at or after it.
+  std::set<std::string> due;
+  for (double t : times) {
+    auto it = std::find_if(all.begin(), all.end(), [&](const auto& r) { return std::stod(r.at("time_s")) >= t; });
+    ASSERT_NE(it, all.end()) << "no frame after " << t << " s";
+    due.insert(it->at("frame"));
+    EXPECT_EQ(dumped_frames.count(it->at("frame")), 1u) << "frame " << it->at("frame") << " (first at or after " << t << " s) not dumped";
+  }
+  // ...and one more frame, the one after the request.
+  EXPECT_EQ(dumped_frames.size(), due.size() + 1) << "dumped frames: " << dumped.size();
+
+  // A bad time is named, with the flag.
+  ChildProcess bad({built_executable("meter-view"), "--scene", (dir / "gauge.msp").string(), "--link",
+                    "unix:" + (dir / "nobody.sock").string(), "--dump-at", "2x", "--out", (dir / "bad").string()},
+                   (dir / "bad.log").string());
+  const auto bad_rc = bad.wait_for(std::chrono::seconds(30));
+  ASSERT_TRUE(bad_rc.has_value());
+  EXPECT_EQ(*bad_rc, 1);
+  EXPECT_NE(bad.log().find("--dump-at: unknown unit \"x\""), std::string::npos) << bad.log();
 }

@@ -3,7 +3,10 @@
 //   offline:  meter-view --scene S.msp --set Vehicle.Speed=100 [--values v.csv --at 12.5s] --out DIR
 //             renders that one state to DIR/frame.png and exits;
 //   live:     meter-view --scene S.msp --link unix:/run/meter.sock --fps 30 --dump-every 30 --out DIR
-//             renders at its own rate, decoupled from message arrival, dumping PNGs + frames.csv.
+//             renders at its own rate, decoupled from message arrival, dumping PNGs + frames.csv:
+//             every Nth frame, the first frame at or after each --dump-at time, and the next frame
+//             after each SIGUSR1 (on request: kill -USR1 <pid>).
+#include <algorithm>
 #include <csignal>
 #include <chrono>
 #include <cmath>
@@ -35,24 +38,26 @@ using namespace meter;
 using Clock = std::chrono::steady_clock;
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
+volatile std::sig_atomic_t g_dump_request = 0;
+void on_dump_request(int) { g_dump_request = 1; }
 
 struct Failure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// "12.5s", "12.5", "250ms" -> seconds.
-double parse_time(const std::string& text) {
+// "12.5s", "12.5", "250ms" -> seconds; `option` names the flag in errors.
+double parse_time(const std::string& text, const std::string& option) {
   std::size_t used = 0;
   double v = 0;
   try {
     v = std::stod(text, &used);
   } catch (const std::exception&) {
-    throw Failure("--at: \"" + text + "\" is not a time (examples: 12.5s, 250ms)");
+    throw Failure(option + ": \"" + text + "\" is not a time (examples: 12.5s, 250ms)");
   }
   const std::string unit = text.substr(used);
   if (unit == "ms") v /= 1000.0;
-  else if (!unit.empty() && unit != "s") throw Failure("--at: unknown unit \"" + unit + "\" (use s or ms)");
-  if (!std::isfinite(v) || v < 0) throw Failure("--at: time must be finite and >= 0");
+  else if (!unit.empty() && unit != "s") throw Failure(option + ": unknown unit \"" + unit + "\" (use s or ms)");
+  if (!std::isfinite(v) || v < 0) throw Failure(option + ": time must be finite and >= 0");
   return v;
 }
 
@@ -328,7 +333,7 @@ int main(int argc, char** argv) {
                "Offline: --set/--values/--at render one state to <out>/frame.png. Live: --link ENDPOINT renders at --fps."};
   std::string scene_path, backend_name = "egl", size_text, out_dir = ".", link, values_csv, at_text, timing_csv, png_name = "frame.png";
   std::string trace_csv;
-  std::vector<std::string> sets;
+  std::vector<std::string> sets, dump_at_text;
   int msaa = 4, dump_every = 0, link_timeout_ms = 300;
   double fps = 30.0, duration = 0.0;
   bool dump_last = false, link_lost = false, info = false;
@@ -349,6 +354,11 @@ int main(int argc, char** argv) {
   app.add_option("--dump-every", dump_every, "live: write every Nth frame as PNG (0 = none)")->check(CLI::NonNegativeNumber);
   app.add_option("--duration", duration, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM)")->check(CLI::NonNegativeNumber);
   app.add_flag("--dump-last", dump_last, "live: write the final frame on exit");
+  app.add_option("--dump-at", dump_at_text,
+                 "live: write the first frame at or after each time on the view's clock (frames.csv time_s), "
+                 "e.g. --dump-at 2.5s,10s (repeatable); SIGUSR1 writes the next frame")
+      ->delimiter(',')
+      ->needs(link_opt);
   app.add_option("--timing-csv", timing_csv, "per-frame timing by stage (update, submit, GPU+readback) to this CSV");
   app.add_option("--link-timeout", link_timeout_ms,
                  "live: milliseconds of silence after which the link counts as lost (heartbeats every third of "
@@ -358,6 +368,9 @@ int main(int argc, char** argv) {
                  "live: latency trace CSV (link updates applied, frame rendered, PNG written; CLOCK_REALTIME ns)");
   app.add_flag("--info", info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
+  // Before the slow start-up (package, GL context): a dump request must never hit SIGUSR1's
+  // default action, which would end the process.
+  std::signal(SIGUSR1, on_dump_request);
 
   try {
     namespace fs = std::filesystem;
@@ -390,7 +403,7 @@ int main(int argc, char** argv) {
     if (link.empty()) {
       // Offline: one state, straight to PNG.
       std::map<int, engine::SignalValue> values;
-      if (!values_csv.empty()) load_values_csv(values_csv, at_text.empty() ? 1e300 : parse_time(at_text), values);
+      if (!values_csv.empty()) load_values_csv(values_csv, at_text.empty() ? 1e300 : parse_time(at_text, "--at"), values);
       for (const auto& s : sets) parse_set(s, values, "--set");
       auto lookup = [&](int id) -> const engine::SignalValue* {
         auto it = values.find(id);
@@ -412,6 +425,10 @@ int main(int argc, char** argv) {
     }
 
     // Live.
+    std::vector<double> dump_at;
+    for (const auto& text : dump_at_text) dump_at.push_back(parse_time(text, "--dump-at"));
+    std::sort(dump_at.begin(), dump_at.end());
+    std::size_t next_dump_at = 0;
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     protocol::LinkOptions lo;
@@ -477,7 +494,13 @@ int main(int argc, char** argv) {
       const std::int64_t t_update = trace.now();
       evaluator.update(lookup, sub.link_up(), dt);
       renderer.apply(evaluator.outputs());
-      const bool want = dump_every > 0 && frame % static_cast<std::uint64_t>(dump_every) == 0;
+      bool want = dump_every > 0 && frame % static_cast<std::uint64_t>(dump_every) == 0;
+      // Times that fell due since the last frame: one dump covers them all.
+      for (; next_dump_at < dump_at.size() && dump_at[next_dump_at] <= t; ++next_dump_at) want = true;
+      if (g_dump_request) {
+        g_dump_request = 0;
+        want = true;
+      }
       auto ft = renderer.render(false, want);
       const std::int64_t t_rendered = trace.now();
       log_timing(frame, t, ft);
