@@ -798,11 +798,7 @@ bool overlap(const PixelRegion& a, const PixelRegion& b) {
 // over every draw call), merging first the pair whose union adds the least area.
 void normalise(std::vector<PixelRegion>& regions, int width, int height) {
   constexpr std::size_t kMaxRegions = 4;
-  for (auto& r : regions) {
-    const int x0 = std::clamp(r.x, 0, width), y0 = std::clamp(r.y, 0, height);
-    const int x1 = std::clamp(r.x + r.width, 0, width), y1 = std::clamp(r.y + r.height, 0, height);
-    r = {x0, y0, x1 - x0, y1 - y0};
-  }
+  for (auto& r : regions) r = platform::clip(r, width, height);
   std::erase_if(regions, [](const PixelRegion& r) { return r.empty(); });
   for (;;) {
     bool merged = false;

@@ -185,11 +185,11 @@ void RenderTarget::resolve(std::span<const PixelRegion> regions) {
   gl.Disable(GL_SCISSOR_TEST);
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
   gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
-  for (const PixelRegion& r : regions) {
-    const int x0 = std::clamp(r.x, 0, width_), y0 = std::clamp(r.y, 0, height_);
-    const int x1 = std::clamp(r.x + r.width, 0, width_), y1 = std::clamp(r.y + r.height, 0, height_);
-    if (x1 <= x0 || y1 <= y0) continue;
-    gl.BlitFramebuffer(x0, y0, x1, y1, x0, y0, x1, y1, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  for (const PixelRegion& region : regions) {
+    const PixelRegion r = clip(region, width_, height_);
+    if (r.empty()) continue;
+    gl.BlitFramebuffer(r.x, r.y, r.x + r.width, r.y + r.height, r.x, r.y, r.x + r.width, r.y + r.height,
+                       GL_COLOR_BUFFER_BIT, GL_NEAREST);
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
   check_gl(gl, "RenderTarget::resolve (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
@@ -213,14 +213,14 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
   const GLuint src_color = ms ? source.msaa_color_rb_ : source.color_tex_, dst_color = ms ? msaa_color_rb_ : color_tex_;
   const GLenum color_target = ms ? GL_RENDERBUFFER : GL_TEXTURE_2D;
   const GLuint src_depth = ms ? source.msaa_depth_rb_ : source.depth_rb_, dst_depth = ms ? msaa_depth_rb_ : depth_rb_;
-  for (const PixelRegion& r : regions) {
-    const int x0 = std::clamp(r.x, 0, width_), y0 = std::clamp(r.y, 0, height_);
-    const int x1 = std::clamp(r.x + r.width, 0, width_), y1 = std::clamp(r.y + r.height, 0, height_);
-    if (x1 <= x0 || y1 <= y0) continue;
-    gl.CopyImageSubData(src_color, color_target, 0, x0, y0, 0, dst_color, color_target, 0, x0, y0, 0, x1 - x0, y1 - y0, 1);
+  for (const PixelRegion& region : regions) {
+    const PixelRegion r = clip(region, width_, height_);
+    if (r.empty()) continue;
+    gl.CopyImageSubData(src_color, color_target, 0, r.x, r.y, 0, dst_color, color_target, 0, r.x, r.y, 0, r.width,
+                        r.height, 1);
     if (depth_ != DepthFormat::None)
-      gl.CopyImageSubData(src_depth, GL_RENDERBUFFER, 0, x0, y0, 0, dst_depth, GL_RENDERBUFFER, 0, x0, y0, 0, x1 - x0,
-                          y1 - y0, 1);
+      gl.CopyImageSubData(src_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0, dst_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0,
+                          r.width, r.height, 1);
   }
   check_gl(gl, "RenderTarget::copy_from (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
 }
@@ -246,6 +246,12 @@ Image RenderTarget::read_resolved() {
     std::memcpy(b, tmp.data(), row);
   }
   return image;
+}
+
+PixelRegion clip(const PixelRegion& r, int width, int height) {
+  const int x0 = std::clamp(r.x, 0, width), y0 = std::clamp(r.y, 0, height);
+  const int x1 = std::clamp(r.x + r.width, 0, width), y1 = std::clamp(r.y + r.height, 0, height);
+  return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
 }
 
 double srgb_to_linear(double c) {

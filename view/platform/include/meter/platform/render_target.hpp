@@ -24,6 +24,9 @@ struct PixelRegion {
   bool operator==(const PixelRegion&) const = default;
 };
 
+// `r` cut to a width x height target (empty when it lies outside).
+PixelRegion clip(const PixelRegion& r, int width, int height);
+
 enum class DepthFormat {
   None,
   // GL_DEPTH_COMPONENT24 (24-bit fixed point, 2^-24 resolution over [0,1] of window depth).
