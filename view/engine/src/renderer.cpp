@@ -272,7 +272,28 @@ void Renderer::build() {
       break;
     }
   }
+  order_lights();
   classify_draws();
+}
+
+void Renderer::order_lights() {
+  // Shadergen's order: preorder from the roots, then stable by type. It depends on the scene's
+  // structure only, so it is fixed for the renderer's life.
+  light_nodes_.clear();
+  std::vector<int> stack(scene_.roots.rbegin(), scene_.roots.rend());
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    const Node& nd = scene_.nodes[static_cast<std::size_t>(n)];
+    if (nd.light >= 0) light_nodes_.push_back(n);
+    stack.insert(stack.end(), nd.children.rbegin(), nd.children.rend());
+  }
+  auto type = [&](int node) {
+    return static_cast<int>(scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(node)].light)].type);
+  };
+  std::stable_sort(light_nodes_.begin(), light_nodes_.end(), [&](int a, int b) { return type(a) < type(b); });
+  for (std::size_t k = 0; k < light_nodes_.size(); ++k)
+    if (light_count_[type(light_nodes_[k])]++ == 0) light_first_[type(light_nodes_[k])] = static_cast<int>(k);
 }
 
 void Renderer::build_groups() {
@@ -537,22 +558,7 @@ void Renderer::draw_scene(platform::RenderTarget& target, const platform::PixelR
   glm::vec3 eye(0.0f);
   const glm::mat4 vp = view_projection(&eye);
 
-  // Light list in shadergen order: preorder from the roots, then stable by type.
-  std::vector<int> lights;
-  {
-    std::vector<int> stack(scene_.roots.rbegin(), scene_.roots.rend());
-    while (!stack.empty()) {
-      int n = stack.back();
-      stack.pop_back();
-      const Node& nd = scene_.nodes[static_cast<std::size_t>(n)];
-      if (nd.light >= 0) lights.push_back(n);
-      stack.insert(stack.end(), nd.children.rbegin(), nd.children.rend());
-    }
-    std::stable_sort(lights.begin(), lights.end(), [&](int a, int b) {
-      return int(scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(a)].light)].type) <
-             int(scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(b)].light)].type);
-    });
-  }
+  const std::vector<int>& lights = light_nodes_;
 
   // Sort: opaque/mask front-to-back (early depth reject), blended back-to-front (correct over).
   update_groups();
@@ -566,11 +572,11 @@ void Renderer::draw_scene(platform::RenderTarget& target, const platform::PixelR
     } else if (!visible_[static_cast<std::size_t>(d->item->node)]) {
       continue;
     }
+    const bool in_layer = !d->shape->blend && !d->changeable;
+    if ((set == DrawSet::StaticOpaque && !in_layer) || (set == DrawSet::OverStatic && in_layer)) continue;
     // A draw whose screen box misses the scissor cannot change a pixel of this pass; on llvmpipe
     // skipping it saves its vertex work and triangle setup, which the scissor alone does not.
     if (scissor && outside(*d, *scissor, vp)) continue;
-    const bool in_layer = !d->shape->blend && !d->changeable;
-    if ((set == DrawSet::StaticOpaque && !in_layer) || (set == DrawSet::OverStatic && in_layer)) continue;
     const glm::vec3 c = (d->prim->bounds_min + d->prim->bounds_max) * 0.5f;
     glm::vec4 clip = vp * world_[static_cast<std::size_t>(d->item->node)] * glm::vec4(c, 1.0f);
     d->sort_depth = clip.w;
@@ -581,12 +587,6 @@ void Renderer::draw_scene(platform::RenderTarget& target, const platform::PixelR
   std::stable_partition(opaque.begin(), opaque.end(), [](auto* d) { return !d->changeable; });
   std::stable_sort(blended.begin(), blended.end(), [](auto* a, auto* b) { return a->sort_depth > b->sort_depth; });
 
-  // First index and count of each light type (directional, point, spot) in the sorted list.
-  int light_first[3] = {0, 0, 0}, light_count[3] = {0, 0, 0};
-  for (std::size_t k = 0; k < lights.size(); ++k) {
-    const int type = static_cast<int>(scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(lights[k])].light)].type);
-    if (light_count[type]++ == 0) light_first[type] = static_cast<int>(k);
-  }
   std::vector<float> scratch;
   GpuProgram* current = nullptr;
   auto draw_one = [&](GpuDraw* d) {
@@ -662,7 +662,7 @@ void Renderer::draw_scene(platform::RenderTarget& target, const platform::PixelR
             // Uber arrays: index = 2 * type + k (k-th light of that type); generated programs
             // index the type-sorted list directly.
             const int type = index / 2, k = index % 2;
-            index = k < light_count[type] ? light_first[type] + k : -1;
+            index = k < light_count_[type] ? light_first_[type] + k : -1;
           }
           if (index < 0 || static_cast<std::size_t>(index) >= lights.size()) break;
           const int ln = lights[static_cast<std::size_t>(index)];
@@ -960,8 +960,7 @@ void Renderer::remember_drawn(const glm::mat4& vp, Snapshot now) {
 
 std::vector<std::pair<int, glm::mat4>> Renderer::light_worlds() const {
   std::vector<std::pair<int, glm::mat4>> out;
-  for (std::size_t n = 0; n < scene_.nodes.size(); ++n)
-    if (scene_.nodes[n].light >= 0) out.emplace_back(static_cast<int>(n), world_[n]);
+  for (int n : light_nodes_) out.emplace_back(n, world_[static_cast<std::size_t>(n)]);
   return out;
 }
 

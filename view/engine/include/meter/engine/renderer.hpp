@@ -123,6 +123,8 @@ class Renderer {
   // can change, so every path writes each sample in the same order (the same image, bit for bit).
   enum class DrawSet { Everything, StaticOpaque, OverStatic };
   void draw_scene(platform::RenderTarget& target, const platform::PixelRegion* scissor, DrawSet set);
+  // Fills light_nodes_, light_first_, light_count_.
+  void order_lights();
   // Marks the draws that can look different from one frame to the next (GpuDraw::changeable) and
   // decides whether a static layer can pay off (layer_pays_).
   void classify_draws();
@@ -190,6 +192,10 @@ class Renderer {
   bool dirty_ = true;
   bool world_dirty_ = true;
   int camera_node_ = -1;
+  // Light nodes in shadergen's order (the index light uniforms use); first index and count of each
+  // light type (directional, point, spot) in it.
+  std::vector<int> light_nodes_;
+  int light_first_[3] = {0, 0, 0}, light_count_[3] = {0, 0, 0};
   platform::Image image_;
   RendererStats stats_;
   // Partial redraw bookkeeping (see RendererOptions::partial_redraw).
