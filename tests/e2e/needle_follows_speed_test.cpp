@@ -70,33 +70,40 @@ struct FrameRow {
   std::string status;
 };
 
-std::vector<FrameRow> read_frames_csv(const fs::path& file) {
+// Rows of a CSV with a header, as column name -> cell; a row shorter than the header (still being
+// written) is left out.
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
   std::ifstream in(file);
   std::string line;
-  std::getline(in, line);
   std::vector<std::string> header;
-  {
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) header.push_back(cell);
-  }
-  auto col = [&](const std::string& name) {
-    for (std::size_t i = 0; i < header.size(); ++i)
-      if (header[i] == name) return static_cast<int>(i);
-    ADD_FAILURE() << file << ": no column " << name;
-    return 0;
-  };
-  const int c_frame = col("frame"), c_png = col("png"), c_link = col("link_up"),
-            c_speed = col("Vehicle.Speed"), c_status = col("Vehicle.Speed.status");
-  std::vector<FrameRow> rows;
+  std::vector<std::map<std::string, std::string>> rows;
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::stringstream s(line);
     std::string cell;
     while (std::getline(s, cell, ',')) cells.push_back(cell);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
     if (cells.size() < header.size()) continue;
-    rows.push_back({std::stoi(cells[c_frame]), cells[c_png], cells[c_link] == "1",
-                    std::stod(cells[c_speed]), cells[c_status]});
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<FrameRow> read_frames_csv(const fs::path& file) {
+  std::vector<FrameRow> rows;
+  for (const auto& r : read_csv(file)) {
+    for (const char* column : {"frame", "png", "link_up", "Vehicle.Speed", "Vehicle.Speed.status"})
+      if (!r.count(column)) {
+        ADD_FAILURE() << file << ": no column " << column;
+        return rows;
+      }
+    rows.push_back({std::stoi(r.at("frame")), r.at("png"), r.at("link_up") == "1", std::stod(r.at("Vehicle.Speed")),
+                    r.at("Vehicle.Speed.status")});
   }
   return rows;
 }
@@ -112,26 +119,14 @@ void convert_gauge(const fs::path& dir) {
   ASSERT_EQ(*rc, 0) << convert.log();
 }
 
-// Rows of a CSV with a header, as column name -> cell.
-std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) cells.push_back(cell);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    std::map<std::string, std::string> row;
-    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
+// Waits until the live view has dumped its first frame (frames.csv has a row): its loop is running.
+void wait_for_first_dump(const fs::path& frames_csv, ChildProcess& view) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!fs::exists(frames_csv) || read_csv(frames_csv).empty()) {
+    ASSERT_TRUE(view.running()) << "meter-view ended before its first frame:\n" << view.log();
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "meter-view dumped no frame in 30 s:\n" << view.log();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  return rows;
 }
 
 }  // namespace
@@ -147,11 +142,15 @@ TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
   if (HasFatalFailure()) return;
 
   const std::string link = "unix:" + (dir / "link.sock").string();
-  // The view starts first and keeps retrying until the controller listens, as in the car.
+  // The view starts first and keeps retrying until the controller listens, as in the car. The
+  // controller starts once the view draws: the log's first second at rest must reach the frames
+  // (a view still starting up, e.g. right after a rebuild, missed it once).
   ChildProcess view({built_executable("meter-view"), "--scene", (dir / "gauge.msp").string(),
                      "--backend", "egl", "--link", link, "--fps", "10", "--dump-every", "1",
                      "--duration", "9", "--out", (dir / "frames").string()},
                     (dir / "view.log").string());
+  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  if (HasFatalFailure()) return;
   ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
                            kSource + "/controller/vehicles/demo/demo.dbc", "--map",
                            kSource + "/controller/vehicles/demo/demo.map", "--input",
@@ -211,12 +210,9 @@ TEST(EndToEnd, LiveViewDumpsAtGivenTimesAndOnRequest) {
                      "--dump-at", "0.5s,2.5s", "--dump-at", "2520ms", "--dump-at", "3.5", "--timing-csv",
                      (dir / "timing.csv").string(), "--out", (dir / "frames").string()},
                     (dir / "view.log").string());
-  // The request comes once the view is surely in its loop (the 0.5 s dump is on disk).
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (!fs::exists(dir / "frames" / "frames.csv") || read_csv(dir / "frames" / "frames.csv").empty()) {
-    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "no dump at 0.5 s:\n" << view.log();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  // The request comes once the view is surely in its loop (the 0.5 s dump is there).
+  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  if (HasFatalFailure()) return;
   view.signal(SIGUSR1);
   const auto rc = view.wait_for(std::chrono::seconds(40));
   ASSERT_TRUE(rc.has_value()) << "meter-view did not finish:\n" << view.log();
