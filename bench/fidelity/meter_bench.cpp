@@ -42,6 +42,7 @@
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
+#include "meter/platform/render_target.hpp"
 #include "meter/protocol/catalog.hpp"
 
 using namespace meter;
@@ -433,9 +434,6 @@ double percentile(std::vector<double> v, double p) {
   return v[lo] + (pos - double(lo)) * (v[hi] - v[lo]);
 }
 
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-double linear_to_srgb(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
-
 // 2x2 box filter in linear light (averaging sRGB codes darkens edges).
 platform::Image downsample2(const platform::Image& big) {
   platform::Image out(big.width / 2, big.height / 2);
@@ -446,10 +444,10 @@ platform::Image downsample2(const platform::Image& big) {
         for (int dy = 0; dy < 2; ++dy)
           for (int dx = 0; dx < 2; ++dx) {
             const double v = big.pixel(2 * x + dx, 2 * y + dy)[c] / 255.0;
-            sum += c == 3 ? v : srgb_to_linear(v);
+            sum += c == 3 ? v : platform::srgb_to_linear(v);
           }
         const double avg = sum / 4.0;
-        const double enc = c == 3 ? avg : linear_to_srgb(avg);
+        const double enc = c == 3 ? avg : platform::linear_to_srgb(avg);
         out.pixel(x, y)[c] = static_cast<std::uint8_t>(std::lround(std::clamp(enc, 0.0, 1.0) * 255.0));
       }
   return out;

@@ -20,6 +20,7 @@
 #include "meter/engine/animation.hpp"
 #include "meter/engine/concatenation.hpp"
 #include "meter/platform/image.hpp"
+#include "meter/platform/render_target.hpp"
 #include "meter/shadergen/glsl.hpp"
 
 namespace meter::engine {
@@ -384,10 +385,7 @@ class Converter {
   static std::array<glm::vec3, 6> ambient_cube(const platform::Image& im, float strength) {
     constexpr double kPi = 3.14159265358979323846;
     std::array<double, 256> lin{};
-    for (int c = 0; c < 256; ++c) {
-      const double x = c / 255.0;
-      lin[std::size_t(c)] = x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4);
-    }
+    for (int c = 0; c < 256; ++c) lin[std::size_t(c)] = platform::srgb_to_linear(c / 255.0);
     const glm::dvec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     glm::dvec3 sum[6] = {};
     double weight[6] = {};
