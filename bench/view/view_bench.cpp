@@ -82,7 +82,7 @@ double compile_link_ms(const platform::Gl& gl, const shadergen::Program& p) {
   gl.DeleteShader(vs);
   gl.DeleteShader(fs);
   gl.DeleteProgram(prog);
-  if (!ok) throw std::runtime_error("program " + p.features.key() + " does not link");
+  if (!ok) throw std::runtime_error("program " + meter::shadergen::program_key(p.features) + " does not link");
   return ms;
 }
 double median_compile_ms(const platform::Gl& gl, const shadergen::Program& p) {
@@ -295,9 +295,9 @@ int main(int argc, char** argv) {
       const shadergen::Program gen = shadergen::generate(e.program.features);
       const double before = median_compile_ms(egl->gl(), gen);
       const double after = median_compile_ms(egl->gl(), e.program);
-      egl_ms[s.name + "/" + e.program.features.key()] = {before, after};
+      egl_ms[s.name + "/" + meter::shadergen::program_key(e.program.features)] = {before, after};
       std::printf("%-10s %-44s %6zu->%-6zu %5zu->%-5zu %3zu->%-3zu %3zu->%-3zu %3zu->%-3zu %6.2f->%-6.2f\n",
-                  s.name.c_str(), e.program.features.key().substr(0, 44).c_str(),
+                  s.name.c_str(), meter::shadergen::program_key(e.program.features).substr(0, 44).c_str(),
                   r.source_bytes_before, r.source_bytes_after, r.spirv_instructions_before,
                   r.spirv_instructions_after, r.uniforms_before, r.uniforms_after,
                   r.varyings_before, r.varyings_after, r.samplers_before, r.samplers_after, before, after);
@@ -318,8 +318,8 @@ int main(int argc, char** argv) {
     const FrameStats b = frames(*egl, on, configs[s.name], n);
     double sum_off = 0, sum_on = 0;
     for (const auto& e : on.programs) {
-      sum_off += egl_ms[s.name + "/" + e.program.features.key()][0];
-      sum_on += egl_ms[s.name + "/" + e.program.features.key()][1];
+      sum_off += egl_ms[s.name + "/" + meter::shadergen::program_key(e.program.features)][0];
+      sum_on += egl_ms[s.name + "/" + meter::shadergen::program_key(e.program.features)][1];
     }
     std::printf("%-10s %2zu->%-3zu %9.1f->%-9.1f %9.2f->%-9.2f %8.1f->%-8.1f %8.1f\n", s.name.c_str(),
                 off.programs.size(), on.programs.size(), a.startup_ms + a.first_frame_ms,

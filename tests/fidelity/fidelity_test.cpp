@@ -220,8 +220,8 @@ TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
   const auto rep = engine::apply_quality(g, engine::parse_quality("shading=gouraud,precision=mediump,lod=0.5"));
   EXPECT_GE(rep.programs_regenerated, 1);
   for (const auto& d : g.draws) {
-    EXPECT_EQ(g.programs[std::size_t(d.program)].program.features.shading, shadergen::ShadingModel::Gouraud);
-    EXPECT_EQ(g.programs[std::size_t(d.program)].program.features.precision, shadergen::Precision::Mediump);
+    EXPECT_EQ(g.programs[std::size_t(d.program)].program.features.shading, bridge::ShadingModel::Gouraud);
+    EXPECT_EQ(g.programs[std::size_t(d.program)].program.features.precision, bridge::Precision::Mediump);
   }
   EXPECT_GT(rep.primitives_simplified, 0);
   EXPECT_LE(rep.triangles_after, rep.triangles_before * 6 / 10);
@@ -231,9 +231,9 @@ TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
   engine::Scene p = base;
   const std::string node = p.nodes[std::size_t(p.draws.front().node)].name;
   engine::QualitySettings q;
-  q.objects[node].shading = shadergen::ShadingModel::Unlit;
+  q.objects[node].shading = bridge::ShadingModel::Unlit;
   engine::apply_quality(p, q);
-  EXPECT_EQ(p.programs[std::size_t(p.draws.front().program)].program.features.shading, shadergen::ShadingModel::Unlit);
+  EXPECT_EQ(p.programs[std::size_t(p.draws.front().program)].program.features.shading, bridge::ShadingModel::Unlit);
 
   engine::Scene bad = base;
   engine::QualitySettings unknown;

@@ -44,7 +44,7 @@ void expect_unit_normals(const Scene& s, double tol) {
   for (const auto& m : s.meshes)
     for (const auto& p : m.primitives)
       for (const auto& l : p.layout) {
-        if (l.semantic != shadergen::AttributeSemantic::Normal) continue;
+        if (l.semantic != bridge::AttributeSemantic::Normal) continue;
         for (std::uint32_t v = 0; v < p.vertex_count; ++v) {
           const float* n = &p.vertices[v * static_cast<std::size_t>(p.stride) + static_cast<std::size_t>(l.offset)];
           ASSERT_TRUE(std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]));

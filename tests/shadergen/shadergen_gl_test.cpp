@@ -87,7 +87,7 @@ std::vector<MaterialFeatures> sample_sets() {
 }
 
 TEST_P(GlContext, GeneratedProgramsLinkWithTrueAttributeLocations) {
-  for (const auto& f : sample_sets()) check(generate(f), f.key());
+  for (const auto& f : sample_sets()) check(generate(f), meter::shadergen::program_key(f));
   check(generate_uber(), "uber");
 }
 
@@ -97,7 +97,7 @@ TEST_P(GlContext, OptimizedProgramsLinkAndEveryListedUniformIsActive) {
   c.set(UniformSemantic::Exposure, {1.0f});
   c.set(UniformSemantic::NormalScale, {1.0f});
   c.set(UniformSemantic::LightRange, 1, {0.0f});
-  for (const auto& f : sample_sets()) check(optimize(generate(f), c), f.key() + " optimized");
+  for (const auto& f : sample_sets()) check(optimize(generate(f), c), meter::shadergen::program_key(f) + " optimized");
   check(optimize(generate_uber(), {}), "uber optimized");
 }
 

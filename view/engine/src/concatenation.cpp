@@ -14,8 +14,8 @@
 
 namespace meter::engine {
 
-using shadergen::AlphaMode;
-using shadergen::AttributeSemantic;
+using bridge::AlphaMode;
+using bridge::AttributeSemantic;
 
 namespace {
 

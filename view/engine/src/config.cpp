@@ -194,61 +194,6 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
 
 }  // namespace
 
-const char* to_string(BindingKind kind) {
-  switch (kind) {
-    case BindingKind::Animation: return "animation";
-    case BindingKind::Visibility: return "visibility";
-    case BindingKind::Emissive: return "emissive";
-    case BindingKind::Color: return "color";
-    case BindingKind::Morph: return "morph";
-    case BindingKind::Text: return "text";
-  }
-  return "?";
-}
-
-bool valid_number_format(std::string_view f, std::string* why) {
-  int conversions = 0;
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f[i] != '%') continue;
-    ++i;
-    if (i < f.size() && f[i] == '%') continue;
-    while (i < f.size() && std::string_view("-+ #0").find(f[i]) != std::string_view::npos) ++i;
-    int width_digits = 0;
-    while (i < f.size() && f[i] >= '0' && f[i] <= '9') ++i, ++width_digits;
-    if (i < f.size() && f[i] == '.') {
-      ++i;
-      int prec_digits = 0;
-      while (i < f.size() && f[i] >= '0' && f[i] <= '9') ++i, ++prec_digits;
-      if (prec_digits > 2) width_digits = 99;
-    }
-    if (width_digits > 2) {
-      if (why) *why = "width/precision must be at most two digits";
-      return false;
-    }
-    if (i >= f.size() || std::string_view("feEgGF").find(f[i]) == std::string_view::npos) {
-      if (why) *why = "only %f %e %g (with flags, width, precision) and %% are allowed in \"" + std::string(f) + "\"";
-      return false;
-    }
-    ++conversions;
-  }
-  if (conversions != 1) {
-    if (why) *why = "expected exactly one number conversion (e.g. \"%.0f km\") in \"" + std::string(f) + "\"";
-    return false;
-  }
-  return true;
-}
-
-std::string format_number(const std::string& format, double value) {
-  char buf[256];
-  // The format was checked by valid_number_format (one float conversion, widths <= 99).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wformat-nonliteral"
-  int n = std::snprintf(buf, sizeof buf, format.c_str(), value);
-#pragma GCC diagnostic pop
-  if (n < 0) return {};
-  return std::string(buf, static_cast<std::size_t>(std::min<int>(n, sizeof buf - 1)));
-}
-
 SceneConfig parse_scene_config(std::string_view text, const std::string& origin) {
   Ctx c{origin};
   json j;

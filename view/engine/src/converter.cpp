@@ -1379,9 +1379,9 @@ class Converter {
         // Concatenated members: visibility becomes vertex alpha. The unmerged draw of the same
         // node feeds a constant 1 (Renderer), so one program serves both ways of drawing.
         f.vertex_alpha = group_members_.count(n) > 0;
-        f = f.canonical();
+        f = shadergen::canonical(f);
         const bool fold_material = opt_.optimize && !bound_materials.count(prim.material);
-        std::string key = f.key();
+        std::string key = shadergen::program_key(f);
         if (opt_.optimize) key += fold_material ? "|mat" + std::to_string(prim.material) : "|dynmat";
         auto it = cache.find(key);
         int program = -1;
@@ -1406,7 +1406,7 @@ class Converter {
             }
           } catch (const std::exception& ex) {
             throw SceneError(file_ + ": " + idx("meshes", static_cast<std::size_t>(node.mesh)) + idx(".primitives", pi) + " (material \"" + mat.name +
-                             "\", features " + f.key() + "): shader generation failed: " + ex.what());
+                             "\", features " + shadergen::program_key(f) + "): shader generation failed: " + ex.what());
           }
           program = static_cast<int>(s.programs.size());
           s.programs.push_back(std::move(e));
@@ -1560,7 +1560,7 @@ std::string program_report(const Scene& s) {
     const auto& p = e.program;
     std::size_t draws = 0;
     for (const auto& d : s.draws) draws += d.program == static_cast<int>(i);
-    os << "program " << i << ": " << p.features.key() << "\n";
+    os << "program " << i << ": " << shadergen::program_key(p.features) << "\n";
     os << "  shading " << shadergen::to_string(p.features.shading) << ", alpha " << shadergen::to_string(p.features.alpha)
        << ", blend " << (p.blend ? "on" : "off") << ", cull " << (p.cull_back_faces ? "back" : "none") << ", draws " << draws << "\n";
     os << "  attributes " << p.attributes.size() << ", uniforms " << p.uniforms.size() << ", samplers " << p.samplers.size()

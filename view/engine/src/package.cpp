@@ -120,7 +120,7 @@ E enum_in(Reader& r, int max, const char* what) {
   return static_cast<E>(v);
 }
 
-void write_features(Writer& w, const shadergen::MaterialFeatures& f) {
+void write_features(Writer& w, const bridge::MaterialFeatures& f) {
   w.i32(int(f.shading)), w.i32(int(f.alpha)), w.i32(int(f.precision));
   w.boolean(f.base_color_texture), w.boolean(f.metallic_roughness_texture), w.boolean(f.normal_texture);
   w.boolean(f.emissive_texture), w.boolean(f.occlusion_texture);
@@ -133,8 +133,8 @@ void write_features(Writer& w, const shadergen::MaterialFeatures& f) {
   w.boolean(f.environment_map_2d), w.boolean(f.has_tangents);
 }
 
-shadergen::MaterialFeatures read_features(Reader& r) {
-  using namespace shadergen;
+bridge::MaterialFeatures read_features(Reader& r) {
+  using namespace bridge;
   MaterialFeatures f;
   f.shading = enum_in<ShadingModel>(r, 4, "features.shading");
   f.alpha = enum_in<AlphaMode>(r, 2, "features.alpha");
@@ -182,7 +182,7 @@ void write_program(Writer& w, const ProgramEntry& e) {
 }
 
 ProgramEntry read_program(Reader& r) {
-  using namespace shadergen;
+  using namespace bridge;
   ProgramEntry e;
   auto& p = e.program;
   p.vertex_source = r.str("program.vertex_source");
@@ -384,7 +384,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
       p.morph_targets = r.i32("primitive.morph_targets");
       for (std::uint32_t na = r.count("layout", 16), a = 0; a < na; ++a) {
         VertexAttribute va;
-        va.semantic = enum_in<shadergen::AttributeSemantic>(r, int(shadergen::AttributeSemantic::VertexAlpha), "layout.semantic");
+        va.semantic = enum_in<bridge::AttributeSemantic>(r, int(bridge::AttributeSemantic::VertexAlpha), "layout.semantic");
         va.index = r.i32("layout.index");
         va.components = r.i32("layout.components");
         va.offset = r.i32("layout.offset");
@@ -410,8 +410,8 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
   for (std::uint32_t n = r.count("materials", 40), i = 0; i < n; ++i) {
     Material m;
     m.name = r.str("material.name");
-    m.shading = enum_in<shadergen::ShadingModel>(r, 4, "material.shading");
-    m.alpha = enum_in<shadergen::AlphaMode>(r, 2, "material.alpha");
+    m.shading = enum_in<bridge::ShadingModel>(r, 4, "material.shading");
+    m.alpha = enum_in<bridge::AlphaMode>(r, 2, "material.alpha");
     m.double_sided = r.boolean("material.double_sided");
     m.base_color = r.v4("material.base_color");
     m.emissive = r.v3("material.emissive");
@@ -582,25 +582,6 @@ Scene read_package(const std::string& path) {
   if (!in) throw SceneError(path + ": cannot open scene package");
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   return deserialize_scene(bytes, path);
-}
-
-int Scene::find_node(std::string_view name) const {
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    if (nodes[i].name == name) return static_cast<int>(i);
-  }
-  return -1;
-}
-int Scene::find_material(std::string_view name) const {
-  for (std::size_t i = 0; i < materials.size(); ++i) {
-    if (materials[i].name == name) return static_cast<int>(i);
-  }
-  return -1;
-}
-int Scene::find_animation(std::string_view name) const {
-  for (std::size_t i = 0; i < animations.size(); ++i) {
-    if (animations[i].name == name) return static_cast<int>(i);
-  }
-  return -1;
 }
 
 }  // namespace meter::engine

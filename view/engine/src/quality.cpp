@@ -98,7 +98,7 @@ shadergen::MaterialFeatures features_for(const Scene& s, const DrawItem& d, cons
   } else {
     f.lights = {};
   }
-  return f.canonical();
+  return shadergen::canonical(f);
 }
 
 // A PBR material shown with a Blinn-Phong-style model keeps the converter's defaults (specular 0.5,
@@ -206,7 +206,7 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
         s.materials[std::size_t(mat)].shading == ShadingModel::PbrMetallicRoughness && mapped_materials.insert(mat).second)
       map_pbr_to_phong(s.materials[std::size_t(mat)]);
     const shadergen::MaterialFeatures f = features_for(s, d, stored, shading, precision);
-    const std::string key = f.key();
+    const std::string key = shadergen::program_key(f);
     auto it = cache.find(key);
     if (it == cache.end()) {
       ProgramEntry pe;

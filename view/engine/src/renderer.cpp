@@ -19,8 +19,8 @@
 
 namespace meter::engine {
 
-using shadergen::AttributeSemantic;
-using shadergen::UniformSemantic;
+using bridge::AttributeSemantic;
+using bridge::UniformSemantic;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -31,7 +31,7 @@ double ms_since(Clock::time_point t) {
 
 struct Renderer::GpuProgram {
   GLuint program = 0;
-  const shadergen::Program* info = nullptr;
+  const bridge::Program* info = nullptr;
   struct Uniform {
     GLint location = -1;
     UniformSemantic semantic{};
@@ -40,7 +40,7 @@ struct Renderer::GpuProgram {
   std::vector<Uniform> uniforms;
   struct Sampler {
     GLint location = -1;
-    shadergen::TextureSlot slot{};
+    bridge::TextureSlot slot{};
     int unit = 0;
   };
   std::vector<Sampler> samplers;
@@ -57,7 +57,7 @@ struct Renderer::GpuDraw {
   float sort_depth = 0.0f;
   Renderer::GpuGroup* group = nullptr;  // set on a merged group's representative only
   // The program generated for this draw: blend and cull state, and (uber mode) the switches.
-  const shadergen::Program* shape = nullptr;
+  const bridge::Program* shape = nullptr;
   // Can look different from one frame to the next (classify_draws); false: static-layer material.
   // A merged group's representative: true when any member can change.
   bool changeable = false;
@@ -132,8 +132,8 @@ bool is_light_semantic(UniformSemantic s) {
 
 // Runtime switches of shadergen::generate_uber() for a draw generated with `f` (the bit layout is
 // uber.cpp's). Slot 0: vertex stage, slot 1: fragment stage.
-glm::ivec4 uber_switches(const shadergen::MaterialFeatures& f, int slot) {
-  using shadergen::ShadingModel;
+glm::ivec4 uber_switches(const bridge::MaterialFeatures& f, int slot) {
+  using bridge::ShadingModel;
   int textures = 0;
   const bool tex[5] = {f.base_color_texture, f.metallic_roughness_texture, f.normal_texture, f.emissive_texture,
                        f.occlusion_texture};
@@ -147,7 +147,7 @@ glm::ivec4 uber_switches(const shadergen::MaterialFeatures& f, int slot) {
 
 void Renderer::build() {
   // Programs: the package's generated ones, or (benchmark baseline) the uber-shader alone.
-  auto add_program = [&](const shadergen::Program& p, const std::string& label) {
+  auto add_program = [&](const bridge::Program& p, const std::string& label) {
     auto gp = std::make_unique<GpuProgram>();
     gp->info = &p;
     gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source, label);
@@ -601,7 +601,7 @@ void Renderer::draw_scene(platform::RenderTarget& target, const platform::PixelR
       gl.UseProgram(gp->program);
       current = gp;
     }
-    const shadergen::Program& shape = *d->shape;
+    const bridge::Program& shape = *d->shape;
     if (shape.blend) {
       gl.Enable(GL_BLEND);
       gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
@@ -718,7 +718,7 @@ void Renderer::draw_scene(platform::RenderTarget& target, const platform::PixelR
       }
     }
     for (const auto& s : gp->samplers) {
-      const int tex = s.slot == shadergen::TextureSlot::Environment ? scene_.environment.texture
+      const int tex = s.slot == bridge::TextureSlot::Environment ? scene_.environment.texture
                                                                      : mat.texture[static_cast<std::size_t>(s.slot)];
       gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + s.unit));
       gl.BindTexture(GL_TEXTURE_2D, tex >= 0 ? textures_[static_cast<std::size_t>(tex)] : white_texture_);

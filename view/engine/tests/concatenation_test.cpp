@@ -9,7 +9,7 @@
 
 using namespace meter;
 using namespace meter::engine;
-using shadergen::AttributeSemantic;
+using bridge::AttributeSemantic;
 
 namespace {
 
@@ -35,7 +35,7 @@ Scene scene_with(const std::vector<std::pair<std::string, glm::vec3>>& objects, 
   for (const char* name : {"A", "B", "G"}) {
     Material m;
     m.name = name;
-    if (std::string(name) == "G") m.alpha = shadergen::AlphaMode::Blend;
+    if (std::string(name) == "G") m.alpha = bridge::AlphaMode::Blend;
     s.materials.push_back(m);
   }
   Camera cam;

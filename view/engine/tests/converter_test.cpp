@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "meter/shadergen/shadergen.hpp"
 #include "meter/engine/converter.hpp"
 #include "meter/engine/package.hpp"
 #include "test_scenes.hpp"
@@ -132,7 +133,7 @@ TEST(ConverterDial, FeaturesPerMaterialAndOnlyWhatIsUsed) {
   std::set<std::string> keys;
   bool morph = false, lit = false;
   for (const auto& p : s.programs) {
-    keys.insert(p.program.features.key());
+    keys.insert(meter::shadergen::program_key(p.program.features));
     morph = morph || p.program.features.morph_targets == 2;
     if (p.program.features.shading == meter::shadergen::ShadingModel::PbrMetallicRoughness) {
       lit = true;

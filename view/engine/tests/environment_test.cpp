@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "meter/shadergen/shadergen.hpp"
 #include "meter/engine/converter.hpp"
 #include "meter/engine/package.hpp"
 #include "meter/platform/image.hpp"
@@ -69,7 +70,7 @@ TEST(Environment, SceneWithoutOneGetsNoEnvironmentCode) {
   const Scene s = convert(test::write_dial_scene(test::scratch_dir("env_none")));
   EXPECT_FALSE(s.environment.present());
   for (const auto& p : s.programs) {
-    EXPECT_FALSE(p.program.features.environment_map_2d) << p.program.features.key();
+    EXPECT_FALSE(p.program.features.environment_map_2d) << meter::shadergen::program_key(p.program.features);
     for (const auto& smp : p.program.samplers) EXPECT_NE(smp.slot, TextureSlot::Environment);
   }
 }
@@ -102,7 +103,7 @@ TEST(Environment, ExtrasArePackedIntegratedAndUsedByLitPerPixelPrograms) {
   for (const auto& p : s.programs) {
     const bool lit_pp = p.program.features.shading == ShadingModel::PbrMetallicRoughness ||
                         p.program.features.shading == ShadingModel::BlinnPhong;
-    EXPECT_EQ(p.program.features.environment_map_2d, lit_pp) << p.program.features.key();
+    EXPECT_EQ(p.program.features.environment_map_2d, lit_pp) << meter::shadergen::program_key(p.program.features);
     (p.program.features.environment_map_2d ? with_env : without_env)++;
   }
   EXPECT_GT(with_env, 0);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "meter/shadergen/shadergen.hpp"
 #include "meter/engine/bindings.hpp"
 #include "meter/engine/converter.hpp"
 #include "meter/engine/renderer.hpp"

@@ -6,90 +6,6 @@
 
 namespace meter::shadergen {
 
-const char* to_string(ShadingModel m) {
-  switch (m) {
-    case ShadingModel::Unlit: return "unlit";
-    case ShadingModel::Flat: return "flat";
-    case ShadingModel::Gouraud: return "gouraud";
-    case ShadingModel::BlinnPhong: return "blinn-phong";
-    case ShadingModel::PbrMetallicRoughness: return "pbr";
-  }
-  return "?";
-}
-
-const char* to_string(AlphaMode m) {
-  switch (m) {
-    case AlphaMode::Opaque: return "opaque";
-    case AlphaMode::Mask: return "mask";
-    case AlphaMode::Blend: return "blend";
-  }
-  return "?";
-}
-
-const char* to_string(TextureSlot s) {
-  switch (s) {
-    case TextureSlot::BaseColor: return "base_color";
-    case TextureSlot::MetallicRoughness: return "metallic_roughness";
-    case TextureSlot::Normal: return "normal";
-    case TextureSlot::Emissive: return "emissive";
-    case TextureSlot::Occlusion: return "occlusion";
-    case TextureSlot::Environment: return "environment";
-  }
-  return "?";
-}
-
-const char* to_string(UniformSemantic s) {
-  switch (s) {
-    case UniformSemantic::ModelMatrix: return "ModelMatrix";
-    case UniformSemantic::ViewProjection: return "ViewProjection";
-    case UniformSemantic::NormalMatrix: return "NormalMatrix";
-    case UniformSemantic::CameraPosition: return "CameraPosition";
-    case UniformSemantic::BaseColorFactor: return "BaseColorFactor";
-    case UniformSemantic::EmissiveFactor: return "EmissiveFactor";
-    case UniformSemantic::MetallicFactor: return "MetallicFactor";
-    case UniformSemantic::RoughnessFactor: return "RoughnessFactor";
-    case UniformSemantic::NormalScale: return "NormalScale";
-    case UniformSemantic::OcclusionStrength: return "OcclusionStrength";
-    case UniformSemantic::AlphaCutoff: return "AlphaCutoff";
-    case UniformSemantic::SpecularColor: return "SpecularColor";
-    case UniformSemantic::Shininess: return "Shininess";
-    case UniformSemantic::AmbientLight: return "AmbientLight";
-    case UniformSemantic::LightColor: return "LightColor";
-    case UniformSemantic::LightIntensity: return "LightIntensity";
-    case UniformSemantic::LightPosition: return "LightPosition";
-    case UniformSemantic::LightDirection: return "LightDirection";
-    case UniformSemantic::LightRange: return "LightRange";
-    case UniformSemantic::LightInnerConeCos: return "LightInnerConeCos";
-    case UniformSemantic::LightOuterConeCos: return "LightOuterConeCos";
-    case UniformSemantic::JointMatrices: return "JointMatrices";
-    case UniformSemantic::MorphWeights: return "MorphWeights";
-    case UniformSemantic::TextureTransform: return "TextureTransform";
-    case UniformSemantic::EnvironmentIntensity: return "EnvironmentIntensity";
-    case UniformSemantic::EnvironmentIrradiance: return "EnvironmentIrradiance";
-    case UniformSemantic::Exposure: return "Exposure";
-    case UniformSemantic::UberSwitches: return "UberSwitches";
-    case UniformSemantic::UberLightCounts: return "UberLightCounts";
-  }
-  return "?";
-}
-
-const char* to_string(AttributeSemantic s) {
-  switch (s) {
-    case AttributeSemantic::Position: return "POSITION";
-    case AttributeSemantic::Normal: return "NORMAL";
-    case AttributeSemantic::Tangent: return "TANGENT";
-    case AttributeSemantic::TexCoord0: return "TEXCOORD_0";
-    case AttributeSemantic::TexCoord1: return "TEXCOORD_1";
-    case AttributeSemantic::Color0: return "COLOR_0";
-    case AttributeSemantic::Joints0: return "JOINTS_0";
-    case AttributeSemantic::Weights0: return "WEIGHTS_0";
-    case AttributeSemantic::MorphPosition: return "MORPH_POSITION";
-    case AttributeSemantic::MorphNormal: return "MORPH_NORMAL";
-    case AttributeSemantic::VertexAlpha: return "VERTEX_ALPHA";
-  }
-  return "?";
-}
-
 namespace detail {
 
 bool has_texture(const MaterialFeatures& f, TextureSlot slot) {
@@ -188,9 +104,9 @@ void validate(const MaterialFeatures& f) {
 
 }  // namespace detail
 
-MaterialFeatures MaterialFeatures::canonical() const {
-  detail::validate(*this);
-  MaterialFeatures c = *this;
+MaterialFeatures canonical(const MaterialFeatures& features) {
+  detail::validate(features);
+  MaterialFeatures c = features;
   // Data the shading model never reads does not change the program: drop it so equal programs
   // share one key (and one cache entry).
   if (c.shading == ShadingModel::Unlit) c.lights = {};
@@ -199,8 +115,8 @@ MaterialFeatures MaterialFeatures::canonical() const {
   return c;
 }
 
-std::string MaterialFeatures::key() const {
-  const MaterialFeatures c = canonical();
+std::string program_key(const MaterialFeatures& features) {
+  const MaterialFeatures c = canonical(features);
   std::string k = to_string(c.shading);
   k += '|';
   k += to_string(c.alpha);

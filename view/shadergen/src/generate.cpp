@@ -105,7 +105,7 @@ std::string light_helpers(const LightCounts& lights) {
 }  // namespace
 
 Program generate(const MaterialFeatures& requested) {
-  const MaterialFeatures f = requested.canonical();  // validates; throws std::invalid_argument
+  const MaterialFeatures f = canonical(requested);  // validates; throws std::invalid_argument
   const Needs need = analyse(f);
   const bool per_pixel = detail::per_pixel_normal(f.shading);
   const int lights = f.lights.total();
@@ -395,7 +395,7 @@ Program generate(const MaterialFeatures& requested) {
   p.features = f;
   p.blend = f.alpha == AlphaMode::Blend;
   p.cull_back_faces = !f.double_sided;
-  return b.finish("meter shadergen: " + f.key());
+  return b.finish("meter shadergen: " + program_key(f));
 }
 
 }  // namespace meter::shadergen

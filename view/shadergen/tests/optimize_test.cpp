@@ -61,7 +61,7 @@ TEST(Optimize, WithoutConstantsCompilesAndNeverGrows) {
   }
   sets.push_back(rich_pbr());
   for (const auto& f : sets) {
-    SCOPED_TRACE(f.key());
+    SCOPED_TRACE(meter::shadergen::program_key(f));
     const Program p = generate(f);
     OptimizeReport r;
     const Program o = optimize(p, {}, &r);

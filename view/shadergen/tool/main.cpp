@@ -58,7 +58,7 @@ void parse_constant(const std::string& spec, ConstantValues& c) {
 }
 
 void print_metadata(const Program& p) {
-  std::printf("program %s\n", p.uber ? "uber" : p.features.key().c_str());
+  std::printf("program %s\n", p.uber ? "uber" : meter::shadergen::program_key(p.features).c_str());
   std::printf("  blend %s, cull back faces %s, optimized %s\n", p.blend ? "on" : "off",
               p.cull_back_faces ? "on" : "off", p.optimized ? "yes" : "no");
   std::printf("  attributes (%zu):\n", p.attributes.size());
@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
       f.environment_map_2d = env;
       f.has_tangents = tangents;
       if (print == "key") {
-        std::printf("%s\n", f.key().c_str());
+        std::printf("%s\n", meter::shadergen::program_key(f).c_str());
         return 0;
       }
       p = generate(f);

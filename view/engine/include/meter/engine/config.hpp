@@ -1,91 +1,17 @@
-// Scene config ("meter-scene-config/1"): render size, camera, clear colour, and the bindings that
-// connect catalog signals to the scene (docs/scene-config.md). Parsing is pure: text in, struct out,
-// std::invalid_argument naming the file, the JSON path and what was expected.
+// Scene config parsing: text in, bridge::SceneConfig out, std::invalid_argument naming the
+// file, the JSON path and what was expected (docs/scene-config.md).
 #pragma once
 
-#include <array>
-#include <map>
-#include <optional>
 #include <string>
 #include <string_view>
-#include <vector>
+
+#include "meter/engine/scene.hpp"
 
 namespace meter::engine {
-
-enum class BindingKind { Animation, Visibility, Emissive, Color, Morph, Text };
-enum class TextAlign { Left, Center, Right };
-
-struct Binding {
-  BindingKind kind = BindingKind::Animation;
-  std::string signal;     // catalog name, e.g. "Vehicle.Speed"
-  int signal_id = -1;     // resolved against the catalog at parse time
-  // animation
-  std::string animation;
-  std::array<double, 2> input{0.0, 1.0};   // signal range (animation, morph, colour/emissive blend)
-  bool has_input = false;                  // colour/emissive: blend over input instead of a threshold
-  std::array<double, 2> time{0.0, 1.0};    // animation time range the input range maps to
-  double smoothing_ms = 0.0;               // first-order smoothing time constant (0 = none)
-  // visibility / emissive / color threshold: "on" when value >= threshold
-  double threshold = 0.5;
-  bool invert = false;                     // visibility: visible when the value is below threshold
-  // node (visibility, morph, text) / material (emissive, color)
-  std::string node, material;
-  std::array<double, 4> off{0, 0, 0, 1}, on{1, 1, 1, 1};  // emissive uses rgb, color rgba
-  int morph_target = 0;
-  std::array<double, 2> weight{0.0, 1.0};
-  // text
-  std::string format = "%.0f";
-  double size_px = 24.0;
-  std::array<double, 4> color{1, 1, 1, 1};
-  TextAlign align = TextAlign::Left;
-  std::map<long long, std::string> map;  // integral value -> text (gear "126" -> "P")
-  // failsafe: what is shown while the signal is not Valid or the link is down
-  std::optional<double> failsafe_value;
-  std::optional<bool> failsafe_visible;
-  std::optional<std::string> failsafe_text;
-};
-
-struct LinkLossConfig {
-  std::string text_node;  // empty = no link-loss text
-  std::string text = "NO SIGNAL";
-  double size_px = 32.0;
-  std::array<double, 4> color{1.0, 0.25, 0.2, 1.0};
-  TextAlign align = TextAlign::Center;
-};
-
-struct Group {
-  std::string name;
-  std::vector<std::string> members;
-};
-
-struct MaterialOverride {
-  std::optional<std::string> shading;  // "unlit" | "flat" | "gouraud" | "blinn-phong" | "pbr"
-};
-
-struct SceneConfig {
-  std::array<int, 2> size{1280, 480};
-  std::string camera;  // camera node name or camera name; empty = first camera in the scene
-  std::array<double, 4> clear_color{0, 0, 0, 1};
-  double time = 0.0;   // animation time used for animations no binding drives
-  std::array<double, 3> ambient{0.03, 0.03, 0.03};
-  double exposure = 0.0;  // stops; the shaders scale by 2^exposure
-  std::vector<Binding> bindings;
-  LinkLossConfig link_loss;
-  std::vector<Group> groups;
-  std::map<std::string, MaterialOverride> materials;
-  std::string source_json;  // the original text, stored in the package
-};
 
 // `origin` names the file in messages. Throws std::invalid_argument.
 SceneConfig parse_scene_config(std::string_view json_text, const std::string& origin = "config");
 SceneConfig load_scene_config(const std::string& path);
 
-const char* to_string(BindingKind kind);
-
-// Checks a printf format for exactly one floating conversion (%f %e %g %F %E %G, with flags,
-// width, precision) and only %% otherwise, so formatting a double can never be UB.
-bool valid_number_format(std::string_view format, std::string* why = nullptr);
-// Formats `value` with a format accepted by valid_number_format.
-std::string format_number(const std::string& format, double value);
 
 }  // namespace meter::engine

@@ -56,7 +56,7 @@ struct RendererOptions {
   // without a shader generator would. It has no Flat/Gouraud (drawn per pixel as Blinn-Phong),
   // morph targets, environment map or vertex alpha, so concatenation is off in this mode and the
   // image is close to, not always equal to, the generated programs'. Must outlive the renderer.
-  const shadergen::Program* uber_shader = nullptr;
+  const bridge::Program* uber_shader = nullptr;
 };
 
 struct FrameTiming {
