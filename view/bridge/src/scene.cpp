@@ -1,6 +1,9 @@
 // Name lookups on the scene model.
 #include "meter/bridge/scene.hpp"
 
+#include <algorithm>
+#include <cstddef>
+
 namespace meter::bridge {
 
 int Scene::find_node(std::string_view name) const {
@@ -20,6 +23,36 @@ int Scene::find_animation(std::string_view name) const {
     if (animations[i].name == name) return static_cast<int>(i);
   }
   return -1;
+}
+
+
+std::vector<int> node_preorder(const Scene& scene) {
+  std::vector<int> order;
+  order.reserve(scene.nodes.size());
+  std::vector<char> seen(scene.nodes.size(), 0);
+  std::vector<int> stack(scene.roots.rbegin(), scene.roots.rend());
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    if (n < 0 || static_cast<std::size_t>(n) >= scene.nodes.size() || seen[static_cast<std::size_t>(n)]) continue;
+    seen[static_cast<std::size_t>(n)] = 1;
+    order.push_back(n);
+    const auto& children = scene.nodes[static_cast<std::size_t>(n)].children;
+    stack.insert(stack.end(), children.rbegin(), children.rend());
+  }
+  return order;
+}
+
+
+std::vector<int> light_order(const Scene& scene) {
+  std::vector<int> lights;
+  for (int n : node_preorder(scene))
+    if (scene.nodes[static_cast<std::size_t>(n)].light >= 0) lights.push_back(n);
+  auto type = [&](int n) {
+    return static_cast<int>(scene.lights[static_cast<std::size_t>(scene.nodes[static_cast<std::size_t>(n)].light)].type);
+  };
+  std::stable_sort(lights.begin(), lights.end(), [&](int a, int b) { return type(a) < type(b); });
+  return lights;
 }
 
 }  // namespace meter::bridge

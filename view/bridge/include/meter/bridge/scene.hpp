@@ -204,4 +204,14 @@ struct Scene {
   int find_animation(std::string_view name) const;
 };
 
+// The scene's one traversal order: depth first from each root in turn, every node before its
+// children, children in their glTF order (the order draws, lights and merged groups are listed in).
+// Nodes no root reaches are left out.
+std::vector<int> node_preorder(const Scene& scene);
+
+// The light nodes in the order the programs index their light uniforms: node_preorder, then
+// stably grouped by type (directional, point, spot). The converter generates programs for this
+// order and the runtime sets light uniforms in it.
+std::vector<int> light_order(const Scene& scene);
+
 }  // namespace meter::bridge
