@@ -1,0 +1,199 @@
+// meter-bench fidelity: every scene against its Blender reference -> docs/fidelity.md + CSV.
+#include "benchmarks.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <thread>
+
+#include <sys/utsname.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "meter/engine/bindings.hpp"
+#include "meter/engine/converter.hpp"
+#include "meter/engine/quality.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/platform/backend.hpp"
+#include "meter/platform/image.hpp"
+#include "meter/platform/render_target.hpp"
+#include "meter/protocol/catalog.hpp"
+
+
+#include "bench_scenes.hpp"
+
+namespace meter::bench {
+
+// Why a scene is under target, and what fixes it: the interpretation of its measured breakdown
+// (the numbers are printed from this run beside it), looked up by scene name; a scene under the
+// bar without an entry is reported as "not analysed" so a new regression is never explained away.
+std::string known_cause(const std::string& scene) {
+  static const std::map<std::string, std::string> causes = {
+      {"reflection", "The mirror shows the environment's grid lines and softbox edges: one mip-filtered lookup per pixel "
+                     "(LOD from the reflection vector's screen footprint) where EEVEE averages 64 samples per pixel; the error "
+                     "sits on those edges and falls with supersampling. Fix planned: anisotropic filtering of the footprint or "
+                     "supersampling where the budget allows"},
+      {"bump", "The hammered dimples' rims (normal-map detail) alias under MSAA 4, which does not multisample shading, while "
+               "EEVEE averages 64 samples per pixel: the error sits on the rims and falls with supersampling. Toksvig-style "
+               "roughness from the mip's normal length was tried and bought 0.06 dB (not kept). Fix planned: per-sample "
+               "shading or supersampling of normal-mapped materials where the budget allows"},
+      {"cluster", "Thin, high-contrast detail (ticks, numerals, needle and bezel outlines) carries almost all the error; the "
+                  "reference is a JPEG (quality 85: the engine's own frame through the same JPEG scores 35.6 dB against "
+                  "itself, a ceiling for any render) with EEVEE soft shadows (needle hubs) the engine does not draw. Fix "
+                  "planned: a PNG Blender preview (scenes), supersampling or a wider resolve filter for the thin detail"},
+  };
+  auto it = causes.find(scene);
+  return it == causes.end() ? "not analysed yet" : it->second;
+}
+
+int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path& doc, const std::string& quality) {
+  fs::create_directories(out);
+  const engine::QualitySettings q = engine::parse_quality(quality);
+  auto backend = platform::create_backend(kind);
+  std::ofstream csv(out / "fidelity.csv");
+  csv << "scene,backend,psnr_full_db,psnr_object_db,ssim,object_share,paper_db,render_ms,error\n";
+  struct Row {
+    SceneSpec spec;
+    Metrics m;
+    std::string error;
+    Breakdown where;
+  };
+  std::vector<Row> rows;
+  for (const SceneSpec& s : all_scenes()) {
+    Row row{s, {}, "", {}};
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      if (s.reference.empty()) throw std::runtime_error("no Blender preview in scenes/cluster");
+      engine::Scene scene = convert(s, true);
+      engine::RendererOptions o;  // the product's defaults (MSAA 4, concatenation on)
+      // A ladder point (--quality) measures one setting against the product's defaults, e.g.
+      // environment=off gives the engine's numbers from before it loaded environment maps.
+      engine::apply_quality(scene, q);
+      o.msaa = q.msaa.value_or(o.msaa);
+      const platform::Image img = render_once(*backend, scene, reference_state(scene, s.name == "cluster"), o);
+      platform::write_png(img, out / (s.name + ".engine.png"));
+      const platform::Image ref = read_reference(s.reference, out);
+      if (ref.width != img.width || ref.height != img.height)
+        throw std::runtime_error(s.reference + ": " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+                                 ", the engine renders " + std::to_string(img.width) + "x" + std::to_string(img.height));
+      row.m = compare(img, ref);
+      row.where = breakdown(img, ref);
+      // Same scene at 2x size, box-filtered in linear light: how much of the gap is edge sampling.
+      engine::RendererOptions big = o;
+      big.width = img.width * 2, big.height = img.height * 2;
+      row.where.psnr_supersampled =
+          platform::psnr(downsample2(render_once(*backend, scene, reference_state(scene, s.name == "cluster"), big)), ref);
+    } catch (const std::exception& e) {
+      row.error = e.what();
+      row.m = {std::nan(""), std::nan(""), std::nan(""), std::nan("")};
+    }
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::string err = row.error;
+    std::replace(err.begin(), err.end(), ',', ';');
+    std::replace(err.begin(), err.end(), '\n', ' ');
+    csv << s.name << ',' << backend->name() << ',' << row.m.full << ',' << row.m.object << ',' << row.m.ssim << ','
+        << row.m.object_share << ',' << s.paper_db << ',' << ms << ',' << err << '\n';
+    std::printf("%-11s full %7s dB  object %7s dB  SSIM %6s  (paper %s)%s%s\n", s.name.c_str(), fmt(row.m.full).c_str(),
+                fmt(row.m.object).c_str(), fmt(row.m.ssim, 4).c_str(), s.paper_db > 0 ? fmt(s.paper_db).c_str() : "—",
+                row.error.empty() ? "" : "  ERROR: ", row.error.c_str());
+    rows.push_back(std::move(row));
+  }
+
+  std::ostringstream md;
+  md << "# Fidelity: the engine against the authoring tool\n\n"
+     << "Generated by `meter-bench fidelity --backend " << backend->name()
+     << (quality.empty() ? std::string() : " --quality " + quality) << "` — do not edit by hand; re-run it.\n\n"
+     << "Machine and date: " << machine_line(*backend) << ".\n\n"
+     << "Each scene is converted with `convert_gltf` (optimized programs and concatenation groups, the product path) and drawn in-process by the "
+        "engine's `Renderer` (MSAA 4) in the state its reference shows, then compared with the Blender (EEVEE) render "
+        "committed next to it (`scenes/features/<name>/reference.png`; cluster: `scenes/cluster/preview-blender.jpg`, "
+        "frame 100, every telltale lit, no text). PSNR is computed in C++ (`meter::platform::psnr`, RGB, peak 255; "
+        "cross-checked against ImageMagick `compare -metric PSNR` on a real render by `tests/fidelity`). "
+        "*Object* PSNR counts only the pixels where the reference differs from its background colour by more than "
+        << kMaskTolerance << " levels (`object_mask`); SSIM is the mean SSIM on luma. "
+        "The paper's column is its Table 1 (DENSO, 640x480, one teapot per feature); 30 dB = acceptable, 40 dB = "
+        "indistinguishable.\n\n"
+     << "| scene | PSNR full (dB) | PSNR object (dB) | SSIM | object pixels | paper (dB) | verdict |\n|---|---|---|---|---|---|---|\n";
+  int under = 0;
+  for (const Row& r : rows) {
+    const std::string paper = r.spec.paper_db > 0 ? fmt(r.spec.paper_db) + " (" + r.spec.paper_name + ")" : "— (not in the paper)";
+    std::string verdict;
+    if (!r.error.empty()) verdict = "not measured: " + r.error;
+    else if (r.m.full < 30.0) verdict = "**under 30 dB**", ++under;
+    else if (r.m.full < 35.0) verdict = "≥ 30 dB (under the 35 dB goal)";
+    else verdict = r.m.full >= 40.0 ? "≥ 40 dB" : "≥ 35 dB";
+    md << "| " << r.spec.name << " | " << fmt(r.m.full) << " | " << fmt(r.m.object) << " | " << fmt(r.m.ssim, 4) << " | "
+       << (std::isnan(r.m.object_share) ? "—" : fmt(100.0 * r.m.object_share, 1) + " %") << " | " << paper << " | " << verdict << " |\n";
+  }
+  md << "\n## Where the difference is\n\n"
+        "*Edges* are the pixels where the reference's luma changes by more than "
+     << kEdgeLevels
+     << " levels to a neighbour (silhouettes, ticks, numerals, texture detail). *Blurred* = PSNR after the same 5x5 "
+        "binomial blur (σ ≈ 1 px) of both images: what is left is low-frequency shading, not sharpness, anti-aliasing or "
+        "JPEG. *2x supersampled* = the engine drawn at twice the size (MSAA 4) and box-filtered down in linear light, "
+        "against the same reference: how much better finer edge sampling alone gets. *Bias* = mean engine − reference per channel, in levels. *Worst cell* = the cell of a 4 x 4 grid with most "
+        "of the squared error.\n\n"
+     << "| scene | edge pixels | error on edges | PSNR off edges (dB) | PSNR blurred (dB) | PSNR 2x supersampled (dB) | bias R / G / B | worst cell (PSNR, share of error) |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    if (!r.error.empty()) continue;
+    const Breakdown& b = r.where;
+    md << "| " << r.spec.name << " | " << fmt(100.0 * b.edge_share, 1) << " % | " << fmt(100.0 * b.edge_error_share, 1) << " % | "
+       << fmt(b.psnr_off_edges) << " | " << fmt(b.psnr_blurred) << " | " << fmt(b.psnr_supersampled) << " | " << fmt(b.bias[0], 1) << " / " << fmt(b.bias[1], 1) << " / "
+       << fmt(b.bias[2], 1) << " | " << b.worst_cell << " (" << fmt(b.worst_cell_db) << " dB, " << fmt(100.0 * b.worst_cell_share, 0)
+       << " %) |\n";
+  }
+  md << "\n## Scenes under target, reason and planned fix\n\n";
+  bool any = false;
+  for (const Row& r : rows) {
+    const bool low_obj = r.error.empty() && r.m.object < 30.0;
+    if (!r.error.empty() || r.m.full < 35.0 || low_obj) {
+      any = true;
+      md << "- **" << r.spec.name << "** (" << (r.error.empty() ? fmt(r.m.full) + " dB full, " + fmt(r.m.object) + " dB object" : "not measured")
+         << "): ";
+      if (r.error.empty())
+        md << "measured: " << fmt(100.0 * r.where.edge_error_share, 0) << " % of the squared error on the " << fmt(100.0 * r.where.edge_share, 1)
+           << " % edge pixels, " << fmt(r.where.psnr_off_edges) << " dB off them, " << fmt(r.where.psnr_supersampled)
+           << " dB when drawn 2x supersampled. ";
+      md << known_cause(r.spec.name) << ".\n";
+    }
+  }
+  if (!any) md << "None: every scene is at or above 35 dB full-frame and 30 dB over object pixels.\n";
+  md << "\n## What changed these numbers (2026-11-28)\n\n"
+        "Measured with this command before and after each change, EGL and OSMesa identical (full-frame dB; object dB in "
+        "brackets):\n\n"
+        "- **Environment maps** (the converter loads the image the scene extras name, `meter_environment`; "
+        "docs/engine.md, \"Environment\"): reflection 19.02 (12.03) → 35.38 (28.47), envmap2d 31.85 (24.92) → "
+        "42.33 (35.76); then the mirror's LOD from the reflection vector's screen footprint: reflection 37.75 (30.90). "
+        "Of that, EEVEE's roughness-to-LOD mapping (sqrt(roughness) instead of roughness) is 1.41 dB and the footprint "
+        "2.37 dB (a footprint twice as wide gains only 0.35 dB). "
+        "`meter-bench fidelity --quality environment=off` reproduces the before column.\n"
+        "- **Spot cone as Blender draws it** (smoothstep over (1 − cos(size/2)) · blend, docs/shaders.md): spot 29.25 "
+        "(26.49) → 40.07 (37.48); cluster (two spot-lit dials) 27.02 → 27.44. For this scene's cone (inner 17°, outer "
+        "20°) the glTF example curve gives 0.47 / 0.12 / 0.03 of full light at 18° / 19° / 19.5° off-axis where "
+        "Blender gives 1.00 / 0.71 / 0.25: a dark ring 2.5° wide on the floor.\n"
+        "- **Diffuse not scaled by (1 − F)** (Blender 3.x Principled): diffuse 40.40 → 41.96, specular 40.24 → "
+        "41.40, shininess 39.37 → 40.49, morphing 40.59 → 41.93, spot 40.07 → 42.51, omni 39.82 → 41.92, ambient "
+        "42.95 → 43.50, bump 34.78 → 35.24, skinning 37.96 → 38.32; emission and the environment scenes unchanged.\n"
+        "\nFull-frame PSNR flatters small objects on black (the background matches exactly); the object column is the "
+        "honest one and is the number to compare across scenes. The paper does not say which one its Table 1 is.\n\n"
+     << "Files: `" << (out / "fidelity.csv").string() << "` (this table) and `<scene>.engine.png` (the renders).\n";
+  fs::create_directories(doc.parent_path());
+  std::ofstream(doc) << md.str();
+  std::printf("%d scene(s) under 30 dB; wrote %s and %s\n", under, (out / "fidelity.csv").c_str(), doc.c_str());
+  return 0;
+}
+
+}  // namespace meter::bench
