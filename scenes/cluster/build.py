@@ -460,7 +460,7 @@ def write_config(path, scene):
                          "material": f"TT_{node}_On", "off": [0.0, 0.0, 0.0],
                          "on": [round(c, 4) for c in colour]})
     names = [o.name for o in scene.objects]
-    # Mesh-concatenation groups (issue #10): checked by meter-convert (one material, no overlap,
+    # Mesh-concatenation groups: checked by meter-convert (one material, no overlap,
     # no draw-order change over the animation ranges); kept in cluster.groups.json, which
     # `meter-convert --propose-groups --report` helps maintain when the scene changes.
     groups = json.load(open(os.path.join(os.path.dirname(os.path.abspath(__file__)),

@@ -1,4 +1,4 @@
-// issue #9 tests:
+// Fidelity and quality-ladder tests:
 //  - each feature scene against its Blender reference stays above a measured floor (regression
 //    bound on the engine's fidelity, see kFloors);
 //  - the C++ PSNR (meter::platform::psnr) agrees with an independent tool, ImageMagick's

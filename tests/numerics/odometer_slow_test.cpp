@@ -1,4 +1,4 @@
-// The 1,000,000 km odometer case of issue #8 (label `slow`: 3.6e8 steps take tens of seconds
+// The 1,000,000 km odometer case (label `slow`: 3.6e8 steps take tens of seconds
 // under ASan; signals_numerics_test.cpp keeps a proportional 10,000 km case in `unit`).
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 
 #include "odometer_drive.hpp"
 
-// The full case of issue #8 (label `slow`): 3.6e8 steps of 10 ms at ~1000 km/h = 1,000,000 km.
+// The full case (label `slow`): 3.6e8 steps of 10 ms at ~1000 km/h = 1,000,000 km.
 // Bound: drift under 1 m against the exact sum; the integer odometer achieves 0 um.
 TEST(OdometerSlow, OneMillionKmIn10msStepsDriftUnderOneMetre) {
   const auto r = meter::numerics::drive(360'000'000, 100'000);

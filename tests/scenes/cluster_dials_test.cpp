@@ -1,4 +1,4 @@
-// Issue #6 defect report: "the speed needle does not point at the printed value". This test reads
+// The defect this guards against: "the speed needle does not point at the printed value". This test reads
 // both sides of that sentence from pixels of the real pipeline (meter-convert + meter-view on EGL
 // and OSMesa, the committed cluster.glb and its binding file):
 //   - the printed scale: the angle of every major tick mark, measured from the rendered frame;

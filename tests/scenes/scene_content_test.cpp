@@ -362,7 +362,7 @@ Iso classify(const std::vector<double>& c) {
 }
 
 TEST(Cluster, TelltalesHaveTheirIsoColourClass) {
-  // UN R121 Table 1 / ISO 2575 colours for the lamps issue #6 lists.
+  // UN R121 Table 1 / ISO 2575 colours for the cluster's telltales.
   const std::map<std::string, Iso> expected = {
       {"TurnLeft", Iso::Green},     {"TurnRight", Iso::Green},   {"HighBeam", Iso::Blue},
       {"LowBeam", Iso::Green},      {"FrontFog", Iso::Green},    {"ParkingBrake", Iso::Red},

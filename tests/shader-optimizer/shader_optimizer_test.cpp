@@ -1,4 +1,4 @@
-// issue #11: each committed scene (cluster, minimal-gauge, the twelve feature scenes) converted with
+// Each committed scene (cluster, minimal-gauge, the twelve feature scenes) converted with
 // --optimize=on and --optimize=off through the engine API (what meter-convert does), rendered in one
 // non-trivial state on EGL and on OSMesa, and compared:
 //   on vs off (EGL), on vs off (OSMesa), on EGL vs on OSMesa, and on OSMesa: ES 3.00 text vs the

@@ -1,4 +1,4 @@
-"""Issue #7's end-to-end tests: recorded CAN logs replayed on vcan0 through meter-controller (in the
+"""End-to-end tests: recorded CAN logs replayed on vcan0 through meter-controller (in the
 VM on this kernel) and meter-view (on the host, over TCP through the VM boundary), judged against
 python3-canmatrix decoding the same log; then the faults. Run one class per CTest test."""
 import csv

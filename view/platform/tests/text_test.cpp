@@ -1,6 +1,7 @@
 // FreeType text: UTF-8 decoding, colours, font errors, and on both backends: glyph pixels equal
 // FreeType's own bitmap (1:1, crisp), all ink inside the measured box, alignment, filled rects.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
@@ -69,7 +70,10 @@ TEST_P(TextTest, FontErrorsNameTheFile) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/Font.ttf"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("fonts-dejavu-core"), std::string::npos) << e.what();
   }
-  const auto not_font = std::filesystem::path(METER_BINARY_DIR) / "test-tmp" / "platform" / "not-a-font.ttf";
+  // One file per test process: the egl and osmesa instances run at once under ctest -j, and
+  // rewriting a file the other process's FreeType has mapped ends that process with SIGBUS.
+  const auto not_font = std::filesystem::path(METER_BINARY_DIR) / "test-tmp" / "platform" /
+                        ("not-a-font-" + std::to_string(::getpid()) + ".ttf");
   std::filesystem::create_directories(not_font.parent_path());
   std::ofstream(not_font) << "definitely not a TrueType font";
   try {

@@ -1,4 +1,4 @@
-// issue #11: the optimizer of the paper's Fig. 7, built from Debian's shader tools.
+// The shader optimizer of the DENSO paper's Fig. 7, built from Debian's shader tools.
 //   1. fold: uniforms the scene never changes become `const` declarations in the GLSL text
 //   2. glslang: GLSL ES (as 3.10) -> SPIR-V with OpenGL semantics
 //   3. spirv-opt performance passes: inlining, constant folding, dead-branch and dead-code removal

@@ -301,7 +301,7 @@ namespace meter::shadergen {
 namespace {
 using namespace test;
 
-// Desktop GLSL (issue #11): a dialect change of either the generated or the optimized program that
+// Desktop GLSL: a dialect change of either the generated or the optimized program that
 // desktop glslang accepts, with the same interface names and attribute locations.
 TEST(DesktopGlsl, GeneratedAndOptimizedProgramsTranslate) {
   MaterialFeatures f = rich_pbr();

@@ -1,5 +1,5 @@
 // CPU images, PNG files and the image-comparison metrics used by the render tests and by the
-// fidelity benchmark (issue #9): PSNR (full frame and masked to object pixels) and SSIM.
+// fidelity benchmark: PSNR (full frame and masked to object pixels) and SSIM.
 // Pure functions on plain data: no GL needed.
 #pragma once
 
