@@ -13,8 +13,14 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "internal.hpp"
+#include "channel.hpp"
+#include "clock.hpp"
+#include "handshake.hpp"
+#include "log.hpp"
+#include "poller.hpp"
 #include "state.hpp"
+#include "unique_fd.hpp"
+#include "utf8.hpp"
 
 namespace meter::protocol {
 
@@ -226,13 +232,7 @@ struct Publisher::Impl {
         peer.channel->send(Close{CloseReason::NotAllowed, refusal.substr(0, kMaxTextBytes)}, stats);
         peer.closing = true;
       } else {
-        Hello hello;
-        hello.role = Role::Publisher;
-        hello.catalog_hash = our_hash;
-        hello.signal_count = static_cast<std::uint16_t>(catalog().size());
-        hello.heartbeat_period_ms = static_cast<std::uint32_t>(options.heartbeat_period.count());
-        hello.name = options.name.substr(0, kMaxNameBytes);
-        peer.channel->send(hello, stats);
+        peer.channel->send(detail::make_hello(Role::Publisher, our_hash, options), stats);
       }
       poller.add(peer.channel->fd(), peer.channel->has_pending());
       peers.push_back(std::move(peer));

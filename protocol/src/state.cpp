@@ -40,24 +40,4 @@ bool SignalTable::assign(std::size_t index, double value, SignalStatus status, c
   return changed;
 }
 
-std::string sanitize_text(std::string_view text) {
-  std::string out;
-  out.reserve(std::min(text.size(), kMaxTextBytes));
-  std::size_t i = 0;
-  while (i < text.size()) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    std::size_t len = c < 0x80 ? 1 : (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
-    std::string_view ch = "?";
-    std::size_t advance = 1;  // an invalid byte becomes '?' and we resync on the next byte
-    if (len != 0 && i + len <= text.size() && is_valid_utf8(text.substr(i, len))) {
-      ch = text.substr(i, len);
-      advance = len;
-    }
-    if (out.size() + ch.size() > kMaxTextBytes) break;
-    out.append(ch);
-    i += advance;
-  }
-  return out;
-}
-
 }  // namespace meter::protocol::detail

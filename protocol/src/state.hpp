@@ -19,8 +19,4 @@ struct SignalTable {
   bool assign(std::size_t index, double value, SignalStatus status, const std::string* text);
 };
 
-// Cuts text to kMaxTextBytes at a character boundary and replaces invalid UTF-8 bytes with '?',
-// so whatever the caller passes can always be encoded.
-std::string sanitize_text(std::string_view text);
-
 }  // namespace meter::protocol::detail

@@ -11,8 +11,13 @@
 #include <optional>
 #include <stdexcept>
 
-#include "internal.hpp"
+#include "channel.hpp"
+#include "clock.hpp"
+#include "handshake.hpp"
+#include "log.hpp"
+#include "poller.hpp"
 #include "state.hpp"
+#include "unique_fd.hpp"
 
 namespace meter::protocol {
 
@@ -144,13 +149,7 @@ struct Subscriber::Impl {
       }
     }
     phase = Phase::Handshake;
-    Hello hello;
-    hello.role = Role::Subscriber;
-    hello.catalog_hash = our_hash;
-    hello.signal_count = static_cast<std::uint16_t>(catalog().size());
-    hello.heartbeat_period_ms = static_cast<std::uint32_t>(options.heartbeat_period.count());
-    hello.name = options.name.substr(0, kMaxNameBytes);
-    channel->send(hello, stats);
+    channel->send(detail::make_hello(Role::Subscriber, our_hash, options), stats);
     channel->last_rx = Clock::now();  // the handshake timeout counts from here
   }
 
