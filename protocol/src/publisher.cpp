@@ -18,7 +18,6 @@
 #include "handshake.hpp"
 #include "log.hpp"
 #include "poller.hpp"
-#include "state.hpp"
 #include "unique_fd.hpp"
 #include "utf8.hpp"
 
@@ -47,7 +46,7 @@ struct Publisher::Impl {
   UniqueFd listener;
   detail::Poller poller;
   std::vector<Peer> peers;
-  detail::SignalTable table;
+  SignalTable table;
   LinkStats stats;
   std::string last_error;
   dev_t socket_dev = 0;  // identity of the socket file we created, so we only unlink our own
@@ -296,7 +295,7 @@ struct Publisher::Impl {
   }
 
   SignalUpdate update_for(std::size_t index) const {
-    const auto& s = table.states[index];
+    const auto& s = table.states()[index];
     SignalUpdate u;
     u.id = catalog()[index].id;
     u.status = s.status;
@@ -430,6 +429,19 @@ struct Publisher::Impl {
   }
 };
 
+namespace {
+
+std::size_t index_or_invalid_argument(SignalId id, const char* who) {
+  const auto index = SignalTable::index_of(id);
+  if (!index) {
+    throw std::invalid_argument(std::string(who) + ": signal id " + std::to_string(id) +
+                                " is not in the catalog (protocol/src/catalog.cpp)");
+  }
+  return *index;
+}
+
+}  // namespace
+
 Publisher::Publisher(const Endpoint& where, LinkOptions options)
     : impl_(std::make_unique<Impl>(where, std::move(options))) {}
 Publisher::~Publisher() = default;
@@ -437,25 +449,23 @@ Publisher::Publisher(Publisher&&) noexcept = default;
 Publisher& Publisher::operator=(Publisher&&) noexcept = default;
 
 void Publisher::set(SignalId id, double value, SignalStatus status) {
-  const std::size_t index = detail::SignalTable::index_or_throw(id, "Publisher::set");
+  const std::size_t index = index_or_invalid_argument(id, "Publisher::set");
   if (!std::isfinite(value)) {
     detail::log_limited("nonfinite", "signal " + std::string(catalog()[index].name) +
                                          ": non-finite value replaced by 0 with status invalid");
     value = 0.0;
     status = SignalStatus::Invalid;
   }
-  if (impl_->table.assign(index, value, status, nullptr)) impl_->mark_dirty(index);
+  if (impl_->table.set(id, value, status)) impl_->mark_dirty(index);
 }
 
 void Publisher::set_text(SignalId id, std::string_view text, SignalStatus status) {
-  const std::size_t index = detail::SignalTable::index_or_throw(id, "Publisher::set_text");
-  const std::string clean = detail::sanitize_text(text);
-  const double value = impl_->table.states[index].value;
-  if (impl_->table.assign(index, value, status, &clean)) impl_->mark_dirty(index);
+  const std::size_t index = index_or_invalid_argument(id, "Publisher::set_text");
+  if (impl_->table.set_text(id, detail::sanitize_text(text), status)) impl_->mark_dirty(index);
 }
 
 const SignalState& Publisher::get(SignalId id) const {
-  return impl_->table.states[detail::SignalTable::index_or_out_of_range(id)];
+  return impl_->table.get(id);
 }
 
 void Publisher::poll(std::chrono::milliseconds timeout) {

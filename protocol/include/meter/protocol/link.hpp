@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "meter/protocol/catalog.hpp"
+#include "meter/protocol/signal_table.hpp"
 
 namespace meter::protocol {
 
@@ -43,13 +44,6 @@ struct Endpoint {
 // unix:$XDG_RUNTIME_DIR/meter.sock, or unix:/tmp/meter-<uid>/meter.sock when XDG_RUNTIME_DIR is
 // unset (the Publisher creates that directory with mode 0700).
 Endpoint default_endpoint();
-
-struct SignalState {
-  double value = 0.0;
-  SignalStatus status = SignalStatus::NotAvailable;
-  std::string text;  // Text signals (and optional labels); at most kMaxTextBytes (wire.hpp)
-  bool operator==(const SignalState&) const = default;
-};
 
 struct LinkOptions {
   std::chrono::milliseconds heartbeat_period{100};
@@ -165,8 +159,11 @@ class Subscriber {
   // changed (or after timeout with false); never blocks longer than timeout.
   bool poll(std::chrono::milliseconds timeout);
   bool link_up() const;  // false before the first SNAPSHOT and after heartbeat loss
-  const SignalState& get(SignalId id) const;  // unknown id: std::out_of_range
-  std::uint64_t state_version() const;        // increments on every applied change
+  // Everything received so far, one entry per catalog signal (NotAvailable until the SNAPSHOT).
+  // Consumers read it in place: find() per signal, changed_at() against the version they last saw.
+  const SignalTable& signals() const;
+  const SignalState& get(SignalId id) const;  // signals().get(id); unknown id: std::out_of_range
+  std::uint64_t state_version() const;        // signals().version(): increments on every applied change
   std::int64_t last_sender_time_ns() const;   // sender timestamp (CLOCK_MONOTONIC) of last applied msg
   std::uint64_t last_sequence_applied() const;
   // Queues a STATUS for the controller (latest wins if the socket is full); sent immediately when
