@@ -1,4 +1,4 @@
-// Endpoint text (unix:/path, tcp:HOST:PORT) and the default endpoint.
+// Endpoint text (unix:/path, tcp:HOST:PORT), the default endpoint and the --link option.
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "meter/protocol/link.hpp"
+#include "meter/protocol/endpoint.hpp"
 
 namespace meter::protocol {
 
@@ -74,6 +74,11 @@ Endpoint default_endpoint() {
     e.path = "/tmp/meter-" + std::to_string(::getuid()) + "/meter.sock";
   }
   return e;
+}
+
+Endpoint endpoint_from_option(std::string_view text) {
+  if (text.empty() || text == "default") return default_endpoint();
+  return Endpoint::parse(text);
 }
 
 }  // namespace meter::protocol
