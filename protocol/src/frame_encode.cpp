@@ -1,12 +1,19 @@
-// Payload encoding: every field the decoder would reject is refused here first.
+// Encoding: a Message into one frame (32-byte header, payload, CRC-32C). Every field the decoder
+// would reject is refused here first, so the encoder never produces a frame the decoder rejects.
+// The payload writers live in this file with the frame writer so the whole encode inlines.
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "payload.hpp"
+#include "byte_io.hpp"
+#include "meter/protocol/wire.hpp"
+#include "wire_checks.hpp"
 
-namespace meter::protocol::detail {
+namespace meter::protocol {
 namespace {
+
+using detail::valid_status;
+using detail::Writer;
 
 void check_text(std::string_view what, std::string_view text, std::size_t limit) {
   if (text.size() > limit) {
@@ -44,8 +51,6 @@ void encode_updates(std::uint8_t flags, const std::vector<SignalUpdate>& updates
   for (const auto& u : updates) encode_update(u, w);
 }
 
-}  // namespace
-
 void encode_payload(const Message& m, Writer& w) {
   struct Visitor {
     Writer& w;
@@ -82,4 +87,46 @@ void encode_payload(const Message& m, Writer& w) {
   std::visit(Visitor{w}, m);
 }
 
-}  // namespace meter::protocol::detail
+}  // namespace
+
+std::size_t encoded_size(const SignalUpdate& update) {
+  return 12 + (update.has_text ? 1 + update.text.size() : 0);
+}
+
+void encode(const Frame& frame, std::vector<std::uint8_t>& out) {
+  const std::size_t start = out.size();
+  Writer w(out);
+  w.u32(kMagic);
+  w.u8(kProtocolVersion);
+  w.u8(static_cast<std::uint8_t>(type_of(frame.message)));
+  w.u16(0);
+  w.u32(0);  // payload length, patched below
+  w.u64(frame.sequence);
+  w.u64(static_cast<std::uint64_t>(frame.timestamp_ns));
+  w.u32(0);  // CRC, patched below
+  try {
+    encode_payload(frame.message, w);
+  } catch (...) {
+    out.resize(start);  // leave `out` as it was: a failed encode never leaves half a frame behind
+    throw;
+  }
+  const std::size_t payload = out.size() - start - kHeaderSize;
+  if (payload > kMaxPayloadSize) {
+    out.resize(start);
+    throw std::length_error(std::string(to_string(type_of(frame.message))) + " payload of " +
+                            std::to_string(payload) + " bytes exceeds the limit of " +
+                            std::to_string(kMaxPayloadSize));
+  }
+  for (int i = 0; i < 4; ++i) out[start + 8 + i] = static_cast<std::uint8_t>(payload >> (8 * i));
+  std::uint32_t crc = crc32c(std::span(out).subspan(start, 28));
+  crc = crc32c(std::span(out).subspan(start + kHeaderSize, payload), crc);
+  for (int i = 0; i < 4; ++i) out[start + 28 + i] = static_cast<std::uint8_t>(crc >> (8 * i));
+}
+
+std::vector<std::uint8_t> encode(const Frame& frame) {
+  std::vector<std::uint8_t> out;
+  encode(frame, out);
+  return out;
+}
+
+}  // namespace meter::protocol
