@@ -21,6 +21,19 @@ bool known_type(std::uint8_t t) {
 }
 
 
+// A text field of `len` bytes: it must fit in the payload and be valid UTF-8.
+bool read_text(Reader& r, std::size_t len, std::string& text, const char* what, std::string& detail) {
+  if (!r.text(len, text)) {
+    detail = std::string(what) + " runs past the end of the payload";
+    return false;
+  }
+  if (!is_valid_utf8(text)) {
+    detail = std::string(what) + " is not valid UTF-8";
+    return false;
+  }
+  return true;
+}
+
 bool decode_updates(Reader& r, std::uint8_t& flags, std::vector<SignalUpdate>& out, std::string& detail) {
   std::uint8_t reserved = 0;
   std::uint16_t count = 0;
@@ -107,14 +120,7 @@ bool decode_payload(std::uint8_t type, std::span<const std::uint8_t> payload, Me
         detail = "HELLO name length " + std::to_string(name_len) + " exceeds " + std::to_string(kMaxNameBytes);
         return false;
       }
-      if (!r.text(name_len, h.name)) {
-        detail = "HELLO name runs past the end of the payload";
-        return false;
-      }
-      if (!is_valid_utf8(h.name)) {
-        detail = "HELLO name is not valid UTF-8";
-        return false;
-      }
+      if (!read_text(r, name_len, h.name, "HELLO name", detail)) return false;
       h.role = static_cast<Role>(role);
       out = std::move(h);
       break;
@@ -171,14 +177,7 @@ bool decode_payload(std::uint8_t type, std::span<const std::uint8_t> payload, Me
         detail = "CLOSE reason " + std::to_string(reason) + " is not 0..6";
         return false;
       }
-      if (!r.text(len, c.text)) {
-        detail = "CLOSE text runs past the end of the payload";
-        return false;
-      }
-      if (!is_valid_utf8(c.text)) {
-        detail = "CLOSE text is not valid UTF-8";
-        return false;
-      }
+      if (!read_text(r, len, c.text, "CLOSE text", detail)) return false;
       c.reason = static_cast<CloseReason>(reason);
       out = std::move(c);
       break;
