@@ -1,4 +1,4 @@
-// meter_protocol_bench: numbers for issue #3, measured side by side in one run.
+// meter_protocol_bench: the cost of the controller-to-view link, measured side by side in one run.
 //   1. encode / decode / CRC throughput on plain bytes (no sockets);
 //   2. bytes on the wire per change: per-peer DELTA vs resending the full SNAPSHOT;
 //   3. DELTA latency from send (sender timestamp, taken when the frame is encoded) to apply (the

@@ -253,13 +253,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       throw std::invalid_argument("--input: expected log:FILE, can:IFACE, modbus-tcp:HOST:PORT or modbus-rtu:DEV:BAUD, got '" + o.input + "'");
     }
 
-    protocol::LinkOptions lo;
-    lo.name = "meter-controller";
-    lo.missed_heartbeats_for_loss = 3;
-    lo.heartbeat_period = std::chrono::milliseconds(std::max(10, o.link_timeout_ms / lo.missed_heartbeats_for_loss));
+    const protocol::LinkOptions lo =
+        protocol::link_options("meter-controller", std::chrono::milliseconds(o.link_timeout_ms));
     Trace trace(o.trace);
-    protocol::Endpoint ep = o.link.empty() ? protocol::default_endpoint() : protocol::Endpoint::parse(o.link);
-    protocol::Publisher pub(ep, lo);
+    protocol::Publisher pub(protocol::endpoint_from_option(o.link), lo);
     if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
 
     struct Last {

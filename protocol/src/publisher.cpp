@@ -1,25 +1,28 @@
-#include <arpa/inet.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/socket.h>
-#include <sys/stat.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
-#include "internal.hpp"
-#include "state.hpp"
+#include "channel.hpp"
+#include "clock.hpp"
+#include "handshake.hpp"
+#include "listening_socket.hpp"
+#include "log.hpp"
+#include "poller.hpp"
+#include "unique_fd.hpp"
+#include "utf8.hpp"
 
 namespace meter::protocol {
 
 using detail::Channel;
 using detail::Clock;
+using detail::ListeningSocket;
 using detail::UniqueFd;
 
 struct Publisher::Impl {
@@ -38,29 +41,29 @@ struct Publisher::Impl {
   Endpoint where;
   LinkOptions options;
   std::uint64_t our_hash;
-  UniqueFd listener;
+  ListeningSocket listener;
   detail::Poller poller;
   std::vector<Peer> peers;
-  detail::SignalTable table;
+  SignalTable table;
   LinkStats stats;
   std::string last_error;
-  dev_t socket_dev = 0;  // identity of the socket file we created, so we only unlink our own
-  ino_t socket_ino = 0;
+
+  // Checks the options and fills in the defaults before anything binds the endpoint.
+  static LinkOptions checked(LinkOptions o) {
+    if (o.heartbeat_period.count() <= 0) throw std::invalid_argument("heartbeat_period must be > 0 ms");
+    if (o.missed_heartbeats_for_loss < 1) throw std::invalid_argument("missed_heartbeats_for_loss must be >= 1");
+    if (o.name.empty()) o.name = "publisher";
+    if (o.allowed_uids.empty()) o.allowed_uids.push_back(::getuid());
+    return o;
+  }
 
   Impl(const Endpoint& w, LinkOptions o)
-      : where(w), options(std::move(o)),
+      : where(w), options(checked(std::move(o))),
         our_hash(options.catalog_hash_override.value_or(catalog_hash())),
+        listener(where),
         poller(std::max(options.heartbeat_period / 4, std::chrono::milliseconds(1))) {
-    if (options.heartbeat_period.count() <= 0) throw std::invalid_argument("heartbeat_period must be > 0 ms");
-    if (options.missed_heartbeats_for_loss < 1) throw std::invalid_argument("missed_heartbeats_for_loss must be >= 1");
-    if (options.name.empty()) options.name = "publisher";
-    if (options.allowed_uids.empty()) options.allowed_uids.push_back(::getuid());
-    if (where.kind == Endpoint::Kind::Unix) {
-      listen_unix();
-    } else {
-      listen_tcp();
-    }
-    poller.add(listener.get(), false);
+    where = listener.endpoint();  // TCP port 0 resolved
+    poller.add(listener.fd(), false);
   }
 
   ~Impl() {
@@ -70,94 +73,6 @@ struct Publisher::Impl {
         std::string ignored;
         p.channel->flush(stats, ignored);
       }
-    }
-    if (where.kind == Endpoint::Kind::Unix) {
-      struct stat st{};
-      if (::lstat(where.path.c_str(), &st) == 0 && st.st_dev == socket_dev && st.st_ino == socket_ino) {
-        ::unlink(where.path.c_str());
-      }
-    }
-  }
-
-  [[noreturn]] void fail(const std::string& what, int err) {
-    throw std::runtime_error("publisher on " + where.to_string() + ": " + what +
-                             (err != 0 ? ": " + detail::errno_text(err) : std::string()));
-  }
-
-  void listen_unix() {
-    // The parent folder: create it private (0700) if missing, as for /tmp/meter-<uid>/.
-    const auto slash = where.path.rfind('/');
-    if (slash != std::string::npos && slash > 0) {
-      const std::string dir = where.path.substr(0, slash);
-      struct stat st{};
-      if (::stat(dir.c_str(), &st) != 0) {
-        if (::mkdir(dir.c_str(), 0700) != 0 && errno != EEXIST) fail("cannot create folder " + dir, errno);
-      } else if (!S_ISDIR(st.st_mode)) {
-        fail(dir + " exists and is not a folder", 0);
-      }
-    }
-    sockaddr_un addr{};
-    addr.sun_family = AF_UNIX;
-    std::memcpy(addr.sun_path, where.path.c_str(), where.path.size() + 1);
-
-    struct stat st{};
-    if (::lstat(where.path.c_str(), &st) == 0) {
-      if (!S_ISSOCK(st.st_mode)) fail(where.path + " exists and is not a socket; refusing to replace it", 0);
-      // A live publisher answers; a stale file left by a crash refuses the connection.
-      UniqueFd probe(::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0));
-      if (probe && ::connect(probe.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
-        fail("another publisher is already listening there", 0);
-      }
-      ::unlink(where.path.c_str());
-    }
-    listener.reset(::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
-    if (!listener) fail("socket(AF_UNIX, SOCK_SEQPACKET)", errno);
-    // Bind with a private umask window would race other threads; the 0700 folder plus the chmod
-    // right after bind plus SO_PEERCRED on every accept are the layers of protection.
-    if (::bind(listener.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) fail("bind", errno);
-    if (::chmod(where.path.c_str(), 0600) != 0) fail("chmod 0600", errno);
-    if (::lstat(where.path.c_str(), &st) == 0) {
-      socket_dev = st.st_dev;
-      socket_ino = st.st_ino;
-    }
-    if (::listen(listener.get(), 16) != 0) fail("listen", errno);
-  }
-
-  void listen_tcp() {
-    addrinfo hints{};
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_STREAM;
-    hints.ai_flags = AI_PASSIVE;
-    addrinfo* res = nullptr;
-    const std::string port = std::to_string(where.port);
-    if (int rc = ::getaddrinfo(where.host.c_str(), port.c_str(), &hints, &res); rc != 0) {
-      fail("cannot resolve host '" + where.host + "': " + ::gai_strerror(rc), 0);
-    }
-    std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> guard(res, ::freeaddrinfo);
-    int last_err = 0;
-    for (auto* ai = res; ai != nullptr; ai = ai->ai_next) {
-      UniqueFd fd(::socket(ai->ai_family, ai->ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, ai->ai_protocol));
-      if (!fd) {
-        last_err = errno;
-        continue;
-      }
-      const int one = 1;
-      ::setsockopt(fd.get(), SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-      if (::bind(fd.get(), ai->ai_addr, ai->ai_addrlen) != 0 || ::listen(fd.get(), 16) != 0) {
-        last_err = errno;
-        continue;
-      }
-      listener = std::move(fd);
-      break;
-    }
-    if (!listener) fail("cannot bind/listen", last_err);
-    sockaddr_storage ss{};
-    socklen_t len = sizeof ss;
-    ::getsockname(listener.get(), reinterpret_cast<sockaddr*>(&ss), &len);
-    if (ss.ss_family == AF_INET) {
-      where.port = ntohs(reinterpret_cast<sockaddr_in*>(&ss)->sin_port);
-    } else if (ss.ss_family == AF_INET6) {
-      where.port = ntohs(reinterpret_cast<sockaddr_in6*>(&ss)->sin6_port);
     }
   }
 
@@ -170,7 +85,7 @@ struct Publisher::Impl {
 
   void accept_all() {
     for (;;) {
-      UniqueFd fd(::accept4(listener.get(), nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK));
+      UniqueFd fd(::accept4(listener.fd(), nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK));
       if (!fd) {
         if (errno == EINTR || errno == ECONNABORTED) continue;
         if (errno != EAGAIN && errno != EWOULDBLOCK) {
@@ -226,13 +141,7 @@ struct Publisher::Impl {
         peer.channel->send(Close{CloseReason::NotAllowed, refusal.substr(0, kMaxTextBytes)}, stats);
         peer.closing = true;
       } else {
-        Hello hello;
-        hello.role = Role::Publisher;
-        hello.catalog_hash = our_hash;
-        hello.signal_count = static_cast<std::uint16_t>(catalog().size());
-        hello.heartbeat_period_ms = static_cast<std::uint32_t>(options.heartbeat_period.count());
-        hello.name = options.name.substr(0, kMaxNameBytes);
-        peer.channel->send(hello, stats);
+        peer.channel->send(detail::make_hello(Role::Publisher, our_hash, options), stats);
       }
       poller.add(peer.channel->fd(), peer.channel->has_pending());
       peers.push_back(std::move(peer));
@@ -296,7 +205,7 @@ struct Publisher::Impl {
   }
 
   SignalUpdate update_for(std::size_t index) const {
-    const auto& s = table.states[index];
+    const auto& s = table.states()[index];
     SignalUpdate u;
     u.id = catalog()[index].id;
     u.status = s.status;
@@ -370,7 +279,7 @@ struct Publisher::Impl {
 
   void service(const std::vector<int>& ready) {
     for (int fd : ready) {
-      if (fd == listener.get()) {
+      if (fd == listener.fd()) {
         accept_all();
         continue;
       }
@@ -430,6 +339,19 @@ struct Publisher::Impl {
   }
 };
 
+namespace {
+
+std::size_t index_or_invalid_argument(SignalId id, const char* who) {
+  const auto index = SignalTable::index_of(id);
+  if (!index) {
+    throw std::invalid_argument(std::string(who) + ": signal id " + std::to_string(id) +
+                                " is not in the catalog (protocol/src/catalog.cpp)");
+  }
+  return *index;
+}
+
+}  // namespace
+
 Publisher::Publisher(const Endpoint& where, LinkOptions options)
     : impl_(std::make_unique<Impl>(where, std::move(options))) {}
 Publisher::~Publisher() = default;
@@ -437,25 +359,23 @@ Publisher::Publisher(Publisher&&) noexcept = default;
 Publisher& Publisher::operator=(Publisher&&) noexcept = default;
 
 void Publisher::set(SignalId id, double value, SignalStatus status) {
-  const std::size_t index = detail::SignalTable::index_or_throw(id, "Publisher::set");
+  const std::size_t index = index_or_invalid_argument(id, "Publisher::set");
   if (!std::isfinite(value)) {
     detail::log_limited("nonfinite", "signal " + std::string(catalog()[index].name) +
                                          ": non-finite value replaced by 0 with status invalid");
     value = 0.0;
     status = SignalStatus::Invalid;
   }
-  if (impl_->table.assign(index, value, status, nullptr)) impl_->mark_dirty(index);
+  if (impl_->table.set(id, value, status)) impl_->mark_dirty(index);
 }
 
 void Publisher::set_text(SignalId id, std::string_view text, SignalStatus status) {
-  const std::size_t index = detail::SignalTable::index_or_throw(id, "Publisher::set_text");
-  const std::string clean = detail::sanitize_text(text);
-  const double value = impl_->table.states[index].value;
-  if (impl_->table.assign(index, value, status, &clean)) impl_->mark_dirty(index);
+  const std::size_t index = index_or_invalid_argument(id, "Publisher::set_text");
+  if (impl_->table.set_text(id, detail::sanitize_text(text), status)) impl_->mark_dirty(index);
 }
 
 const SignalState& Publisher::get(SignalId id) const {
-  return impl_->table.states[detail::SignalTable::index_or_out_of_range(id)];
+  return impl_->table.get(id);
 }
 
 void Publisher::poll(std::chrono::milliseconds timeout) {

@@ -11,8 +11,12 @@
 #include <optional>
 #include <stdexcept>
 
-#include "internal.hpp"
-#include "state.hpp"
+#include "channel.hpp"
+#include "clock.hpp"
+#include "handshake.hpp"
+#include "log.hpp"
+#include "poller.hpp"
+#include "unique_fd.hpp"
 
 namespace meter::protocol {
 
@@ -34,8 +38,7 @@ struct Subscriber::Impl {
   Clock::time_point retry_at;
   std::chrono::milliseconds backoff;
   std::chrono::milliseconds peer_heartbeat{0};
-  detail::SignalTable table;
-  std::uint64_t version = 0;
+  SignalTable table;
   std::int64_t sender_time_ns = 0;
   std::uint64_t last_applied_seq = 0;
   std::optional<Status> pending_status;
@@ -144,13 +147,7 @@ struct Subscriber::Impl {
       }
     }
     phase = Phase::Handshake;
-    Hello hello;
-    hello.role = Role::Subscriber;
-    hello.catalog_hash = our_hash;
-    hello.signal_count = static_cast<std::uint16_t>(catalog().size());
-    hello.heartbeat_period_ms = static_cast<std::uint32_t>(options.heartbeat_period.count());
-    hello.name = options.name.substr(0, kMaxNameBytes);
-    channel->send(hello, stats);
+    channel->send(detail::make_hello(Role::Subscriber, our_hash, options), stats);
     channel->last_rx = Clock::now();  // the handshake timeout counts from here
   }
 
@@ -164,12 +161,8 @@ struct Subscriber::Impl {
 
   void apply(const std::vector<SignalUpdate>& updates, const Frame& frame) {
     for (const auto& u : updates) {
-      const std::size_t index = detail::SignalTable::index_or_out_of_range(u.id);  // decoder checked the id
-      const std::string* text = u.has_text ? &u.text : nullptr;
-      const std::string empty;
-      if (!u.has_text && !table.states[index].text.empty()) text = &empty;
-      if (table.assign(index, u.value, u.status, text)) {
-        ++version;
+      // The decoder checked the id. An entry without text clears any text the signal had.
+      if (table.set(u.id, SignalState{u.value, u.status, u.has_text ? u.text : std::string()})) {
         ++stats.signal_updates_applied;
         changed = true;
       }
@@ -342,9 +335,10 @@ bool Subscriber::poll(std::chrono::milliseconds timeout) {
 
 bool Subscriber::link_up() const { return impl_->phase == Impl::Phase::Live; }
 const SignalState& Subscriber::get(SignalId id) const {
-  return impl_->table.states[detail::SignalTable::index_or_out_of_range(id)];
+  return impl_->table.get(id);
 }
-std::uint64_t Subscriber::state_version() const { return impl_->version; }
+const SignalTable& Subscriber::signals() const { return impl_->table; }
+std::uint64_t Subscriber::state_version() const { return impl_->table.version(); }
 std::int64_t Subscriber::last_sender_time_ns() const { return impl_->sender_time_ns; }
 std::uint64_t Subscriber::last_sequence_applied() const { return impl_->last_applied_seq; }
 

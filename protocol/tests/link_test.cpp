@@ -128,6 +128,12 @@ TEST(Link, SnapshotThenDeltasOverUnix) {
                                  std::chrono::steady_clock::now().time_since_epoch()).count();
   ASSERT_TRUE(pump(pub, sub, [&] { return sub.get(sig::kSpeed).value == 90.5; }));
   EXPECT_EQ(sub.state_version(), v0 + 1);
+  // The received state is one SignalTable, read in place; only the changed signal is stamped.
+  EXPECT_EQ(&sub.signals().get(sig::kSpeed), &sub.get(sig::kSpeed));
+  EXPECT_EQ(sub.signals().version(), sub.state_version());
+  EXPECT_GT(sub.signals().changed_at(sig::kSpeed), v0);
+  EXPECT_LE(sub.signals().changed_at(sig::kCurrentGear), v0);
+  EXPECT_EQ(sub.signals().find(60000), nullptr);
   const auto after = pub.stats();
   EXPECT_EQ(after.deltas_sent, before.deltas_sent + 1);
   EXPECT_EQ(after.signal_updates_sent, before.signal_updates_sent + 1);  // only the changed signal

@@ -23,45 +23,11 @@
 #include <vector>
 
 #include "meter/protocol/catalog.hpp"
+#include "meter/protocol/endpoint.hpp"
+#include "meter/protocol/link_options.hpp"
+#include "meter/protocol/signal_table.hpp"
 
 namespace meter::protocol {
-
-// Where the Publisher listens and the Subscriber connects.
-//   "unix:/path/to.sock"   Unix domain socket, SOCK_SEQPACKET (the default on one machine)
-//   "tcp:HOST:PORT"        TCP stream; HOST is a name, an IPv4 address or "[IPv6]"; PORT 0 asks the
-//                          Publisher for an ephemeral port (see Publisher::endpoint()).
-struct Endpoint {
-  enum class Kind { Unix, Tcp } kind = Kind::Unix;
-  std::string path;          // Unix only
-  std::string host;          // Tcp only
-  std::uint16_t port = 0;    // Tcp only
-  static Endpoint parse(std::string_view text);  // throws std::invalid_argument with a clear message
-  std::string to_string() const;
-  bool operator==(const Endpoint&) const = default;
-};
-
-// unix:$XDG_RUNTIME_DIR/meter.sock, or unix:/tmp/meter-<uid>/meter.sock when XDG_RUNTIME_DIR is
-// unset (the Publisher creates that directory with mode 0700).
-Endpoint default_endpoint();
-
-struct SignalState {
-  double value = 0.0;
-  SignalStatus status = SignalStatus::NotAvailable;
-  std::string text;  // Text signals (and optional labels); at most kMaxTextBytes (wire.hpp)
-  bool operator==(const SignalState&) const = default;
-};
-
-struct LinkOptions {
-  std::chrono::milliseconds heartbeat_period{100};
-  int missed_heartbeats_for_loss = 3;     // silence for this many periods = link lost
-  std::vector<uid_t> allowed_uids;        // empty = only our own uid (Unix sockets, SO_PEERCRED)
-  std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};  // Subscriber backoff
-  std::string name;                       // sent in HELLO, used in log lines ("meter-view")
-  std::size_t max_peers = 16;             // Publisher: connections beyond this get CLOSE and are dropped
-  // The catalog hash announced in HELLO. Empty = catalog_hash() of this build. Only tools and
-  // tests that deliberately emulate another build set it.
-  std::optional<std::uint64_t> catalog_hash_override;
-};
 
 // Frames dropped or connections closed because of bad input, by class.
 struct BadFrameCounts {
@@ -165,8 +131,11 @@ class Subscriber {
   // changed (or after timeout with false); never blocks longer than timeout.
   bool poll(std::chrono::milliseconds timeout);
   bool link_up() const;  // false before the first SNAPSHOT and after heartbeat loss
-  const SignalState& get(SignalId id) const;  // unknown id: std::out_of_range
-  std::uint64_t state_version() const;        // increments on every applied change
+  // Everything received so far, one entry per catalog signal (NotAvailable until the SNAPSHOT).
+  // Consumers read it in place: find() per signal, changed_at() against the version they last saw.
+  const SignalTable& signals() const;
+  const SignalState& get(SignalId id) const;  // signals().get(id); unknown id: std::out_of_range
+  std::uint64_t state_version() const;        // signals().version(): increments on every applied change
   std::int64_t last_sender_time_ns() const;   // sender timestamp (CLOCK_MONOTONIC) of last applied msg
   std::uint64_t last_sequence_applied() const;
   // Queues a STATUS for the controller (latest wins if the socket is full); sent immediately when

@@ -1,72 +1,21 @@
-// Shared internals of Publisher and Subscriber: clock, fd ownership, rate-limited logging, and the
-// Channel (one connected socket: framing, output queue, sequence numbers, bad-input handling).
+// One connected socket of the link: framing (one datagram per frame on SOCK_SEQPACKET, a
+// StreamAssembler on TCP), the output queue, sequence numbers, and bad-input handling (count,
+// log, drop, or close when the framing is lost).
 #pragma once
 
-#include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <map>
 #include <string>
-#include <string_view>
 #include <vector>
 
+#include "clock.hpp"
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/wire.hpp"
+#include "unique_fd.hpp"
 
 namespace meter::protocol::detail {
-
-using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC on Linux: the sender timestamp base
-std::int64_t monotonic_ns();
-
-class UniqueFd {
- public:
-  UniqueFd() = default;
-  explicit UniqueFd(int fd) : fd_(fd) {}
-  ~UniqueFd() { reset(); }
-  UniqueFd(UniqueFd&& o) noexcept : fd_(o.release()) {}
-  UniqueFd& operator=(UniqueFd&& o) noexcept {
-    if (this != &o) reset(o.release());
-    return *this;
-  }
-  UniqueFd(const UniqueFd&) = delete;
-  UniqueFd& operator=(const UniqueFd&) = delete;
-  int get() const { return fd_; }
-  explicit operator bool() const { return fd_ >= 0; }
-  int release() {
-    int f = fd_;
-    fd_ = -1;
-    return f;
-  }
-  void reset(int fd = -1);
-
- private:
-  int fd_ = -1;
-};
-
-std::string errno_text(int err);
-void set_nonblocking(int fd);
-
-// Token bucket per event key: a burst of 5 lines, then one per second; suppressed lines are
-// counted and reported with the next line that gets through.
-void log_limited(std::string_view key, const std::string& line);
-
-// Epoll set plus a periodic timerfd, so wait_fd() wakes the caller for heartbeats/timeouts too.
-class Poller {
- public:
-  explicit Poller(std::chrono::milliseconds tick);
-  int fd() const { return epoll_.get(); }
-  void add(int fd, bool want_write);
-  void modify(int fd, bool want_write);
-  void remove(int fd);
-  // Waits up to timeout_ms (0 = don't block) and returns the ready fds (timer ticks are drained
-  // and not returned).
-  std::vector<int> wait(int timeout_ms);
-
- private:
-  UniqueFd epoll_;
-  UniqueFd timer_;
-};
 
 enum class ReadOutcome { Ok, PeerClosed, Fatal };
 
@@ -114,10 +63,5 @@ class Channel {
   std::uint64_t last_rx_seq_ = 0;
   std::vector<std::uint8_t> rx_buffer_;
 };
-
-std::string hex64(std::uint64_t v);
-
-// Checks a received HELLO against this build; "" if acceptable, else the refusal text.
-std::string check_hello(const Hello& hello, Role expected_role, std::uint64_t our_hash, CloseReason& reason);
 
 }  // namespace meter::protocol::detail

@@ -1,0 +1,33 @@
+// How one end of the link behaves: heartbeat period and loss detection, peer allow-list,
+// reconnect backoff, its name in HELLO and log lines.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace meter::protocol {
+
+struct LinkOptions {
+  std::chrono::milliseconds heartbeat_period{100};
+  int missed_heartbeats_for_loss = 3;     // silence for this many periods = link lost
+  std::vector<uid_t> allowed_uids;        // empty = only our own uid (Unix sockets, SO_PEERCRED)
+  std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};  // Subscriber backoff
+  std::string name;                       // sent in HELLO, used in log lines ("meter-view")
+  std::size_t max_peers = 16;             // Publisher: connections beyond this get CLOSE and are dropped
+  // The catalog hash announced in HELLO. Empty = catalog_hash() of this build. Only tools and
+  // tests that deliberately emulate another build set it.
+  std::optional<std::uint64_t> catalog_hash_override;
+};
+
+// The options meter-controller and meter-view both derive from their --link-timeout (the silence
+// after which the link counts as lost): loss after 3 missed heartbeats, so a heartbeat every third
+// of the timeout, and never more often than every 10 ms. `name` goes into HELLO and log lines.
+LinkOptions link_options(std::string name, std::chrono::milliseconds link_timeout);
+
+}  // namespace meter::protocol

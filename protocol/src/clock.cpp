@@ -1,0 +1,13 @@
+#include "clock.hpp"
+
+#include <time.h>
+
+namespace meter::protocol::detail {
+
+std::int64_t monotonic_ns() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+}  // namespace meter::protocol::detail
