@@ -6,7 +6,7 @@
 
 #include "gl_test_util.hpp"
 #include "meter/platform/backend.hpp"
-#include "meter/platform/frame_timer.hpp"
+#include "meter/platform/gpu_timer.hpp"
 #include "meter/platform/render_target.hpp"
 
 namespace mp = meter::platform;

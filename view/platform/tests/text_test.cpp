@@ -72,8 +72,8 @@ TEST_P(TextTest, FontErrorsNameTheFile) {
   }
   // One file per test process: the egl and osmesa instances run at once under ctest -j, and
   // rewriting a file the other process's FreeType has mapped ends that process with SIGBUS.
-  const auto not_font = std::filesystem::path(METER_BINARY_DIR) / "test-tmp" / "platform" /
-                        ("not-a-font-" + std::to_string(::getpid()) + ".ttf");
+  const auto not_font = std::filesystem::path(METER_BINARY_DIR) / "test-tmp" /
+                        ("platform-" + std::to_string(::getpid())) / "not-a-font.ttf";
   std::filesystem::create_directories(not_font.parent_path());
   std::ofstream(not_font) << "definitely not a TrueType font";
   try {
@@ -82,6 +82,7 @@ TEST_P(TextTest, FontErrorsNameTheFile) {
   } catch (const mp::TextError& e) {
     EXPECT_NE(std::string(e.what()).find("not-a-font.ttf"), std::string::npos) << e.what();
   }
+  std::filesystem::remove_all(not_font.parent_path());
   EXPECT_THROW(mp::TextRenderer(*backend_, METER_FONT_FILE, 2), mp::TextError);
 }
 

@@ -1,4 +1,4 @@
-#include "meter/platform/frame_timer.hpp"
+#include "meter/platform/gpu_timer.hpp"
 
 #include <stdexcept>
 
