@@ -1,4 +1,4 @@
-// The thin end-to-end path through both processes (issue #2): a candump log of the demo vehicle's
+// The thin end-to-end path through both processes: a candump log of the demo vehicle's
 // speed message -> meter-controller (DBC decode, mapping, damping, UN R39 display rule) -> protocol
 // link over a Unix socket -> meter-view (value-driven animation of the minimal gauge) -> PNG frames.
 // The test judges pixels: the needle angle measured in every dumped frame must match the speed the
