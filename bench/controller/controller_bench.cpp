@@ -16,8 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "meter/controller/dbc.hpp"
-#include "meter/controller/input.hpp"
+#include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/dbc/database.hpp"
+#include "meter/controller/input/candump_log.hpp"
 
 using namespace meter::controller;
 

@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "meter/controller/conditioning.hpp"
+#include "meter/controller/persistence/odometer_store.hpp"
 #include "odometer_writer.hpp"
 
 using namespace meter::controller;

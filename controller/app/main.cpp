@@ -2,7 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "meter/controller/commands.hpp"
+#include "meter/controller/run/commands.hpp"
 
 int main(int argc, char** argv) {
   using namespace meter::controller;

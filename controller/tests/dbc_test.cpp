@@ -6,7 +6,8 @@
 #include <iterator>
 #include <random>
 
-#include "meter/controller/dbc.hpp"
+#include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/dbc/database.hpp"
 
 using namespace meter::controller;
 
@@ -137,7 +138,7 @@ TEST(Dbc, PhysicalEncodeRoundsAndRejects) {
   s.length = 12;
   s.is_signed = false;
   s.factor = -0.01;
-  s.offset = 4100;  // the cantools issue 636 negative scaling
+  s.offset = 4100;  // negative scaling with a large offset, as in the cantools test DBCs
   EXPECT_EQ(physical_to_raw(s, 4100.0), 0u);
   EXPECT_EQ(physical_to_raw(s, 4070.0), 3000u);
   EXPECT_THROW(physical_to_raw(s, 5000.0), std::out_of_range);

@@ -1,4 +1,4 @@
-// The child side of the SIGKILL endurance runs (controller/tests/conditioning_test.cpp: 220 kills in
+// The child side of the SIGKILL endurance runs (controller/tests/persistence_odometer_store_test.cpp: 220 kills in
 // the suite; bench/controller/odometer_kill_bench.cpp: thousands): integrate 100 km/h in 1 ms steps,
 // announce each total on `announce_fd` BEFORE persisting it (so the parent knows the truth at the
 // instant of the kill), persist every `persist_every` steps, until killed. Never returns.
@@ -9,7 +9,8 @@
 #include <cstdint>
 #include <string>
 
-#include "meter/controller/conditioning.hpp"
+#include "meter/controller/conditioning/odometer.hpp"
+#include "meter/controller/persistence/odometer_store.hpp"
 
 namespace meter::controller::testing {
 

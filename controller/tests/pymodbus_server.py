@@ -2,7 +2,7 @@
 """Independent Modbus TCP peer for the controller's Modbus client test (python3-pymodbus).
 
 usage: pymodbus_server.py PORT
-Serves holding registers 0..5 and input registers 0..1 with the values modbus_test.cpp expects.
+Serves holding registers 0..5 and input registers 0..1 with the values input_modbus_test.cpp expects.
 """
 import sys
 

@@ -17,8 +17,9 @@
 #include <thread>
 #include <vector>
 
-#include "meter/controller/can_frame.hpp"
-#include "meter/controller/dbc.hpp"
+#include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/dbc/database.hpp"
+#include "meter/controller/input/can_frame.hpp"
 #include "meter/platform/image.hpp"
 #include "needle.hpp"
 #include "process.hpp"

@@ -5,7 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "meter/controller/dbc.hpp"
+#include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/dbc/database.hpp"
 
 using namespace meter::controller;
 

@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "meter/controller/conditioning.hpp"
+#include "meter/controller/conditioning/odometer.hpp"
 
 namespace meter::numerics {
 

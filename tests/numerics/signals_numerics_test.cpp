@@ -9,7 +9,8 @@
 #include <map>
 #include <random>
 
-#include "meter/controller/conditioning.hpp"
+#include "meter/controller/conditioning/needle.hpp"
+#include "meter/controller/conditioning/odometer.hpp"
 #include "meter/engine/bindings.hpp"
 #include "meter/engine/config.hpp"
 #include "meter/engine/scene.hpp"

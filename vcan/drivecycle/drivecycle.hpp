@@ -6,7 +6,8 @@
 #include <cstdint>
 #include <string>
 
-#include "meter/controller/dbc.hpp"
+#include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/dbc/database.hpp"
 
 namespace meter::drivecycle {
 

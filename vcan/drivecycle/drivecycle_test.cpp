@@ -8,8 +8,9 @@
 #include <sstream>
 
 #include "drivecycle.hpp"
-#include "meter/controller/input.hpp"
-#include "meter/controller/model.hpp"
+#include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/log_replay.hpp"
+#include "meter/controller/model/model.hpp"
 
 using namespace meter;
 using namespace meter::controller;

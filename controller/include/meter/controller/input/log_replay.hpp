@@ -1,0 +1,47 @@
+// Replays a candump -L log as an input: in recorded time, scaled, or on a simulated clock (fast).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/input.hpp"
+
+namespace meter::controller {
+
+enum class ReplayMode { Fast, Realtime, Scaled };
+struct ReplayOptions {
+  ReplayMode mode = ReplayMode::Realtime;
+  double scale = 1.0;  // Scaled: log seconds per wall second (2 = twice as fast)
+  // Fast mode: simulated time advanced per poll() (frames up to now + step are delivered).
+  std::chrono::milliseconds fast_step{10};
+};
+// Parses "realtime", "fast", "scale:N".
+ReplayOptions parse_replay(std::string_view text);  // throws std::invalid_argument
+
+class LogReplay : public Input {
+ public:
+  LogReplay(ParsedLog log, ReplayOptions options);
+  bool poll(InputSink& sink, std::chrono::milliseconds timeout) override;
+  std::int64_t now_ns() const override;
+  std::string describe() const override;
+  double rate() const override { return opt_.mode == ReplayMode::Scaled ? opt_.scale : 1.0; }
+  const ParsedLog& log() const { return log_; }
+  std::size_t delivered() const { return next_; }
+  std::size_t slips() const { return slips_; }  // times the replay clock slipped (we fell behind)
+  static constexpr std::int64_t kMaxLagNs = 20000000;  // 20 ms of log time
+
+ private:
+  ParsedLog log_;
+  ReplayOptions opt_;
+  std::size_t next_ = 0;
+  std::int64_t sim_now_ = 0;        // fast mode clock
+  std::int64_t log_start_ = 0;      // first frame's timestamp
+  std::int64_t wall_start_ = 0;     // CLOCK_MONOTONIC at the first poll (realtime / scaled)
+  bool begun_ = false;
+  std::size_t slips_ = 0;
+};
+
+}  // namespace meter::controller

@@ -1,0 +1,36 @@
+// What the Modbus input reads: the register table (address, type, word order, scale) and the poll
+// settings, as plain data. The mapping file's [modbus] sections fill it in; the input needs nothing else.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace meter::controller {
+
+enum class RegisterType : std::uint8_t { Int16, Uint16, Int32, Uint32, Float32 };
+struct ModbusRegister {
+  std::string name;
+  bool input_table = false;  // false: holding registers (FC 3), true: input registers (FC 4)
+  int address = 0;
+  RegisterType type = RegisterType::Uint16;
+  bool word_swap = false;  // 32-bit values: low word first
+  double scale = 1.0, offset = 0.0;
+  int line = 0;  // where the mapping file defined it
+  int words() const { return type == RegisterType::Int16 || type == RegisterType::Uint16 ? 1 : 2; }
+};
+struct ModbusConfig {
+  double poll_s = 0.1;
+  double response_timeout_s = 0.2;
+  int unit_id = 1;
+  std::string heartbeat;      // register name that must keep changing; empty = none
+  int stale_after_polls = 5;  // heartbeat unchanged for this many polls = all signals invalid
+  std::vector<ModbusRegister> registers;
+  const ModbusRegister* find(std::string_view name) const;
+};
+
+// Decodes a Modbus register value from raw 16-bit words (big-endian words, as on the wire).
+double modbus_register_value(const ModbusRegister& r, const std::uint16_t* words);
+
+}  // namespace meter::controller

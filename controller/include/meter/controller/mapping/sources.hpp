@@ -1,0 +1,71 @@
+// The mapping's sources: every "Message.Signal" or "modbus.NAME" a mapping names, resolved once
+// against the DBC, with the newest value received for each. Frames go in and are decoded (only
+// the messages the mapping uses); the readings come out as plain data for mapping/apply.hpp.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/dbc/database.hpp"
+#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/mapping/apply.hpp"
+#include "meter/controller/mapping/mapping.hpp"
+
+namespace meter::controller {
+
+inline bool is_modbus_source(std::string_view key) { return key.rfind("modbus.", 0) == 0; }
+
+struct DbcSource {
+  const DbcMessage* message = nullptr;
+  int signal = -1;  // index into message->signals
+  const DbcSignal& dbc_signal() const { return message->signals[static_cast<std::size_t>(signal)]; }
+};
+// Resolves "Message.Signal" against db. Throws MappingError (file, line) naming what is missing:
+// no DBC at all, no such message, or no such signal in it.
+DbcSource resolve_dbc_source(const Database* db, const std::string& key, const std::string& file, int line);
+
+struct Source {
+  std::string key;
+  DbcSource dbc;                // message null for Modbus sources
+  std::optional<int> cycle_ms;  // DBC cycle time, or the Modbus poll period
+  SourceReading reading;
+  std::uint64_t raw = 0;       // raw bits of the newest DBC value (wheel-pulse counters)
+  std::uint64_t rx_count = 0;  // values received so far
+};
+
+// What a frame meant to the sources.
+enum class FrameUse : std::uint8_t { ErrorFrame, Ignored, UnknownId, Unused, Mapped };
+
+class SourceTable {
+ public:
+  // db may be null (Modbus-only mapping); the mapping must outlive the table.
+  SourceTable(const Database* db, const Mapping& mapping) : db_(db), mapping_(mapping) {}
+
+  // The indices of output m's sources in the order it names them, adding those not seen before.
+  // Throws MappingError when a DBC source does not resolve.
+  std::vector<int> add(const OutputMapping& m);
+  // Decodes the frame into the sources it carries (remote and error frames carry none).
+  FrameUse on_frame(const CanFrame& frame);
+  // A Modbus (or other named) value; false when no source has that key.
+  bool on_value(std::string_view key, double value, bool valid, std::int64_t t_ns);
+
+  const Source& operator[](int index) const { return sources_[static_cast<std::size_t>(index)]; }
+  // The (id, extended) of every DBC message a source reads, sorted.
+  std::vector<std::pair<std::uint32_t, bool>> used_ids() const;
+
+ private:
+  const Database* db_;
+  const Mapping& mapping_;
+  std::vector<Source> sources_;
+  std::unordered_map<std::string, int> by_key_;
+  std::unordered_map<const DbcMessage*, std::vector<int>> by_message_;  // per signal index, -1 = unused
+  std::vector<DecodedSignal> scratch_;
+};
+
+}  // namespace meter::controller

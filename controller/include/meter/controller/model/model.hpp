@@ -1,0 +1,107 @@
+// The cluster signal model: bus values in, catalog values out. Pure and time-stepped: frames and
+// register values go in with on_frame()/on_value(), update(t) advances timeouts and conditioning to
+// time t, outputs() holds what the view should show and changed() which of them the tick changed.
+// No sockets, no clocks of its own. It only ties the stages together, in order: the source table
+// and mapping application (mapping/), conditioning (conditioning/), odometer persistence
+// (persistence/).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "meter/controller/conditioning/odometer.hpp"
+#include "meter/controller/conditioning/output_conditioner.hpp"
+#include "meter/controller/conditioning/telltales.hpp"
+#include "meter/controller/dbc/database.hpp"
+#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/mapping/apply.hpp"
+#include "meter/controller/mapping/mapping.hpp"
+#include "meter/controller/mapping/sources.hpp"
+#include "meter/controller/persistence/odometer_store.hpp"
+#include "meter/protocol/catalog.hpp"
+
+namespace meter::controller {
+
+struct ModelOutput {
+  protocol::SignalId id;
+  double value = 0.0;
+  protocol::SignalStatus status = protocol::SignalStatus::NotAvailable;
+};
+
+struct ModelStats {
+  std::uint64_t frames = 0;           // frames offered
+  std::uint64_t frames_mapped = 0;    // frames of a message the mapping uses
+  std::uint64_t frames_unknown = 0;   // id not in the DBC
+  std::uint64_t error_frames = 0;
+  std::uint64_t values = 0;           // register values offered
+  std::uint64_t persist_saves = 0;
+  std::uint64_t persist_errors = 0;
+};
+
+struct ModelOptions {
+  std::string state_dir;  // empty: odometer not persisted
+};
+
+class Model {
+ public:
+  // db may be null for Modbus-only mappings. Throws MappingError when the mapping names a DBC
+  // signal that does not exist, or 'timeout = auto' for a message without a cycle time.
+  Model(const Database* db, Mapping mapping, ModelOptions options = {});
+  ~Model();
+  Model(const Model&) = delete;
+  Model& operator=(const Model&) = delete;
+
+  void start(std::int64_t t_ns);  // first timeouts and the bulb check run from here
+  void on_frame(const CanFrame& frame);
+  // A non-CAN source value ("modbus.NAME"); valid=false marks it unusable (timeout, exception).
+  void on_value(std::string_view key, double value, bool valid, std::int64_t t_ns);
+  void update(std::int64_t t_ns);
+  void persist_now();  // saves the odometer if a state dir is set (also done every persist interval)
+
+  const std::vector<ModelOutput>& outputs() const { return outputs_; }
+  // Indices into outputs() whose value or status the last update() changed (all of them after
+  // the first): the one place a change is detected before the values go to the link.
+  const std::vector<std::size_t>& changed() const { return changed_; }
+  const ModelOutput* output(protocol::SignalId id) const;
+  const ModelStats& stats() const { return stats_; }
+  const Mapping& mapping() const { return mapping_; }
+  const Odometer& odometer() const { return odo_; }
+  // True speed (before damping and the R39 rule), for tests and the odometer.
+  std::optional<double> true_speed() const;
+  // Does this frame carry a message that the mapping uses? (SocketCAN kernel filters use the ids.)
+  std::vector<std::pair<std::uint32_t, bool>> used_ids() const;
+
+ private:
+  struct Out;
+  void build_outputs();
+  void evaluate(Out& o, std::int64_t t, double dt);
+  void accumulate_distance(Out& o, std::int64_t dt_ns);
+  void on_ignition(double vss_state, std::int64_t t);
+  void detect_changes();
+
+  const Database* db_;
+  Mapping mapping_;
+  ModelOptions options_;
+  SourceTable sources_;
+  std::vector<Out> outs_;
+  std::vector<ModelOutput> outputs_;
+  std::vector<ModelOutput> reported_;  // outputs as of the previous update (change detection)
+  std::vector<std::size_t> changed_;
+  std::vector<SourceReading> readings_;  // scratch: one output's source readings
+  ModelStats stats_;
+  Odometer odo_;
+  std::unique_ptr<OdometerStore> store_;
+  std::uint64_t persist_seq_ = 0;
+  std::int64_t last_persist_ = 0;
+  BulbCheck bulb_;
+  std::int64_t start_ = 0, last_update_ = 0;
+  bool started_ = false, updated_ = false;
+  double last_ignition_ = -1;
+};
+
+}  // namespace meter::controller

@@ -1,0 +1,52 @@
+// Tokens of the DBC grammar (Vector's DBC format description): identifiers, numbers, quoted
+// strings with escapes, punctuation, '//' comments and CRLF, with the line number every error names.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "meter/controller/dbc/database.hpp"
+
+namespace meter::controller::dbc_parse {
+
+class DbcLexer {
+ public:
+  DbcLexer(std::string_view text, std::string file) : s_(text), file_(std::move(file)) {}
+
+  [[noreturn]] void error(const std::string& what) const { throw DbcError(file_, line_, what); }
+  [[noreturn]] void error_at(int line, const std::string& what);  // an error about an earlier line
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+  bool eof() const { return pos_ >= s_.size(); }
+  char peek() const { return eof() ? '\0' : s_[pos_]; }
+  void advance() { ++pos_; }
+  bool at_line_start() const { return pos_ == line_start_; }
+  bool eol() const { return eof() || s_[pos_] == '\n'; }
+  std::string preview() const;  // the rest of the line (up to 20 characters) for error messages
+
+  void skip_ws();         // blanks, newlines and '//' comments
+  void skip_inline_ws();  // blanks on this line only
+  void skip_line();
+  void expect(char c);
+  bool accept(char c);
+  std::string ident();  // empty when the next token is not an identifier
+  std::string need_ident(const char* what);
+  double number(const char* what);
+  std::uint64_t uint_lit(const char* what);
+  std::string string_lit();
+  // Skips a statement meter does not use, up to its ';' (strings may hold ';').
+  void skip_statement(const std::string& kw, int kw_line);
+
+ private:
+  void newline();
+
+  std::string_view s_;
+  std::string file_;
+  std::size_t pos_ = 0, line_start_ = 0;
+  int line_ = 1;
+};
+
+}  // namespace meter::controller::dbc_parse

@@ -1,0 +1,121 @@
+// Resolution of the recorded references once every message is known: comments, value tables,
+// value types and extended multiplexing onto their signals (unknown references become warnings),
+// simple multiplexing onto the message's 'M' switch, layout checks against the message size, and
+// the attributes (GenMsgCycleTime, VFrameFormat incl. CAN FD and J1939PG, ProtocolType J1939).
+#include "parser.hpp"
+
+namespace meter::controller::dbc_parse {
+
+DbcMessage* DbcParser::message_by_raw(std::uint32_t raw) {
+  bool ext = (raw & 0x80000000u) != 0;
+  std::uint32_t id = raw & 0x1FFFFFFFu;
+  for (auto& m : db_.messages)
+    if (m.id == id && (m.extended == ext || (!ext && id > 0x7FF))) return &m;
+  return nullptr;
+}
+
+std::optional<std::string> DbcParser::enum_text(const std::string& name, const AttrValue& v) {
+  if (v.is_string) return v.text;
+  auto it = enum_defs_.find(name);
+  if (it == enum_defs_.end()) return std::nullopt;
+  auto idx = static_cast<std::size_t>(v.number);
+  if (v.number < 0 || idx >= it->second.size()) return std::nullopt;
+  return it->second[idx];
+}
+
+void DbcParser::finish() {
+  // Value tables, value types, comments, extended multiplexing.
+  for (auto& p : pending_) {
+    DbcMessage* m = message_by_raw(p.raw_id);
+    if (!m) {
+      if ((p.raw_id & 0xFFFFFFFFu) != kIndependentSignalsId)
+        db_.warnings.push_back({p.line, "reference to unknown message id " + std::to_string(p.raw_id) + " ignored"});
+      continue;
+    }
+    if (p.kind == 'c') {
+      m->comment = p.comment;
+      continue;
+    }
+    int si = m->find_signal(p.signal);
+    if (si < 0) {
+      db_.warnings.push_back({p.line, "reference to unknown signal " + m->name + "." + p.signal + " ignored"});
+      continue;
+    }
+    DbcSignal& s = m->signals[static_cast<std::size_t>(si)];
+    switch (p.kind) {
+      case 'C': s.comment = p.comment; break;
+      case 'V': s.choices = p.choices; break;
+      case 'T':
+        if (p.valtype == 1 && s.length != 32) {
+          lex_.error_at(p.line, "SIG_VALTYPE_ " + m->name + "." + s.name + ": IEEE float needs a 32-bit signal, it has " + std::to_string(s.length));
+        }
+        if (p.valtype == 2 && s.length != 64) {
+          lex_.error_at(p.line, "SIG_VALTYPE_ " + m->name + "." + s.name + ": IEEE double needs a 64-bit signal, it has " + std::to_string(s.length));
+        }
+        s.value_type = p.valtype == 1 ? ValueType::Float32 : p.valtype == 2 ? ValueType::Float64 : ValueType::Integer;
+        break;
+      case 'M': {
+        int sw = m->find_signal(p.switch_name);
+        if (sw < 0 || !m->signals[static_cast<std::size_t>(sw)].is_multiplexor) {
+          lex_.error_at(p.line, "SG_MUL_VAL_ " + m->name + "." + s.name + ": expected a multiplexor signal, '" + p.switch_name + "' is not one");
+        }
+        s.mux_switch = sw;
+        s.mux_ranges = p.ranges;
+        break;
+      }
+      default: break;
+    }
+  }
+  // Simple multiplexing: mN signals switch on the message's plain 'M' signal.
+  for (auto& m : db_.messages) {
+    int plain = -1;
+    for (std::size_t i = 0; i < m.signals.size(); ++i)
+      if (m.signals[i].is_multiplexor && m.signals[i].mux_ranges.empty()) plain = static_cast<int>(i);
+    for (auto& s : m.signals) {
+      if (s.mux_switch != -2) continue;
+      if (plain < 0) {
+        lex_.error_at(s.line, "signal " + m.name + "." + s.name + " is multiplexed (m<N>) but the message has no multiplexor 'M' signal");
+      }
+      s.mux_switch = plain;
+    }
+    for (std::size_t i = 0; i < m.signals.size(); ++i) {
+      const auto& s = m.signals[i];
+      if (s.bytes_needed() > m.size)
+        db_.warnings.push_back({s.line, "signal " + m.name + "." + s.name + " reaches byte " +
+                                            std::to_string(s.bytes_needed()) + " of a " + std::to_string(m.size) + "-byte message"});
+    }
+  }
+  // Attributes: defaults first, then per-object values.
+  auto apply_msg_attr = [&](DbcMessage& m, const std::string& name, const AttrValue& v) {
+    if (name == "GenMsgCycleTime" && !v.is_string) {
+      if (v.number > 0) m.cycle_time_ms = static_cast<int>(v.number);
+      else m.cycle_time_ms.reset();
+    } else if (name == "VFrameFormat") {
+      auto t = enum_text(name, v);
+      if (t) {
+        m.j1939 = *t == "J1939PG";
+        m.fd = t->find("CAN_FD") != std::string::npos;
+      }
+    }
+  };
+  for (auto& a : attrs_)
+    if (a.object == 'G' && a.name == "ProtocolType" && a.value.is_string) db_.protocol_type = a.value.text;
+  for (auto& m : db_.messages) {
+    for (auto& [name, v] : attr_defaults_) apply_msg_attr(m, name, v);
+    if (db_.protocol_type == "J1939") m.j1939 = true;
+    if (!m.extended) m.j1939 = false;
+  }
+  for (auto& a : attrs_) {
+    if (a.object != 'B') continue;
+    DbcMessage* m = message_by_raw(a.raw_id);
+    if (!m) {
+      if (a.raw_id != kIndependentSignalsId)
+        db_.warnings.push_back({a.line, "BA_ \"" + a.name + "\" for unknown message id " + std::to_string(a.raw_id) + " ignored"});
+      continue;
+    }
+    apply_msg_attr(*m, a.name, a.value);
+    if (!m->extended) m->j1939 = false;
+  }
+}
+
+}  // namespace meter::controller::dbc_parse

@@ -1,0 +1,134 @@
+#include <modbus.h>
+#include <time.h>
+
+#include <cerrno>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+
+#include "clocks.hpp"
+#include "meter/controller/input/modbus_input.hpp"
+
+namespace meter::controller {
+namespace {
+modbus_t* ctx(void* p) { return static_cast<modbus_t*>(p); }
+}  // namespace
+
+ModbusInput::ModbusInput(const std::string& target, const ModbusConfig& config) : target_(target), cfg_(config) {
+  if (cfg_.registers.empty()) throw std::invalid_argument("modbus: the mapping defines no [modbus.register ...]");
+  if (target.rfind("tcp:", 0) == 0) {
+    std::string rest = target.substr(4);
+    auto colon = rest.rfind(':');
+    if (colon == std::string::npos) throw std::invalid_argument("modbus target: expected tcp:HOST:PORT, got '" + target + "'");
+    std::string host = rest.substr(0, colon);
+    int port = std::atoi(rest.c_str() + colon + 1);
+    if (port <= 0 || port > 65535) throw std::invalid_argument("modbus target: bad port in '" + target + "'");
+    ctx_ = modbus_new_tcp(host.c_str(), port);
+  } else if (target.rfind("rtu:", 0) == 0) {
+    // rtu:/dev/ttyUSB0:19200[:8N1]
+    std::string rest = target.substr(4);
+    auto c1 = rest.find(':');
+    if (c1 == std::string::npos) throw std::invalid_argument("modbus target: expected rtu:DEVICE:BAUD[:8N1]");
+    std::string dev = rest.substr(0, c1);
+    std::string tail = rest.substr(c1 + 1);
+    auto c2 = tail.find(':');
+    int baud = std::atoi(tail.substr(0, c2).c_str());
+    std::string fmt = c2 == std::string::npos ? "8N1" : tail.substr(c2 + 1);
+    if (baud <= 0 || fmt.size() != 3 || (fmt[1] != 'N' && fmt[1] != 'E' && fmt[1] != 'O'))
+      throw std::invalid_argument("modbus target: expected rtu:DEVICE:BAUD[:8N1|8E1|8O1], got '" + target + "'");
+    ctx_ = modbus_new_rtu(dev.c_str(), baud, fmt[1], fmt[0] - '0', fmt[2] - '0');
+  } else {
+    throw std::invalid_argument("modbus target: expected tcp:HOST:PORT or rtu:DEVICE:BAUD, got '" + target + "'");
+  }
+  if (!ctx_) throw std::runtime_error("modbus: cannot create a context for " + target + ": " + modbus_strerror(errno));
+  modbus_set_slave(ctx(ctx_), cfg_.unit_id);
+  double t = cfg_.response_timeout_s;
+  modbus_set_response_timeout(ctx(ctx_), static_cast<std::uint32_t>(t), static_cast<std::uint32_t>((t - std::floor(t)) * 1e6));
+  next_poll_ = monotonic_ns();
+}
+
+ModbusInput::~ModbusInput() {
+  if (ctx_) {
+    modbus_close(ctx(ctx_));
+    modbus_free(ctx(ctx_));
+  }
+}
+
+std::int64_t ModbusInput::now_ns() const { return monotonic_ns(); }
+std::string ModbusInput::describe() const { return "Modbus " + target_; }
+
+void ModbusInput::invalidate_all(InputSink& sink, std::int64_t t) {
+  for (const auto& r : cfg_.registers) sink.on_value("modbus." + r.name, 0.0, false, t);
+}
+
+void ModbusInput::poll_once(InputSink& sink) {
+  ++polls_;
+  const std::int64_t t = monotonic_ns();
+  if (!connected_) {
+    if (modbus_connect(ctx(ctx_)) != 0) {
+      ++failures_;
+      last_error_ = std::string("connect: ") + modbus_strerror(errno);
+      invalidate_all(sink, t);
+      return;
+    }
+    connected_ = true;
+  }
+  struct Got {
+    const ModbusRegister* r;
+    std::uint16_t w[2];
+  };
+  std::vector<Got> got;
+  got.reserve(cfg_.registers.size());
+  for (const auto& r : cfg_.registers) {
+    Got g{&r, {0, 0}};
+    int n = r.input_table ? modbus_read_input_registers(ctx(ctx_), r.address, r.words(), g.w)
+                          : modbus_read_registers(ctx(ctx_), r.address, r.words(), g.w);
+    if (n != r.words()) {
+      // Timeout or exception: one bad poll invalidates the whole map, like a missing CAN frame.
+      ++failures_;
+      last_error_ = "read " + r.name + "@" + std::to_string(r.address) + ": " + modbus_strerror(errno);
+      if (errno != EMBXILADD && errno != EMBXILFUN && errno != EMBXILVAL && errno != EMBXSFAIL) {
+        modbus_close(ctx(ctx_));  // connection-level failure: reconnect next poll
+        connected_ = false;
+      }
+      invalidate_all(sink, t);
+      return;
+    }
+    got.push_back(g);
+  }
+  if (!cfg_.heartbeat.empty()) {
+    for (const auto& g : got) {
+      if (g.r->name != cfg_.heartbeat) continue;
+      bool same = hb_seen_ && g.w[0] == hb_last_[0] && g.w[1] == hb_last_[1];
+      hb_same_ = same ? hb_same_ + 1 : 0;
+      hb_last_[0] = g.w[0];
+      hb_last_[1] = g.w[1];
+      hb_seen_ = true;
+    }
+    if (hb_same_ >= cfg_.stale_after_polls) {
+      last_error_ = "heartbeat register '" + cfg_.heartbeat + "' stale for " + std::to_string(hb_same_) + " polls";
+      invalidate_all(sink, t);
+      return;
+    }
+  }
+  for (const auto& g : got) {
+    double v = modbus_register_value(*g.r, g.w);
+    sink.on_value("modbus." + g.r->name, v, std::isfinite(v), t);
+  }
+}
+
+bool ModbusInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
+  const std::int64_t now = monotonic_ns();
+  if (now >= next_poll_) {
+    poll_once(sink);
+    const auto period = static_cast<std::int64_t>(cfg_.poll_s * 1e9);
+    next_poll_ += period;
+    if (next_poll_ < monotonic_ns()) next_poll_ = monotonic_ns() + period;  // fell behind: do not burst
+    return true;
+  }
+  const std::int64_t wait = std::min<std::int64_t>(next_poll_ - now, std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count());
+  if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+  return true;
+}
+
+}  // namespace meter::controller

@@ -1,0 +1,366 @@
+// Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus] and
+// [modbus.register NAME]. Every error names file:line and what was expected.
+#include "meter/controller/mapping/mapping.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+namespace meter::controller {
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string> words(std::string_view s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (c == ' ' || c == '\t' || c == ',') {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
+
+struct Ctx {
+  const std::string& file;
+  int line;
+  [[noreturn]] void fail(const std::string& what) const { throw MappingError(file, line, what); }
+  double number(std::string_view text, const std::string& key) const {
+    std::string t(trim(text));
+    char* end = nullptr;
+    double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || end != t.c_str() + t.size() || !std::isfinite(v))
+      fail(key + ": expected a number, got '" + t + "'");
+    return v;
+  }
+  // "0.5", "500ms", "2s"
+  double seconds(std::string_view text, const std::string& key) const {
+    std::string t(trim(text));
+    double scale = 1.0;
+    if (t.size() > 2 && t.substr(t.size() - 2) == "ms") {
+      scale = 1e-3;
+      t.resize(t.size() - 2);
+    } else if (t.size() > 1 && t.back() == 's') {
+      t.pop_back();
+    }
+    double v = number(t, key) * scale;
+    // Bounded so every duration converts to int64 nanoseconds without overflow.
+    if (v < 0 || v > 1e6) fail(key + ": expected a duration from 0 to 1e6 s, got '" + std::string(text) + "'");
+    return v;
+  }
+  bool boolean(std::string_view text, const std::string& key) const {
+    auto t = trim(text);
+    if (t == "true" || t == "yes" || t == "1") return true;
+    if (t == "false" || t == "no" || t == "0") return false;
+    fail(key + ": expected true or false, got '" + std::string(t) + "'");
+  }
+};
+
+struct Conversion {
+  const char* name;
+  double scale, offset;
+};
+constexpr Conversion kConversions[] = {
+    {"m/s->km/h", 3.6, 0.0},          {"km/h->m/s", 1 / 3.6, 0.0},        {"mph->km/h", 1.609344, 0.0},
+    {"kelvin->celsius", 1.0, -273.15}, {"K->celsius", 1.0, -273.15},       {"degK->celsius", 1.0, -273.15},
+    {"fahrenheit->celsius", 5.0 / 9.0, -160.0 / 9.0},                    {"rad/s->rpm", 30.0 / std::numbers::pi, 0.0},
+    {"ratio->percent", 100.0, 0.0},   {"permille->percent", 0.1, 0.0},
+};
+
+void set_output_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
+  auto w = words(value);
+  if (key == "source") {
+    if (w.empty()) c.fail("source: expected Message.Signal or modbus.NAME (comma separated for several)");
+    for (auto& s : w)
+      if (s.find('.') == std::string::npos || s.front() == '.' || s.back() == '.')
+        c.fail("source: expected Message.Signal or modbus.NAME, got '" + s + "'");
+    o.sources = w;
+  } else if (key == "combine") {
+    std::string v(trim(value));
+    if (v == "first") o.combine = Combine::First;
+    else if (v == "mean") o.combine = Combine::Mean;
+    else if (v == "min") o.combine = Combine::Min;
+    else if (v == "max") o.combine = Combine::Max;
+    else c.fail("combine: expected first, mean, min or max, got '" + v + "'");
+  } else if (key == "convert") {
+    std::string v;
+    for (char ch : value)
+      if (ch != ' ' && ch != '\t') v += ch;
+    for (auto& k : kConversions)
+      if (v == k.name) {
+        o.scale = k.scale;
+        o.offset = k.offset;
+        return;
+      }
+    std::string known;
+    for (auto& k : kConversions) known += std::string(known.empty() ? "" : ", ") + k.name;
+    c.fail("convert: unknown conversion '" + v + "'; expected one of " + known + " (or use scale/offset)");
+  } else if (key == "scale") {
+    o.scale = c.number(value, key);
+    if (o.scale == 0) c.fail("scale: 0 would erase the signal");
+  } else if (key == "offset") {
+    o.offset = c.number(value, key);
+  } else if (key == "map") {
+    o.remap.clear();
+    for (auto& item : w) {
+      auto colon = item.find(':');
+      if (colon == std::string::npos) c.fail("map: expected 'from:to' pairs, got '" + item + "'");
+      o.remap.emplace_back(c.number(item.substr(0, colon), key), c.number(item.substr(colon + 1), key));
+    }
+  } else if (key == "out_of_range") {
+    std::string v(trim(value));
+    if (v == "invalid") o.out_of_range = RangeAction::Invalid;
+    else if (v == "clamp") o.out_of_range = RangeAction::Clamp;
+    else if (v == "accept") o.out_of_range = RangeAction::Accept;
+    else c.fail("out_of_range: expected invalid, clamp or accept, got '" + v + "'");
+  } else if (key == "timeout") {
+    if (trim(value) == "auto") {
+      o.timeout_auto = true;
+      o.timeout_s.reset();
+    } else if (trim(value) == "none") {
+      o.timeout_auto = false;
+      o.timeout_s.reset();
+    } else {
+      o.timeout_auto = false;
+      o.timeout_s = c.seconds(value, key);
+      if (*o.timeout_s <= 0) c.fail("timeout: expected a duration > 0, 'auto' or 'none'");
+    }
+  } else if (key == "first_timeout") {
+    o.first_timeout_s = c.seconds(value, key);
+  } else if (key == "on_timeout") {
+    if (w.size() == 1 && w[0] == "hold") o.on_timeout = TimeoutAction::Hold;
+    else if (w.size() == 1 && w[0] == "invalid") o.on_timeout = TimeoutAction::Invalid;
+    else if (w.size() == 2 && w[0] == "substitute") {
+      o.on_timeout = TimeoutAction::Substitute;
+      o.substitute = c.number(w[1], key);
+    } else c.fail("on_timeout: expected hold, invalid or 'substitute <value>'");
+  } else if (key == "needle") {
+    o.needle_tau_s = c.seconds(value, key);
+    if (o.needle_tau_s <= 0) c.fail("needle: expected the damping time constant in seconds (> 0)");
+  } else if (key == "speedometer") {
+    if (w.size() != 2) c.fail("speedometer: expected '<ratio> <offset km/h>' (UN R39 over-read)");
+    SpeedometerRule r{c.number(w[0], key), c.number(w[1], key)};
+    if (r.ratio < 1.0 || r.ratio > 1.1 || r.offset_kmh < 0 || r.offset_kmh > 4)
+      c.fail("speedometer: ratio must be 1..1.1 and offset 0..4 km/h to stay within UN R39");
+    o.speedometer = r;
+  } else if (key == "fuel") {
+    o.fuel = c.boolean(value, key);
+  } else if (key == "fuel_tau_moving") {
+    o.fuel_config.tau_moving_s = c.seconds(value, key);
+  } else if (key == "fuel_tau_stopped") {
+    o.fuel_config.tau_stopped_s = c.seconds(value, key);
+  } else if (key == "refuel_delta") {
+    o.fuel_config.refuel_delta = c.number(value, key);
+  } else if (key == "sender_fault_time") {
+    o.fuel_config.fault_time_s = c.seconds(value, key);
+  } else if (key == "blink") {
+    if (w.size() != 2) c.fail("blink: expected '<period s> <duty 0..1>'");
+    BlinkPattern b{c.seconds(w[0], key), c.number(w[1], key)};
+    if (b.period_s <= 0 || b.duty <= 0 || b.duty >= 1) c.fail("blink: period must be > 0 and duty inside (0, 1)");
+    o.blink = b;
+  } else if (key == "invert") {
+    o.invert = c.boolean(value, key);
+  } else if (key == "rule") {
+    if (w.size() == 1 && w[0] == "seatbelt") {
+      o.rule = Rule::SeatBelt;
+    } else if (w.size() == 4 && (w[0] == "below" || w[0] == "above")) {
+      o.rule = w[0] == "below" ? Rule::Below : Rule::Above;
+      if (!protocol::find_signal(w[1])) c.fail("rule: '" + w[1] + "' is not a catalog signal");
+      o.rule_input = w[1];
+      o.rule_on = c.number(w[2], key);
+      o.rule_off = c.number(w[3], key);
+      if ((o.rule == Rule::Below && o.rule_off < o.rule_on) || (o.rule == Rule::Above && o.rule_off > o.rule_on))
+        c.fail("rule: the release threshold must lie on the far side of the trigger (hysteresis)");
+    } else {
+      c.fail("rule: expected 'seatbelt', 'below <catalog signal> <on> <off>' or 'above <catalog signal> <on> <off>'");
+    }
+  } else if (key == "first_level") {
+    o.seat_belt.first_level_s = c.seconds(value, key);
+    if (o.seat_belt.first_level_s < 4 || o.seat_belt.first_level_s > 8) c.fail("first_level: expected 4..8 s");
+  } else if (key == "accumulate") {
+    if (w.size() == 1 && w[0] == "speed") {
+      o.accumulate = Accumulate::Speed;
+    } else if (w.size() == 4 && w[0] == "counter") {
+      o.accumulate = Accumulate::Counter;
+      o.sources = {w[1]};
+      double bits = c.number(w[2], key);
+      if (bits < 1 || bits > 64 || bits != std::floor(bits)) c.fail("accumulate: counter bits must be 1..64");
+      o.counter_bits = static_cast<unsigned>(bits);
+      o.um_per_count = c.number(w[3], key);
+      if (o.um_per_count <= 0) c.fail("accumulate: micrometres per count must be > 0");
+    } else {
+      c.fail("accumulate: expected 'speed' or 'counter <Message.Signal> <bits> <micrometres per count>'");
+    }
+  } else {
+    c.fail("unknown key '" + key + "'; expected source, combine, convert, scale, offset, map, out_of_range, timeout, "
+           "first_timeout, on_timeout, needle, speedometer, fuel, blink, invert, rule, first_level, accumulate");
+  }
+}
+
+RegisterType register_type(const std::string& v, const Ctx& c) {
+  if (v == "int16") return RegisterType::Int16;
+  if (v == "uint16") return RegisterType::Uint16;
+  if (v == "int32") return RegisterType::Int32;
+  if (v == "uint32") return RegisterType::Uint32;
+  if (v == "float32") return RegisterType::Float32;
+  c.fail("type: expected int16, uint16, int32, uint32 or float32, got '" + v + "'");
+}
+
+}  // namespace
+
+const OutputMapping* Mapping::find(protocol::SignalId id) const {
+  for (auto& o : outputs)
+    if (o.id == id) return &o;
+  return nullptr;
+}
+
+Mapping parse_mapping(std::string_view text, const std::string& file) {
+  Mapping m;
+  m.file = file;
+  enum class Sec { None, Global, Modbus, Register, Output } sec = Sec::None;
+  Ctx c{file, 0};
+  std::istringstream in{std::string(text)};
+  std::string raw;
+  while (std::getline(in, raw)) {
+    ++c.line;
+    std::string_view line = raw;
+    auto hash = line.find('#');
+    if (hash != std::string_view::npos) line = line.substr(0, hash);
+    line = trim(line);
+    if (line.empty()) continue;
+    if (line.front() == '[') {
+      if (line.back() != ']') c.fail("expected ']' closing the section header");
+      std::string name(trim(line.substr(1, line.size() - 2)));
+      if (name == "global") {
+        sec = Sec::Global;
+      } else if (name == "modbus") {
+        if (!m.modbus) m.modbus.emplace();
+        sec = Sec::Modbus;
+      } else if (name.rfind("modbus.register", 0) == 0) {
+        if (!m.modbus) m.modbus.emplace();
+        std::string reg(trim(std::string_view(name).substr(15)));
+        if (reg.empty()) c.fail("expected [modbus.register NAME]");
+        if (m.modbus->find(reg)) c.fail("register '" + reg + "' defined twice");
+        ModbusRegister r;
+        r.name = reg;
+        r.line = c.line;
+        m.modbus->registers.push_back(r);
+        sec = Sec::Register;
+      } else {
+        const protocol::SignalInfo* info = protocol::find_signal(name);
+        if (!info) c.fail("section [" + name + "]: expected a catalog signal name (e.g. Vehicle.Speed), 'global', 'modbus' or 'modbus.register NAME'");
+        if (m.find(info->id)) c.fail("section [" + name + "] appears twice");
+        OutputMapping o;
+        o.id = info->id;
+        o.name = name;
+        o.line = c.line;
+        m.outputs.push_back(o);
+        sec = Sec::Output;
+      }
+      continue;
+    }
+    auto eq = line.find('=');
+    if (eq == std::string_view::npos) c.fail("expected 'key = value' or a [section] header");
+    std::string key(trim(line.substr(0, eq)));
+    std::string_view value = trim(line.substr(eq + 1));
+    if (value.empty()) c.fail(key + ": expected a value after '='");
+    switch (sec) {
+      case Sec::None: c.fail("'" + key + "' outside any [section]");
+      case Sec::Global:
+        if (key == "bulb_check") {
+          m.bulb_check_s = c.seconds(value, key);
+          if (m.bulb_check_s < 2 || m.bulb_check_s > 4) c.fail("bulb_check: expected 2..4 s");
+        } else if (key == "persist_interval") {
+          m.persist_interval_s = c.seconds(value, key);
+          if (m.persist_interval_s <= 0) c.fail("persist_interval: expected > 0 s");
+        } else if (key == "update_period") {
+          m.update_period_s = c.seconds(value, key);
+          if (m.update_period_s < 0.001 || m.update_period_s > 1) c.fail("update_period: expected 1 ms..1 s");
+        } else {
+          c.fail("unknown [global] key '" + key + "'; expected bulb_check, persist_interval or update_period");
+        }
+        break;
+      case Sec::Modbus:
+        if (key == "poll") m.modbus->poll_s = c.seconds(value, key);
+        else if (key == "timeout") m.modbus->response_timeout_s = c.seconds(value, key);
+        else if (key == "unit") {
+          double u = c.number(value, key);
+          if (u < 0 || u > 247 || u != std::floor(u)) c.fail("unit: expected a Modbus unit id 0..247");
+          m.modbus->unit_id = static_cast<int>(u);
+        }
+        else if (key == "heartbeat") m.modbus->heartbeat = std::string(value);
+        else if (key == "stale_after") {
+          double n = c.number(value, key);
+          if (n < 1 || n > 100000 || n != std::floor(n)) c.fail("stale_after: expected a poll count 1..100000");
+          m.modbus->stale_after_polls = static_cast<int>(n);
+        }
+        else c.fail("unknown [modbus] key '" + key + "'; expected poll, timeout, unit, heartbeat or stale_after");
+        if (m.modbus->poll_s <= 0 || m.modbus->response_timeout_s <= 0) c.fail(key + ": expected a duration > 0");
+        break;
+      case Sec::Register: {
+        auto& r = m.modbus->registers.back();
+        if (key == "table") {
+          if (value == "holding") r.input_table = false;
+          else if (value == "input") r.input_table = true;
+          else c.fail("table: expected holding or input");
+        } else if (key == "address") {
+          double a = c.number(value, key);
+          if (a < 0 || a > 65535 || a != std::floor(a)) c.fail("address: expected 0..65535");
+          r.address = static_cast<int>(a);
+        } else if (key == "type") {
+          r.type = register_type(std::string(value), c);
+        } else if (key == "word_order") {
+          if (value == "high_first") r.word_swap = false;
+          else if (value == "low_first") r.word_swap = true;
+          else c.fail("word_order: expected high_first or low_first");
+        } else if (key == "scale") {
+          r.scale = c.number(value, key);
+        } else if (key == "offset") {
+          r.offset = c.number(value, key);
+        } else {
+          c.fail("unknown register key '" + key + "'; expected table, address, type, word_order, scale or offset");
+        }
+        break;
+      }
+      case Sec::Output: set_output_key(m.outputs.back(), key, value, c); break;
+    }
+  }
+  // Cross-checks that need the whole file.
+  for (const auto& o : m.outputs) {
+    c.line = o.line;
+    const bool needs_source = o.rule == Rule::None && o.accumulate == Accumulate::None;
+    if (needs_source && o.sources.empty()) c.fail("[" + o.name + "]: expected a 'source', 'rule' or 'accumulate' key");
+    if (o.rule == Rule::SeatBelt && o.sources.empty()) c.fail("[" + o.name + "]: rule seatbelt needs 'source' = the unbuckled signal");
+    if (o.accumulate != Accumulate::None && o.id != protocol::sig::kOdometer)
+      c.fail("[" + o.name + "]: accumulate belongs to Vehicle.TraveledDistance");
+    if (o.accumulate == Accumulate::Speed && !m.find(protocol::sig::kSpeed))
+      c.fail("[" + o.name + "]: accumulate speed needs a [Vehicle.Speed] section");
+    for (const auto& s : o.sources)
+      if (s.rfind("modbus.", 0) == 0 && (!m.modbus || !m.modbus->find(s.substr(7))))
+        c.fail("[" + o.name + "]: source " + s + " names no [modbus.register " + s.substr(7) + "]");
+  }
+  if (m.modbus && !m.modbus->heartbeat.empty() && !m.modbus->find(m.modbus->heartbeat))
+    throw MappingError(file, 0, "[modbus] heartbeat '" + m.modbus->heartbeat + "' names no register");
+  return m;
+}
+
+Mapping load_mapping(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MappingError(path, 0, "cannot open the mapping file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_mapping(ss.str(), path);
+}
+
+}  // namespace meter::controller

@@ -1,0 +1,218 @@
+#include "meter/controller/model/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace meter::controller {
+
+using protocol::SignalKind;
+using protocol::SignalStatus;
+
+struct Model::Out {
+  std::size_t map = 0;    // index into mapping_.outputs
+  std::size_t index = 0;  // index into outputs_
+  std::vector<int> sources;
+  SourceTimeouts timeouts;
+  OutputConditioner conditioner;
+  std::optional<double> last_good;  // newest valid mapped value (timeout 'hold')
+  double truth = 0;                 // mapped value before conditioning
+  bool truth_valid = false;
+  std::uint64_t counter_seen = 0;  // wheel-pulse counter: the source's rx_count last integrated
+};
+
+namespace {
+
+// Evaluation order: speed first and ignition next (fuel, seat belt and the bulb check read them),
+// plain signals, then threshold rules (they read shown values), then the odometer.
+std::vector<std::size_t> evaluation_order(const Mapping& mapping) {
+  auto rank = [&](std::size_t i) {
+    const auto& o = mapping.outputs[i];
+    if (o.id == protocol::sig::kSpeed) return 0;
+    if (o.id == protocol::sig::kIgnition) return 1;
+    if (o.rule == Rule::Below || o.rule == Rule::Above) return 3;
+    if (o.accumulate != Accumulate::None) return 4;
+    return 2;
+  };
+  std::vector<std::size_t> order(mapping.outputs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rank(a) < rank(b); });
+  return order;
+}
+
+// VSS (vehicle system state) at or above this is ignition on (ON or START).
+constexpr double kIgnitionOn = 4;
+
+}  // namespace
+
+Model::Model(const Database* db, Mapping mapping, ModelOptions options)
+    : db_(db), mapping_(std::move(mapping)), options_(std::move(options)), sources_(db_, mapping_),
+      bulb_(mapping_.bulb_check_s) {
+  build_outputs();
+  if (!options_.state_dir.empty() && mapping_.find(protocol::sig::kOdometer)) {
+    store_ = std::make_unique<OdometerStore>(options_.state_dir);
+    if (auto r = store_->load()) {
+      odo_.set(r->odo_um, r->trip_um);
+      persist_seq_ = r->sequence;
+    }
+  }
+}
+
+Model::~Model() = default;
+
+void Model::build_outputs() {
+  for (std::size_t i : evaluation_order(mapping_)) {
+    const OutputMapping& m = mapping_.outputs[i];
+    std::vector<int> sources = sources_.add(m);
+    std::vector<std::optional<int>> cycles;
+    for (int s : sources) cycles.push_back(sources_[s].cycle_ms);
+    const SourceTimeouts timeouts = derive_timeouts(m, cycles, mapping_.file);
+    outs_.push_back(Out{i, outputs_.size(), std::move(sources), timeouts,
+                        OutputConditioner(m, protocol::find_signal(m.id)->kind), std::nullopt, 0.0, false, 0});
+    outputs_.push_back(ModelOutput{m.id});
+  }
+  if (mapping_.find(protocol::sig::kOdometer) && !mapping_.find(protocol::sig::kTrip)) {
+    // The trip meter comes with the odometer.
+    outputs_.push_back(ModelOutput{protocol::sig::kTrip});
+  }
+}
+
+const ModelOutput* Model::output(protocol::SignalId id) const {
+  for (const auto& o : outputs_)
+    if (o.id == id) return &o;
+  return nullptr;
+}
+
+std::optional<double> Model::true_speed() const {
+  for (const auto& o : outs_)
+    if (mapping_.outputs[o.map].id == protocol::sig::kSpeed) return o.truth_valid ? std::optional(o.truth) : std::nullopt;
+  return std::nullopt;
+}
+
+std::vector<std::pair<std::uint32_t, bool>> Model::used_ids() const { return sources_.used_ids(); }
+
+void Model::start(std::int64_t t) {
+  start_ = t;
+  last_update_ = t;
+  last_persist_ = t;
+  started_ = true;
+  bulb_.start(t);
+  for (auto& o : outs_) o.conditioner.ignition_on(t);
+}
+
+void Model::on_frame(const CanFrame& f) {
+  ++stats_.frames;
+  switch (sources_.on_frame(f)) {
+    case FrameUse::ErrorFrame: ++stats_.error_frames; break;
+    case FrameUse::UnknownId: ++stats_.frames_unknown; break;
+    case FrameUse::Mapped: ++stats_.frames_mapped; break;
+    case FrameUse::Ignored:
+    case FrameUse::Unused: break;
+  }
+}
+
+void Model::on_value(std::string_view key, double value, bool valid, std::int64_t t) {
+  ++stats_.values;
+  sources_.on_value(key, value, valid, t);
+}
+
+void Model::evaluate(Out& o, std::int64_t t, double dt) {
+  const OutputMapping& m = mapping_.outputs[o.map];
+  ModelOutput& out = outputs_[o.index];
+  OutputValue shown;
+  if (o.conditioner.threshold_rule()) {
+    std::optional<OutputValue> watched;
+    if (const ModelOutput* in = output(protocol::find_signal(m.rule_input)->id)) watched = OutputValue{in->value, in->status};
+    shown = o.conditioner.threshold(watched);
+  } else {
+    readings_.clear();
+    for (int s : o.sources) readings_.push_back(sources_[s].reading);
+    const OutputValue mapped = map_output(m, readings_, o.timeouts, t, start_, o.last_good);
+    o.truth = mapped.value;
+    o.truth_valid = mapped.status == SignalStatus::Valid;
+    if (o.truth_valid) o.last_good = mapped.value;
+    shown = o.conditioner.condition(mapped, t, dt, true_speed());
+  }
+  out.value = shown.value;
+  out.status = shown.status;
+}
+
+void Model::on_ignition(double vss_state, std::int64_t t) {
+  // Ignition on restarts the bulb check and the seat-belt timer.
+  if (vss_state >= kIgnitionOn && last_ignition_ >= 0 && last_ignition_ < kIgnitionOn) {
+    bulb_.start(t);
+    for (auto& b : outs_) b.conditioner.ignition_on(t);
+  } else if (vss_state < kIgnitionOn) {
+    for (auto& b : outs_) b.conditioner.ignition_off();
+  }
+  last_ignition_ = vss_state;
+}
+
+void Model::accumulate_distance(Out& o, std::int64_t dt_ns) {
+  const OutputMapping& m = mapping_.outputs[o.map];
+  if (m.accumulate == Accumulate::Speed) {
+    if (auto v = true_speed()) odo_.add_speed(*v, dt_ns);
+  } else if (!o.sources.empty()) {
+    const Source& s = sources_[o.sources[0]];
+    if (s.reading.received && s.reading.valid && s.rx_count != o.counter_seen) {
+      odo_.add_counter(s.raw, m.counter_bits, m.um_per_count);
+      o.counter_seen = s.rx_count;
+    }
+  }
+  outputs_[o.index].value = odometer_display_km(odo_.total_km());
+  outputs_[o.index].status = SignalStatus::Valid;
+  for (auto& out : outputs_)
+    if (out.id == protocol::sig::kTrip) {
+      out.value = odometer_display_km(odo_.trip_km());
+      out.status = SignalStatus::Valid;
+    }
+}
+
+void Model::update(std::int64_t t) {
+  if (!started_) start(t);
+  double dt = updated_ ? static_cast<double>(t - last_update_) / 1e9 : 0.0;
+  if (dt < 0) dt = 0;  // a log may step back in time: never integrate backwards
+  const std::int64_t dt_ns = updated_ ? std::max<std::int64_t>(0, t - last_update_) : 0;
+  for (auto& o : outs_) {
+    const OutputMapping& m = mapping_.outputs[o.map];
+    if (m.accumulate != Accumulate::None) continue;
+    evaluate(o, t, dt);
+    if (m.id == protocol::sig::kIgnition && o.truth_valid) on_ignition(o.truth, t);
+  }
+  for (auto& o : outs_)
+    if (mapping_.outputs[o.map].accumulate != Accumulate::None) accumulate_distance(o, dt_ns);
+  // Bulb check: every mapped telltale lit, whatever its source says.
+  if (bulb_.active(t))
+    for (auto& o : outs_)
+      if (o.conditioner.telltale()) {
+        outputs_[o.index].value = 1.0;
+        outputs_[o.index].status = SignalStatus::Valid;
+      }
+  if (store_ && t - last_persist_ >= static_cast<std::int64_t>(mapping_.persist_interval_s * 1e9)) {
+    persist_now();
+    last_persist_ = t;
+  }
+  last_update_ = t;
+  updated_ = true;
+  detect_changes();
+}
+
+void Model::detect_changes() {
+  changed_.clear();
+  const bool first = reported_.size() != outputs_.size();
+  for (std::size_t i = 0; i < outputs_.size(); ++i)
+    if (first || reported_[i].value != outputs_[i].value || reported_[i].status != outputs_[i].status)
+      changed_.push_back(i);
+  reported_ = outputs_;
+}
+
+void Model::persist_now() {
+  if (!store_) return;
+  try {
+    store_->save(OdometerRecord{odo_.total_um(), odo_.trip_um(), ++persist_seq_});
+    ++stats_.persist_saves;
+  } catch (const std::exception&) {
+    ++stats_.persist_errors;  // the next interval retries; the old file stays intact
+  }
+}
+
+}  // namespace meter::controller

@@ -1,0 +1,36 @@
+#include "command_output.hpp"
+
+#include <cstdio>
+
+namespace meter::controller {
+
+std::string csv_field(std::string_view s) {
+  if (s.find_first_of(",\"\n") == std::string_view::npos) return std::string(s);
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"') o += '"';
+    o += c;
+  }
+  return o + "\"";
+}
+
+std::string fmt_double(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.15g", v);
+  return buf;
+}
+
+void report_bad_lines(const ParsedLog& log, const std::string& path, std::ostream& err) {
+  if (log.bad_lines.empty()) return;
+  err << path << ": skipped " << log.bad_lines.size() << " bad line(s)\n";
+  std::size_t shown = 0;
+  for (const auto& b : log.bad_lines) {
+    if (++shown > 10) {
+      err << "  ... and " << log.bad_lines.size() - 10 << " more\n";
+      break;
+    }
+    err << "  " << path << ":" << b.line << ": " << b.why << "\n";
+  }
+}
+
+}  // namespace meter::controller

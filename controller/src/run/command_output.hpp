@@ -1,0 +1,17 @@
+// Text the subcommands write: numbers at full precision, CSV fields, the report of skipped log lines.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <string_view>
+
+#include "meter/controller/input/candump_log.hpp"
+
+namespace meter::controller {
+
+std::string fmt_double(double v);  // %.15g
+std::string csv_field(std::string_view s);  // quoted when it holds ',', '"' or a newline
+// "<path>: skipped N bad line(s)" and the first ten with their line number and reason.
+void report_bad_lines(const ParsedLog& log, const std::string& path, std::ostream& err);
+
+}  // namespace meter::controller

@@ -1,0 +1,130 @@
+// run: the daemon loop. Input -> model (sources, mapping, conditioning) -> publisher, ticking the
+// model every update period of input time and never waiting for a view.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <memory>
+#include <optional>
+#include <ostream>
+
+#include "command_output.hpp"
+#include "latency_trace.hpp"
+#include "meter/controller/dbc/database.hpp"
+#include "meter/controller/input/input.hpp"
+#include "meter/controller/input/socketcan.hpp"
+#include "meter/controller/mapping/mapping.hpp"
+#include "meter/controller/model/model.hpp"
+#include "meter/controller/run/commands.hpp"
+#include "meter/protocol/link.hpp"
+#include "open_input.hpp"
+
+namespace meter::controller {
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+class ModelSink : public InputSink {
+ public:
+  ModelSink(Model& m, Trace& t) : m_(m), t_(t) {}
+  void on_frame(const CanFrame& f) override {
+    m_.on_frame(f);
+    t_.frame(f);
+  }
+  void on_value(std::string_view key, double v, bool valid, std::int64_t t) override { m_.on_value(key, v, valid, t); }
+
+ private:
+  Model& m_;
+  Trace& t_;
+};
+
+}  // namespace
+
+int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
+  g_stop = 0;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::signal(SIGPIPE, SIG_IGN);
+  try {
+    std::optional<Database> db;
+    if (!o.dbc.empty()) db = load_dbc(o.dbc);
+    Mapping map = load_mapping(o.map);
+    Model model(db ? &*db : nullptr, map, ModelOptions{o.state_dir});
+
+    std::unique_ptr<Input> input;
+    try {
+      input = open_input(o, map, can_filters(model.used_ids(), db ? &*db : nullptr), err);
+    } catch (const SocketCanError& e) {
+      err << "meter-controller: " << e.what() << "\n";
+      return 3;
+    }
+
+    const protocol::LinkOptions lo =
+        protocol::link_options("meter-controller", std::chrono::milliseconds(o.link_timeout_ms));
+    Trace trace(o.trace);
+    protocol::Publisher pub(protocol::endpoint_from_option(o.link), lo);
+    if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
+
+    // The model says which outputs the tick changed; only those go to the link (and the trace).
+    auto publish = [&] {
+      const auto& outs = model.outputs();
+      for (std::size_t i : model.changed()) {
+        pub.set(outs[i].id, outs[i].value, outs[i].status);
+        trace.publish(static_cast<int>(outs[i].id), outs[i].value);
+      }
+    };
+
+    ModelSink sink(model, trace);
+    std::uint64_t traced_bytes = 0;
+    // The model ticks every update period of input time; inputs are polled until the next tick.
+    const auto period_ns = static_cast<std::int64_t>(map.update_period_s * 1e9);
+    model.start(input->now_ns());
+    std::int64_t next_tick = input->now_ns() + period_ns;
+    bool more = true;
+    while (!g_stop && more) {
+      const double wait_wall_ns = static_cast<double>(next_tick - input->now_ns()) / input->rate();
+      // Rounded up: a 0 ms wait while the tick is still ahead would spin.
+      const auto wait = std::chrono::milliseconds(std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil(wait_wall_ns / 1e6)), 1, 100));
+      more = input->poll(sink, wait);
+      const std::int64_t t = input->now_ns();
+      if (t >= next_tick || !more) {
+        model.update(t);
+        publish();
+        next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
+      }
+      pub.poll(std::chrono::milliseconds(0));  // never waits for a view
+      if (trace.on()) {
+        const auto ls = pub.stats();
+        if (ls.bytes_sent != traced_bytes) trace.sent(traced_bytes = ls.bytes_sent, ls.deltas_sent);
+      }
+      if (!more && !o.exit_at_end) {
+        // Log ended: keep serving the final state until told to stop.
+        while (!g_stop) pub.poll(std::chrono::milliseconds(100));
+      }
+    }
+    model.persist_now();
+    trace.flush();
+    if (o.verbose) {
+      for (const auto& x : model.outputs())
+        err << "  final " << protocol::find_signal(x.id)->name << " = " << fmt_double(x.value) << " ("
+            << protocol::to_string(x.status) << ")\n";
+    }
+    if (!g_stop && o.linger_s > 0) {
+      const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.linger_s);
+      while (!g_stop && std::chrono::steady_clock::now() < until) pub.poll(std::chrono::milliseconds(20));
+    }
+    const auto& st = model.stats();
+    auto ls = pub.stats();
+    out << "meter-controller: " << st.frames << " frames (" << st.frames_mapped << " mapped, " << st.frames_unknown
+        << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
+        << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
+        << fmt_double(model.odometer().total_km()) << " km\n";
+    return 0;
+  } catch (const std::exception& e) {
+    err << "meter-controller: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace meter::controller

@@ -1,0 +1,218 @@
+// The Modbus client against a loopback libmodbus server (in a thread of this test) and against
+// python3-pymodbus as an independent peer.
+#include <gtest/gtest.h>
+#include <modbus.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <thread>
+
+#include "meter/controller/input/modbus_input.hpp"
+#include "meter/controller/input/modbus_registers.hpp"
+#include "meter/controller/mapping/mapping.hpp"
+
+using namespace meter::controller;
+
+namespace {
+
+const char* kRegisters =
+    "[modbus]\npoll = 20ms\ntimeout = 150ms\n"
+    "[modbus.register a]\naddress = 0\ntype = int16\n"
+    "[modbus.register b]\naddress = 1\ntype = uint16\nscale = 0.1\n"
+    "[modbus.register c]\naddress = 2\ntype = int32\n"
+    "[modbus.register d]\naddress = 4\ntype = float32\nword_order = low_first\n"
+    "[modbus.register e]\ntable = input\naddress = 0\ntype = uint32\n";
+
+struct Rec : InputSink {
+  std::map<std::string, std::pair<double, bool>> last;
+  int invalid_batches = 0;
+  void on_frame(const CanFrame&) override {}
+  void on_value(std::string_view k, double v, bool valid, std::int64_t) override {
+    last[std::string(k)] = {v, valid};
+  }
+  bool all_valid() const {
+    if (last.empty()) return false;
+    for (auto& [k, v] : last)
+      if (!v.second) return false;
+    return true;
+  }
+  bool all_invalid() const {
+    if (last.empty()) return false;
+    for (auto& [k, v] : last)
+      if (v.second) return false;
+    return true;
+  }
+};
+
+// Minimal libmodbus TCP server: one client at a time; can be told to go mute (timeouts).
+class LoopbackServer {
+ public:
+  LoopbackServer() {
+    ctx_ = modbus_new_tcp("127.0.0.1", 0);
+    map_ = modbus_mapping_new(0, 0, 16, 4);
+    const std::uint16_t hr[] = {0xFFFB, 1234, 0xFFFE, 0x7960, 0x0000, 0x4060};
+    for (int i = 0; i < 6; ++i) map_->tab_registers[i] = hr[i];
+    map_->tab_input_registers[0] = 0x0001;
+    map_->tab_input_registers[1] = 0x1170;
+    listen_ = modbus_tcp_listen(ctx_, 1);
+    sockaddr_in a{};
+    socklen_t len = sizeof a;
+    getsockname(listen_, reinterpret_cast<sockaddr*>(&a), &len);
+    port_ = ntohs(a.sin_port);
+    thread_ = std::thread([this] { serve(); });
+  }
+  ~LoopbackServer() {
+    stop_ = true;
+    ::shutdown(listen_, SHUT_RDWR);
+    if (client_ >= 0) ::shutdown(client_, SHUT_RDWR);
+    thread_.join();
+    ::close(listen_);
+    modbus_mapping_free(map_);
+    modbus_free(ctx_);
+  }
+  int port() const { return port_; }
+  std::atomic<bool> mute{false};
+  std::atomic<int> heartbeat_step{1};
+
+ private:
+  void serve() {
+    std::uint8_t q[MODBUS_TCP_MAX_ADU_LENGTH];
+    while (!stop_) {
+      int s = listen_;
+      client_ = modbus_tcp_accept(ctx_, &s);
+      if (client_ < 0) return;
+      for (;;) {
+        int rc = modbus_receive(ctx_, q);
+        if (rc <= 0) break;
+        map_->tab_registers[10] = static_cast<std::uint16_t>(map_->tab_registers[10] + heartbeat_step.load());
+        if (!mute) modbus_reply(ctx_, q, rc, map_);
+      }
+      ::close(client_);
+      client_ = -1;
+    }
+  }
+  modbus_t* ctx_;
+  modbus_mapping_t* map_;
+  int listen_ = -1, port_ = 0;
+  std::atomic<int> client_{-1};
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+void run_polls(ModbusInput& in, Rec& r, int n) {
+  for (int i = 0; i < n; ++i) in.poll(r, std::chrono::milliseconds(20));
+}
+
+void expect_values(const Rec& r) {
+  ASSERT_TRUE(r.all_valid());
+  EXPECT_EQ(r.last.at("modbus.a").first, -5);
+  EXPECT_NEAR(r.last.at("modbus.b").first, 123.4, 1e-9);
+  EXPECT_EQ(r.last.at("modbus.c").first, -100000);
+  EXPECT_EQ(r.last.at("modbus.d").first, 3.5);
+  EXPECT_EQ(r.last.at("modbus.e").first, 70000);
+}
+
+}  // namespace
+
+TEST(ModbusRegisters, DecodeTypesAndWordOrder) {
+  ModbusRegister r;
+  r.type = RegisterType::Float32;
+  std::uint16_t w[2] = {0x4060, 0x0000};
+  EXPECT_EQ(modbus_register_value(r, w), 3.5);
+  r.word_swap = true;
+  std::uint16_t s[2] = {0x0000, 0x4060};
+  EXPECT_EQ(modbus_register_value(r, s), 3.5);
+  r = {};
+  r.type = RegisterType::Int16;
+  r.scale = 0.5;
+  r.offset = 10;
+  std::uint16_t n[1] = {0xFFFE};
+  EXPECT_EQ(modbus_register_value(r, n), 9.0);
+}
+
+TEST(ModbusClient, LoopbackServerValuesTimeoutExceptionAndStaleHeartbeat) {
+  LoopbackServer server;
+  Mapping m = parse_mapping(kRegisters, "test.map");
+  {
+    ModbusInput in("tcp:127.0.0.1:" + std::to_string(server.port()), *m.modbus);
+    Rec r;
+    run_polls(in, r, 3);
+    expect_values(r);
+    server.mute = true;  // requests go unanswered: response timeout
+    run_polls(in, r, 2);
+    EXPECT_TRUE(r.all_invalid()) << in.last_error();
+    EXPECT_GT(in.failures(), 0u);
+    server.mute = false;
+    for (int i = 0; i < 50 && !r.all_valid(); ++i) in.poll(r, std::chrono::milliseconds(20));
+    expect_values(r);  // recovers after reconnecting
+  }
+  {
+    // A register the server does not have: exception response -> every signal invalid.
+    Mapping bad = parse_mapping(std::string(kRegisters) + "[modbus.register z]\naddress = 200\n", "test.map");
+    ModbusInput in("tcp:127.0.0.1:" + std::to_string(server.port()), *bad.modbus);
+    Rec r;
+    run_polls(in, r, 2);
+    EXPECT_TRUE(r.all_invalid());
+    EXPECT_NE(in.last_error().find("z@200"), std::string::npos) << in.last_error();
+  }
+  {
+    Mapping hb = parse_mapping(std::string(kRegisters) + "[modbus.register hb]\naddress = 10\n[modbus]\nheartbeat = hb\nstale_after = 3\n", "test.map");
+    ModbusInput in("tcp:127.0.0.1:" + std::to_string(server.port()), *hb.modbus);
+    Rec r;
+    run_polls(in, r, 5);
+    EXPECT_TRUE(r.all_valid());  // heartbeat advancing
+    server.heartbeat_step = 0;   // the device's logic stalled, its Modbus stack still answers
+    run_polls(in, r, 6);
+    EXPECT_TRUE(r.all_invalid());
+    EXPECT_NE(in.last_error().find("stale"), std::string::npos);
+    server.heartbeat_step = 1;
+    run_polls(in, r, 3);
+    EXPECT_TRUE(r.all_valid());
+  }
+}
+
+TEST(ModbusClient, UnreachableServerMarksEverythingInvalid) {
+  Mapping m = parse_mapping(kRegisters, "test.map");
+  ModbusInput in("tcp:127.0.0.1:1", *m.modbus);
+  Rec r;
+  run_polls(in, r, 1);
+  EXPECT_TRUE(r.all_invalid());
+  EXPECT_THROW(ModbusInput("udp:x", *m.modbus), std::invalid_argument);
+  EXPECT_THROW(ModbusInput("rtu:/dev/null:0", *m.modbus), std::invalid_argument);
+}
+
+TEST(ModbusClient, AgainstPymodbusPeer) {
+  // A free port: bind to 0, read it back, release it for the Python server.
+  int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  socklen_t len = sizeof a;
+  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  const int port = ntohs(a.sin_port);
+  ::close(s);
+  pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::string script = std::string(METER_SOURCE_DIR) + "/controller/tests/pymodbus_server.py";
+    std::string p = std::to_string(port);
+    ::execl("/usr/bin/python3", "python3", script.c_str(), p.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  Mapping m = parse_mapping(kRegisters, "test.map");
+  ModbusInput in("tcp:127.0.0.1:" + std::to_string(port), *m.modbus);
+  Rec r;
+  // The Python interpreter needs a moment to start listening; the client reconnects each poll.
+  for (int i = 0; i < 400 && !r.all_valid(); ++i) in.poll(r, std::chrono::milliseconds(25));
+  ::kill(pid, SIGTERM);
+  int status;
+  ::waitpid(pid, &status, 0);
+  expect_values(r);
+}
