@@ -1,4 +1,4 @@
-#include "channel.hpp"
+#include "transport/channel.hpp"
 
 #include <sys/socket.h>
 
@@ -6,7 +6,7 @@
 #include <cerrno>
 #include <variant>
 
-#include "log.hpp"
+#include "transport/log.hpp"
 
 namespace meter::protocol::detail {
 

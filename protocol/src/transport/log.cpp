@@ -1,11 +1,11 @@
-#include "log.hpp"
+#include "transport/log.hpp"
 
 #include <algorithm>
 #include <cstdio>
 #include <map>
 #include <mutex>
 
-#include "clock.hpp"
+#include "transport/clock.hpp"
 #include "meter/protocol/link.hpp"
 
 namespace meter::protocol {

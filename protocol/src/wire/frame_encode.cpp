@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "byte_io.hpp"
+#include "wire/byte_io.hpp"
 #include "meter/protocol/wire.hpp"
-#include "wire_checks.hpp"
+#include "wire/wire_checks.hpp"
 
 namespace meter::protocol {
 namespace {

@@ -11,12 +11,12 @@
 #include <optional>
 #include <stdexcept>
 
-#include "channel.hpp"
-#include "clock.hpp"
-#include "handshake.hpp"
-#include "log.hpp"
-#include "poller.hpp"
-#include "unique_fd.hpp"
+#include "transport/channel.hpp"
+#include "transport/clock.hpp"
+#include "link/handshake.hpp"
+#include "transport/log.hpp"
+#include "transport/poller.hpp"
+#include "transport/unique_fd.hpp"
 
 namespace meter::protocol {
 

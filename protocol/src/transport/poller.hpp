@@ -5,7 +5,7 @@
 #include <chrono>
 #include <vector>
 
-#include "unique_fd.hpp"
+#include "transport/unique_fd.hpp"
 
 namespace meter::protocol::detail {
 

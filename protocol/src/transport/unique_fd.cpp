@@ -1,4 +1,4 @@
-#include "unique_fd.hpp"
+#include "transport/unique_fd.hpp"
 
 #include <unistd.h>
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "meter/protocol/endpoint.hpp"
-#include "unique_fd.hpp"
+#include "transport/unique_fd.hpp"
 
 namespace meter::protocol::detail {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "meter/protocol/wire.hpp"
-#include "utf8.hpp"
+#include "wire/utf8.hpp"
 
 namespace meter::protocol {
 

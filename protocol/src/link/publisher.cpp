@@ -9,14 +9,14 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "channel.hpp"
-#include "clock.hpp"
-#include "handshake.hpp"
-#include "listening_socket.hpp"
-#include "log.hpp"
-#include "poller.hpp"
-#include "unique_fd.hpp"
-#include "utf8.hpp"
+#include "transport/channel.hpp"
+#include "transport/clock.hpp"
+#include "link/handshake.hpp"
+#include "transport/listening_socket.hpp"
+#include "transport/log.hpp"
+#include "transport/poller.hpp"
+#include "transport/unique_fd.hpp"
+#include "wire/utf8.hpp"
 
 namespace meter::protocol {
 

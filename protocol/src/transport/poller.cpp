@@ -1,4 +1,4 @@
-#include "poller.hpp"
+#include "transport/poller.hpp"
 
 #include <sys/epoll.h>
 #include <sys/timerfd.h>

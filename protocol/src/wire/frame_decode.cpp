@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <string>
 
-#include "byte_io.hpp"
+#include "wire/byte_io.hpp"
 #include "meter/protocol/wire.hpp"
-#include "wire_checks.hpp"
+#include "wire/wire_checks.hpp"
 
 namespace meter::protocol {
 namespace {

@@ -1,4 +1,4 @@
-#include "handshake.hpp"
+#include "link/handshake.hpp"
 
 #include <cstdio>
 

@@ -1,4 +1,4 @@
-#include "clock.hpp"
+#include "transport/clock.hpp"
 
 #include <time.h>
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "clock.hpp"
+#include "transport/clock.hpp"
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/wire.hpp"
-#include "unique_fd.hpp"
+#include "transport/unique_fd.hpp"
 
 namespace meter::protocol::detail {
 
