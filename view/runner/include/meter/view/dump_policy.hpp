@@ -1,0 +1,31 @@
+// Which live frames are written as PNG (with their frames.csv row): every Nth frame
+// (--dump-every), the first frame at or after each given time on the view's clock (--dump-at),
+// the next frame after a request (SIGUSR1), and the final frame on exit (--dump-last). Pure.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace meter::view {
+
+class DumpPolicy {
+ public:
+  // every: 0 = none; at_times: seconds, any order; dump_last: write the final frame on exit.
+  DumpPolicy(int every, std::vector<double> at_times, bool dump_last);
+
+  // Frame `frame` (0-based) begins at `t` seconds; `requested`: a dump was asked for since the
+  // previous frame. Times that fell due since the previous frame are used up: one dump covers
+  // them all.
+  bool decide(std::uint64_t frame, double t, bool requested);
+  // After `frames_rendered` frames, whether the final one is written again on exit.
+  bool dump_on_exit(std::uint64_t frames_rendered) const { return dump_last_ && frames_rendered > 0; }
+
+ private:
+  int every_;
+  std::vector<double> at_;  // sorted
+  std::size_t next_at_ = 0;
+  bool dump_last_;
+};
+
+}  // namespace meter::view

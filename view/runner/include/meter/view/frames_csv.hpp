@@ -1,0 +1,35 @@
+// frames.csv: one line per dumped PNG with the bound signals as drawn. Columns: frame, time_s,
+// png, link_up, drawn; per bound signal (first binding of each) <signal>, <signal>.status,
+// <signal>.failsafe; per text binding <node>.text, the exact text drawn, quoted (RFC 4180).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "meter/engine/bindings.hpp"
+
+namespace meter::view {
+
+class FramesCsv {
+ public:
+  // Writes the header for the scene's bindings. Throws ViewError when the file cannot be written.
+  FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings);
+
+  // `states`: BindingEvaluator::states() after the update the frame was rendered with, one per
+  // binding. Flushed at once (a reader may follow the file while the view runs).
+  void row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
+           const std::vector<engine::BindingState>& states);
+
+ private:
+  std::ofstream out_;
+  std::vector<std::size_t> columns_;       // binding index per signal column group
+  std::vector<std::size_t> text_columns_;  // binding index per text column
+};
+
+// RFC 4180 quoting: texts may hold commas or quotes (a map entry, a designer's format string).
+std::string csv_quoted(const std::string& text);
+
+}  // namespace meter::view

@@ -1,0 +1,56 @@
+#include "meter/view/frames_csv.hpp"
+
+#include <iomanip>
+#include <set>
+
+#include "meter/protocol/catalog.hpp"
+#include "output_file.hpp"
+
+namespace meter::view {
+
+std::string csv_quoted(const std::string& text) {
+  std::string q = "\"";
+  for (char c : text) {
+    if (c == '"') q += '"';
+    q += c;
+  }
+  return q + "\"";
+}
+
+FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings)
+    : out_(create_output_file(file)) {
+  out_ << "frame,time_s,png,link_up,drawn";
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < bindings.size(); ++i) {
+    const auto& b = bindings[i];
+    if (seen.insert(b.signal).second) {
+      columns_.push_back(i);
+      out_ << "," << b.signal << "," << b.signal << ".status," << b.signal << ".failsafe";
+    }
+  }
+  // A needle draws its smoothed value while a readout of the same signal draws the latest one,
+  // so the signal's column alone cannot say what the readout showed: each text binding gets its
+  // own column with the exact text drawn.
+  for (std::size_t i = 0; i < bindings.size(); ++i) {
+    const auto& b = bindings[i];
+    if (b.kind == engine::BindingKind::Text) {
+      text_columns_.push_back(i);
+      out_ << "," << b.node << ".text";
+    }
+  }
+  out_ << "\n";
+}
+
+void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
+                    const std::vector<engine::BindingState>& states) {
+  out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << png << "," << link_up << "," << drawn;
+  for (std::size_t i : columns_) {
+    const auto& s = states.at(i);
+    out_ << "," << std::setprecision(6) << s.value << "," << protocol::to_string(s.status) << "," << s.failsafe;
+  }
+  for (std::size_t i : text_columns_) out_ << "," << csv_quoted(states.at(i).text);
+  out_ << "\n";
+  out_.flush();
+}
+
+}  // namespace meter::view

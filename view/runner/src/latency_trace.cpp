@@ -1,0 +1,39 @@
+#include "meter/view/latency_trace.hpp"
+
+#include <time.h>
+
+#include "output_file.hpp"
+
+namespace meter::view {
+
+LatencyTrace::LatencyTrace(const std::string& path) {
+  if (path.empty()) return;
+  out_ = create_output_file(path, "cannot write the trace");
+  out_ << "event,t_ns,a,b,c\n";
+}
+
+std::int64_t LatencyTrace::now() {
+  timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+
+void LatencyTrace::applied(std::int64_t sender_ns, std::uint64_t seq) {
+  if (!out_.is_open()) return;
+  std::lock_guard lock(mutex_);
+  out_ << "a," << now() << "," << sender_ns << "," << seq << "\n";
+}
+
+void LatencyTrace::frame(std::uint64_t n, std::int64_t t_update, std::int64_t t_rendered) {
+  if (!out_.is_open()) return;
+  std::lock_guard lock(mutex_);
+  out_ << "r," << t_update << "," << n << "," << t_rendered << "\n";
+}
+
+void LatencyTrace::png_written(std::uint64_t n) {
+  if (!out_.is_open()) return;
+  std::lock_guard lock(mutex_);
+  out_ << "w," << now() << "," << n << "\n";
+}
+
+}  // namespace meter::view

@@ -1,0 +1,116 @@
+#include "meter/view/live_loop.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "meter/view/dump_policy.hpp"
+#include "meter/view/frame_pacing.hpp"
+#include "meter/view/frames_csv.hpp"
+#include "meter/view/latency_trace.hpp"
+#include "meter/view/option_units.hpp"
+#include "meter/view/png_writer.hpp"
+#include "meter/view/process_signals.hpp"
+#include "meter/view/signal_values.hpp"
+
+namespace meter::view {
+namespace {
+
+protocol::Endpoint endpoint_named(const std::string& link) {
+  return link == "default" ? protocol::default_endpoint() : protocol::Endpoint::parse(link);
+}
+
+DumpPolicy dump_policy(const ViewOptions& options) {
+  std::vector<double> at;
+  for (const auto& text : options.dump_at) at.push_back(parse_time(text, "--dump-at"));
+  return DumpPolicy(options.dump_every, std::move(at), options.dump_last);
+}
+
+std::string png_name(std::uint64_t frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(frame));
+  return name;
+}
+
+}  // namespace
+
+protocol::LinkOptions view_link_options(int link_timeout_ms) {
+  protocol::LinkOptions lo;
+  lo.name = "meter-view";
+  lo.missed_heartbeats_for_loss = 3;
+  lo.heartbeat_period = std::chrono::milliseconds(std::max(10, link_timeout_ms / lo.missed_heartbeats_for_loss));
+  return lo;
+}
+
+void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
+  using Clock = FramePacer::Clock;
+  DumpPolicy policy = dump_policy(options);
+  install_stop_handlers();
+  protocol::Subscriber sub(endpoint_named(options.link), view_link_options(options.link_timeout_ms));
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
+  SignalValues cache;
+  auto lookup = [&](int id) -> const engine::SignalValue* {
+    const auto& s = sub.get(static_cast<protocol::SignalId>(id));
+    auto& v = cache[id];
+    v.value = s.value;
+    v.status = s.status;
+    v.text = s.text;
+    return &v;
+  };
+  LatencyTrace trace(options.trace_csv);
+  auto trace_applied = [&] { trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied()); };
+  auto poll = [&](std::chrono::milliseconds timeout) {
+    if (sub.poll(timeout)) trace_applied();
+  };
+  // Every pending message, not one batch: a view that renders slower than the link delivers
+  // must coalesce the backlog to the latest state each frame instead of drawing it frame by
+  // frame seconds late. Bounded (a flooding peer cannot hold the frame back forever); each round
+  // reads up to 64 socket buffers.
+  auto drain = [&] {
+    for (int round = 0; round < 16; ++round) {
+      if (!sub.poll(std::chrono::milliseconds(0))) break;
+      trace_applied();
+    }
+  };
+  FramePacer pacer(options.fps, Clock::now());
+  std::uint64_t frame = 0;
+  PngWriter png_writer([&trace](std::uint64_t n) { trace.png_written(n); });
+  auto dump = [&](std::uint64_t n, double t, bool drawn) {
+    const std::string name = png_name(n);
+    // The row is the state this image was rendered with; the file follows from the writer.
+    csv.row(n, t, name, sub.link_up(), drawn, ctx.evaluator.states());
+    png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n, [&] { poll(std::chrono::milliseconds(5)); });
+  };
+  while (!stop_requested()) {
+    if (options.duration_s > 0 && pacer.seconds_at(Clock::now()) >= options.duration_s) break;
+    // Messages are consumed whenever they arrive; frames happen on the render clock only.
+    drain();
+    wait_for_frame(pacer, stop_requested, poll);
+    // Whatever arrived while waiting (or while the last frame rendered) is applied before the
+    // frame: the frame always draws the newest state, and an EOF is seen now, not a frame later.
+    drain();
+    const auto ft = pacer.begin_frame(Clock::now());
+    const std::int64_t t_update = LatencyTrace::now();
+    ctx.evaluator.update(lookup, sub.link_up(), ft.dt);
+    ctx.renderer.apply(ctx.evaluator.outputs());
+    const bool want = policy.decide(frame, ft.t, take_dump_request());
+    const auto timing = ctx.renderer.render(false, want);
+    const std::int64_t t_rendered = LatencyTrace::now();
+    ctx.timing.row(frame, ft.t, timing);
+    trace.frame(frame, t_update, t_rendered);
+    if (want) dump(frame, ft.t, timing.drawn);
+    sub.send_status(ctx.renderer.stats().drawn, 0);
+    ++frame;
+    pacer.end_frame(Clock::now());
+  }
+  if (policy.dump_on_exit(frame)) {
+    ctx.renderer.read();
+    dump(frame - 1, pacer.seconds_at(Clock::now()), false);
+  }
+  png_writer.finish();  // every dumped frame is on disk before the exit status says so
+  png_writer.check();
+  const auto& st = ctx.renderer.stats();
+  log << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped
+      << " skipped (inputs unchanged)\n";
+}
+
+}  // namespace meter::view

@@ -1,0 +1,26 @@
+#include "meter/view/run_view.hpp"
+
+#include "meter/view/live_loop.hpp"
+#include "meter/view/offline_render.hpp"
+#include "meter/view/process_signals.hpp"
+#include "meter/view/render_context.hpp"
+
+namespace meter::view {
+
+int run_view(const ViewOptions& options, std::ostream& log) {
+  install_dump_request_handler();
+  try {
+    RenderContext ctx(options, log);
+    if (options.link.empty()) {
+      render_offline(ctx, options, log);
+    } else {
+      run_live(ctx, options, log);
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    log << "meter-view: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace meter::view

@@ -1,0 +1,21 @@
+#include "meter/view/timing_csv.hpp"
+
+#include <iomanip>
+
+#include "output_file.hpp"
+
+namespace meter::view {
+
+TimingCsv::TimingCsv(const std::string& path) {
+  if (path.empty()) return;
+  out_ = create_output_file(path);
+  out_ << "frame,time_s,update_ms,submit_ms,gpu_readback_ms,drawn\n";
+}
+
+void TimingCsv::row(std::uint64_t frame, double t, const engine::FrameTiming& timing) {
+  if (!out_.is_open()) return;
+  out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << timing.update_ms << "," << timing.submit_ms
+       << "," << timing.gpu_readback_ms << "," << timing.drawn << "\n";
+}
+
+}  // namespace meter::view

@@ -1,0 +1,97 @@
+// The PNG writer thread: files written with the right pixels, the queue bound, draining on
+// finish, and write errors reported to the render thread.
+#include "meter/view/png_writer.hpp"
+
+#include <atomic>
+#include <future>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "meter/view/view_error.hpp"
+#include "scratch_files.hpp"
+
+namespace meter::view {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(PngWriter, WritesEveryQueuedImageBeforeFinishReturns) {
+  const auto dir = testing::scratch_dir();
+  std::vector<std::uint64_t> written;
+  std::mutex m;
+  {
+    PngWriter w([&](std::uint64_t frame) {
+      std::lock_guard lock(m);
+      written.push_back(frame);
+    });
+    for (std::uint64_t f = 0; f < 8; ++f) {
+      platform::Image image(32, 16, static_cast<std::uint8_t>(f * 30), 10, 20);
+      w.write(image, dir / ("f" + std::to_string(f) + ".png"), f, [] { std::this_thread::yield(); });
+    }
+    w.finish();
+    w.check();
+    EXPECT_EQ(written, (std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6, 7})) << "in order, every one";
+  }
+  for (std::uint64_t f = 0; f < 8; ++f) {
+    const auto image = platform::read_png(dir / ("f" + std::to_string(f) + ".png"));
+    ASSERT_EQ(image.width, 32);
+    ASSERT_EQ(image.height, 16);
+    EXPECT_EQ(image.rgba[0], f * 30) << "frame " << f << " has its own pixels (the image is copied)";
+  }
+}
+
+TEST(PngWriter, DestructorDrainsTheQueue) {
+  const auto dir = testing::scratch_dir();
+  {
+    PngWriter w;
+    for (int f = 0; f < 3; ++f) w.write(platform::Image(16, 16), dir / ("d" + std::to_string(f) + ".png"), 0, [] {});
+  }
+  for (int f = 0; f < 3; ++f) EXPECT_TRUE(std::filesystem::exists(dir / ("d" + std::to_string(f) + ".png"))) << f;
+}
+
+TEST(PngWriter, AFullQueueMakesTheCallerServiceWhileItWaits) {
+  const auto dir = testing::scratch_dir();
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  PngWriter w([released](std::uint64_t) { released.wait(); });  // holds the first image "being written"
+  int while_full_calls = 0;
+  for (std::uint64_t f = 0; f < PngWriter::kMaxPending; ++f) {
+    w.write(platform::Image(16, 16), dir / ("q" + std::to_string(f) + ".png"), f, [&] { ++while_full_calls; });
+  }
+  EXPECT_EQ(while_full_calls, 0) << "up to kMaxPending images queue without waiting";
+  bool released_set = false;
+  w.write(platform::Image(16, 16), dir / "q_last.png", 99, [&] {
+    if (++while_full_calls == 3) {  // the caller's servicing lets the writer go on
+      release.set_value();
+      released_set = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  if (!released_set) release.set_value();
+  EXPECT_GE(while_full_calls, 3);
+  w.finish();
+  w.check();
+  EXPECT_TRUE(std::filesystem::exists(dir / "q_last.png")) << "the waiting image is written too";
+}
+
+TEST(PngWriter, AWriteErrorReachesTheRenderThread) {
+  const auto dir = testing::scratch_dir();
+  PngWriter w;
+  const auto bad = dir / "no_such_dir" / "f.png";
+  w.write(platform::Image(16, 16), bad, 0, [] {});
+  w.write(platform::Image(16, 16), dir / "after.png", 1, [] {});
+  w.finish();
+  try {
+    w.check();
+    FAIL() << "no error reported";
+  } catch (const ViewError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(bad.string())) << "the message names the file";
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "after.png")) << "one failed file does not stop the others";
+  EXPECT_THROW(w.write(platform::Image(16, 16), dir / "later.png", 2, [] {}), ViewError)
+      << "the next write reports it too";
+}
+
+}  // namespace
+}  // namespace meter::view
