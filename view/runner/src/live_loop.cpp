@@ -15,10 +15,6 @@
 namespace meter::view {
 namespace {
 
-protocol::Endpoint endpoint_named(const std::string& link) {
-  return link == "default" ? protocol::default_endpoint() : protocol::Endpoint::parse(link);
-}
-
 DumpPolicy dump_policy(const ViewOptions& options) {
   std::vector<double> at;
   for (const auto& text : options.dump_at) at.push_back(parse_time(text, "--dump-at"));
@@ -33,19 +29,12 @@ std::string png_name(std::uint64_t frame) {
 
 }  // namespace
 
-protocol::LinkOptions view_link_options(int link_timeout_ms) {
-  protocol::LinkOptions lo;
-  lo.name = "meter-view";
-  lo.missed_heartbeats_for_loss = 3;
-  lo.heartbeat_period = std::chrono::milliseconds(std::max(10, link_timeout_ms / lo.missed_heartbeats_for_loss));
-  return lo;
-}
-
 void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
   using Clock = FramePacer::Clock;
   DumpPolicy policy = dump_policy(options);
   install_stop_handlers();
-  protocol::Subscriber sub(endpoint_named(options.link), view_link_options(options.link_timeout_ms));
+  protocol::Subscriber sub(protocol::endpoint_from_option(options.link),
+                          protocol::link_options("meter-view", std::chrono::milliseconds(options.link_timeout_ms)));
   FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
   SignalValues cache;
   auto lookup = [&](int id) -> const engine::SignalValue* {

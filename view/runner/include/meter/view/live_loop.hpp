@@ -11,9 +11,6 @@
 
 namespace meter::view {
 
-// The view's link settings: heartbeats every third of the timeout, lost after three missed.
-protocol::LinkOptions view_link_options(int link_timeout_ms);
-
 // Returns once stopped; every dumped PNG is on disk then. Prints the frame counts to `log`.
 void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log);
 
