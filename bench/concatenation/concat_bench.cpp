@@ -1,4 +1,4 @@
-// Mesh concatenation benchmark (issue #10; DENSO paper sec. 5.2, Fig. 11/13, Tables 2/3).
+// Mesh concatenation benchmark (DENSO paper sec. 5.2, Fig. 11/13, Tables 2/3).
 //
 // Part 1, the paper's experiment: a 4,000-vertex model split into N objects (N x v = 4,000), all
 // children of one node that moves every frame (so every member must be re-transformed: the
@@ -30,13 +30,15 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/engine/config.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/shadergen/shadergen.hpp"
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 namespace fs = std::filesystem;
 
 namespace {

@@ -9,10 +9,12 @@
 
 #include "gltf_builder.hpp"
 #include "meter/engine/animation.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/engine/config.hpp"
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 using meter::numerics::GltfBuilder;
 
 namespace {
