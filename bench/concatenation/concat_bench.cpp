@@ -30,13 +30,15 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/shadergen/shadergen.hpp"
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 namespace fs = std::filesystem;
 
 namespace {

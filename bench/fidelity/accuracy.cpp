@@ -24,8 +24,8 @@
 #include <nlohmann/json.hpp>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
-#include "meter/engine/quality.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/convert/quality.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
@@ -128,7 +128,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
   std::vector<Ladder> steps;
   std::vector<std::string> left_out;
   for (const Ladder& l : ladder()) {
-    const auto q = engine::parse_quality(l.spec);
+    const auto q = convert::parse_quality(l.spec);
     if (q.msaa && *q.msaa > backend->gl().info.max_samples) {
       left_out.push_back("`" + l.name + "` (the driver draws at most " + std::to_string(backend->gl().info.max_samples) +
                          " samples)");
@@ -162,9 +162,9 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
     std::vector<Point> ps;
     for (std::size_t i = 0; i < steps.size(); ++i) {
       scenes[i] = base;
-      const engine::QualitySettings q = engine::parse_quality(steps[i].spec);
+      const convert::QualitySettings q = convert::parse_quality(steps[i].spec);
       try {
-        const engine::QualityReport rep = engine::apply_quality(scenes[i], q);
+        const convert::QualityReport rep = convert::apply_quality(scenes[i], q);
         if (q.environment == false && !rep.environment_dropped) continue;  // no map: the base again
       } catch (const std::exception& e) {
         skipped.push_back(s.name + " / " + steps[i].name + ": " + e.what());
@@ -223,9 +223,9 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
         sc[k] = tbase;
         for (auto& n : sc[k].nodes)
           if (n.mesh >= 0) n.scale *= float(scales[k]);
-        engine::QualitySettings q = engine::parse_quality("shading=" + sh);
+        convert::QualitySettings q = convert::parse_quality("shading=" + sh);
         if (lod < 1.0f) q.global.lod = lod;
-        engine::apply_quality(sc[k], q);
+        convert::apply_quality(sc[k], q);
         engine::RendererOptions o;
         o.msaa = 1;
         rs.push_back(std::make_unique<engine::Renderer>(*backend, sc[k], o));

@@ -14,8 +14,8 @@
 
 #include <sys/utsname.h>
 
-#include "meter/engine/config.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/convert/converter.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/platform/render_target.hpp"
 
@@ -85,9 +85,9 @@ engine::Scene convert(const SceneSpec& s, bool optimize) {
   // As shipped, concatenation groups included: fidelity is the product's (merged draws differ from
   // unmerged ones in at most 1e-4 of the pixels, view/engine/tests/concat_render_test.cpp).
   const engine::SceneConfig cfg = engine::load_scene_config(s.config);
-  engine::ConvertOptions o;
+  convert::ConvertOptions o;
   o.optimize = optimize;
-  return engine::convert_gltf(s.glb, cfg, o).scene;
+  return convert::convert_gltf(s.glb, cfg, o).scene;
 }
 
 platform::Image render_once(platform::GpuBackend& backend, const engine::Scene& scene, const engine::BindingOutputs& state,

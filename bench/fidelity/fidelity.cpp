@@ -23,8 +23,8 @@
 #include <nlohmann/json.hpp>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
-#include "meter/engine/quality.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/convert/quality.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
@@ -60,7 +60,7 @@ std::string known_cause(const std::string& scene) {
 
 int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path& doc, const std::string& quality) {
   fs::create_directories(out);
-  const engine::QualitySettings q = engine::parse_quality(quality);
+  const convert::QualitySettings q = convert::parse_quality(quality);
   auto backend = platform::create_backend(kind);
   std::ofstream csv(out / "fidelity.csv");
   csv << "scene,backend,psnr_full_db,psnr_object_db,ssim,object_share,paper_db,render_ms,error\n";
@@ -80,7 +80,7 @@ int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path
       engine::RendererOptions o;  // the product's defaults (MSAA 4, concatenation on)
       // A ladder point (--quality) measures one setting against the product's defaults, e.g.
       // environment=off gives the engine's numbers from before it loaded environment maps.
-      engine::apply_quality(scene, q);
+      convert::apply_quality(scene, q);
       o.msaa = q.msaa.value_or(o.msaa);
       const platform::Image img = render_once(*backend, scene, reference_state(scene, s.name == "cluster"), o);
       platform::write_png(img, out / (s.name + ".engine.png"));

@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/config.hpp"
-#include "meter/engine/converter.hpp"
-#include "meter/engine/package.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/convert/package_writer.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/render_target.hpp"
@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
   std::printf("EGL: %s\n", egl->renderer_info().c_str());
   if (drive_only) {
     const auto s = scenes().front();
-    const auto cluster = engine::convert_gltf(s.glb, load_config(s.config), {true}).scene;
+    const auto cluster = convert::convert_gltf(s.glb, load_config(s.config), {true}).scene;
     const std::vector<double> fill = fill_floor(*egl);
     std::printf("fill floor median %.2f ms  p99 %.2f ms\n", percentile(fill, 0.5), percentile(fill, 0.99));
     drive(*egl, cluster, percentile(fill, 0.99));
@@ -278,8 +278,8 @@ int main(int argc, char** argv) {
   std::map<std::string, engine::SceneConfig> configs;
   for (const auto& s : scenes()) {
     configs[s.name] = load_config(s.config);
-    converted[s.name] = {engine::convert_gltf(s.glb, configs[s.name], {false}).scene,
-                         engine::convert_gltf(s.glb, configs[s.name], {true}).scene};
+    converted[s.name] = {convert::convert_gltf(s.glb, configs[s.name], {false}).scene,
+                         convert::convert_gltf(s.glb, configs[s.name], {true}).scene};
   }
 
   // 1. Per program (EGL compile+link here; OSMesa below).
@@ -365,7 +365,7 @@ int main(int argc, char** argv) {
   fs::create_directories(dir);
   const std::string pkg = (dir / "cluster.msp").string();
   // The package meter-convert would write (converted above).
-  engine::write_package(converted["cluster"].second, pkg);
+  convert::write_package(converted["cluster"].second, pkg);
   std::printf("\n## 4. meter-view process start -> first PNG (cluster package, 1280x480)\n");
   for (const char* backend : {"egl", "osmesa"}) {
     std::vector<double> v;

@@ -7,7 +7,7 @@
 //  - "preview equals target": each feature scene and the cluster, converted and drawn the product
 //    way (optimized programs, MSAA 4), give >= 50 dB between OSMesa (the desktop preview) and EGL
 //    (the target path). tests/shader-optimizer checks EGL vs OSMesa at 40 dB for its own question
-//    (optimizer on/off); this is the stricter preview contract, on the packaged defaults.
+//    (optimizer on/off); this is the stricter preview contract, on the packaged defaults.
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -19,8 +19,9 @@
 #include <gtest/gtest.h>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
-#include "meter/engine/quality.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/convert/quality.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
@@ -31,7 +32,7 @@ namespace {
 using namespace meter;
 namespace fs = std::filesystem;
 
-// 50 dB = RMS error 0.8 levels: the bar for "what the preview shows is what the target shows".
+// 50 dB = RMS error 0.8 levels: the bar for "what the preview shows is what the target shows".
 constexpr double kPreviewEqualsTargetDb = 50.0;
 
 struct SceneFiles {
@@ -52,7 +53,7 @@ std::vector<SceneFiles> all_scenes() {
 engine::Scene convert(const SceneFiles& s) {
   // As shipped, concatenation groups included (merged == unmerged: concat_render_test).
   const engine::SceneConfig c = engine::load_scene_config(s.config);
-  return engine::convert_gltf(s.glb, c, engine::ConvertOptions{}).scene;
+  return convert::convert_gltf(s.glb, c, convert::ConvertOptions{}).scene;
 }
 
 // Every bound signal at 60 % of its range, visibility/emissive on, text set: needles, lamps and the
@@ -217,7 +218,7 @@ TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
   const SceneFiles s = all_scenes()[2];
   const engine::Scene base = convert(s);
   engine::Scene g = base;
-  const auto rep = engine::apply_quality(g, engine::parse_quality("shading=gouraud,precision=mediump,lod=0.5"));
+  const auto rep = convert::apply_quality(g, convert::parse_quality("shading=gouraud,precision=mediump,lod=0.5"));
   EXPECT_GE(rep.programs_regenerated, 1);
   for (const auto& d : g.draws) {
     EXPECT_EQ(g.programs[std::size_t(d.program)].program.features.shading, bridge::ShadingModel::Gouraud);
@@ -230,31 +231,31 @@ TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
   // Per object: only the named node changes.
   engine::Scene p = base;
   const std::string node = p.nodes[std::size_t(p.draws.front().node)].name;
-  engine::QualitySettings q;
+  convert::QualitySettings q;
   q.objects[node].shading = bridge::ShadingModel::Unlit;
-  engine::apply_quality(p, q);
+  convert::apply_quality(p, q);
   EXPECT_EQ(p.programs[std::size_t(p.draws.front().program)].program.features.shading, bridge::ShadingModel::Unlit);
 
   engine::Scene bad = base;
-  engine::QualitySettings unknown;
+  convert::QualitySettings unknown;
   unknown.objects["NoSuchNode"].lod = 0.5f;
-  EXPECT_THROW(engine::apply_quality(bad, unknown), engine::SceneError);
-  EXPECT_THROW(engine::parse_quality("lod=0"), engine::SceneError);
-  EXPECT_THROW(engine::parse_quality("msaa=3"), engine::SceneError);
-  EXPECT_THROW(engine::parse_quality("filter=aniso"), engine::SceneError);
-  EXPECT_EQ(engine::parse_quality("msaa=8").msaa, 8);
+  EXPECT_THROW(convert::apply_quality(bad, unknown), engine::SceneError);
+  EXPECT_THROW(convert::parse_quality("lod=0"), engine::SceneError);
+  EXPECT_THROW(convert::parse_quality("msaa=3"), engine::SceneError);
+  EXPECT_THROW(convert::parse_quality("filter=aniso"), engine::SceneError);
+  EXPECT_EQ(convert::parse_quality("msaa=8").msaa, 8);
   // Anisotropic: trilinear sampling plus a 16x anisotropy degree on every texture (bump: the
   // scene with a normal map, so there are textures to change).
   engine::Scene a = convert(all_scenes()[5]);
   ASSERT_FALSE(a.textures.empty());
-  engine::apply_quality(a, engine::parse_quality("filter=anisotropic"));
+  convert::apply_quality(a, convert::parse_quality("filter=anisotropic"));
   for (const auto& t : a.textures) EXPECT_EQ(t.max_anisotropy, 16.0f);
-  engine::apply_quality(a, engine::parse_quality("filter=trilinear"));
+  convert::apply_quality(a, convert::parse_quality("filter=trilinear"));
   for (const auto& t : a.textures) EXPECT_EQ(t.max_anisotropy, 1.0f);
-  EXPECT_THROW(engine::parse_quality("shading=phong"), engine::SceneError);
-  EXPECT_THROW(engine::parse_quality("speed"), engine::SceneError);
-  EXPECT_EQ(engine::describe_quality(engine::parse_quality("msaa=2,shading=flat")), "shading=flat,msaa=2");
-  EXPECT_THROW(engine::parse_quality("environment=maybe"), engine::SceneError);
+  EXPECT_THROW(convert::parse_quality("shading=phong"), engine::SceneError);
+  EXPECT_THROW(convert::parse_quality("speed"), engine::SceneError);
+  EXPECT_EQ(convert::describe_quality(convert::parse_quality("msaa=2,shading=flat")), "shading=flat,msaa=2");
+  EXPECT_THROW(convert::parse_quality("environment=maybe"), engine::SceneError);
 }
 
 // Affine interpolation (NV_shader_noperspective_interpolation): every program compiles on both
@@ -263,11 +264,11 @@ TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
 TEST(QualityLadder, AffineInterpolationCompilesOnBothBackendsAndChangesTexturing) {
   const engine::Scene base = convert(all_scenes()[5]);  // bump
   engine::Scene affine = base;
-  const auto rep = engine::apply_quality(affine, engine::parse_quality("interpolation=affine"));
+  const auto rep = convert::apply_quality(affine, convert::parse_quality("interpolation=affine"));
   EXPECT_EQ(rep.programs_made_affine, static_cast<int>(affine.programs.size()));
   EXPECT_NE(affine.programs.front().program.fragment_source.find("noperspective in"), std::string::npos);
-  EXPECT_EQ(engine::describe_quality(engine::parse_quality("interpolation=affine")), "interpolation=affine");
-  EXPECT_THROW(engine::parse_quality("interpolation=linear"), engine::SceneError);
+  EXPECT_EQ(convert::describe_quality(convert::parse_quality("interpolation=affine")), "interpolation=affine");
+  EXPECT_THROW(convert::parse_quality("interpolation=linear"), engine::SceneError);
   for (auto kind : {platform::BackendKind::Egl, platform::BackendKind::OSMesa}) {
     const platform::Image a = render(kind, base, state(base));
     const platform::Image b = render(kind, affine, state(affine));
@@ -297,16 +298,16 @@ TEST(QualityLadder, EnvironmentOffAndCheaperModelsDropTheMap) {
   };
   EXPECT_TRUE(any_env(base));
   engine::Scene off = base;
-  const auto rep = engine::apply_quality(off, engine::parse_quality("environment=off"));
+  const auto rep = convert::apply_quality(off, convert::parse_quality("environment=off"));
   EXPECT_TRUE(rep.environment_dropped);
   EXPECT_FALSE(off.environment.present());
   EXPECT_FALSE(any_env(off));
-  EXPECT_EQ(engine::describe_quality(engine::parse_quality("environment=off")), "environment=off");
+  EXPECT_EQ(convert::describe_quality(convert::parse_quality("environment=off")), "environment=off");
   engine::Scene gouraud = base;
-  EXPECT_NO_THROW(engine::apply_quality(gouraud, engine::parse_quality("shading=gouraud")));
+  EXPECT_NO_THROW(convert::apply_quality(gouraud, convert::parse_quality("shading=gouraud")));
   EXPECT_FALSE(any_env(gouraud));
   engine::Scene plain = convert(all_scenes()[2]);
-  EXPECT_FALSE(engine::apply_quality(plain, engine::parse_quality("environment=off")).environment_dropped);
+  EXPECT_FALSE(convert::apply_quality(plain, convert::parse_quality("environment=off")).environment_dropped);
 }
 
 }  // namespace

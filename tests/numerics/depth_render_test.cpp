@@ -9,12 +9,14 @@
 
 #include "gltf_builder.hpp"
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 using meter::numerics::GltfBuilder;
 
 namespace {

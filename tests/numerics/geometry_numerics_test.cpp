@@ -9,24 +9,26 @@
 
 #include "gltf_builder.hpp"
 #include "meter/engine/animation.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 using meter::numerics::GltfBuilder;
 
 namespace {
 
 const char* kConfig = R"({"format": "meter-scene-config/1", "size": [64, 64]})";
 
-ConvertResult convert(GltfBuilder& b, const std::string& name) {
+ConvertResult convert_scene(GltfBuilder& b, const std::string& name) {
   const auto file = b.write(numerics::scratch(name) / "scene.gltf");
   return convert_gltf(file, parse_scene_config(kConfig), ConvertOptions{false});
 }
 
 std::vector<Diagnostic> convert_errors(GltfBuilder& b, const std::string& name) {
   try {
-    convert(b, name);
+    convert_scene(b, name);
   } catch (const ConvertError& e) {
     return e.errors;
   }
@@ -78,7 +80,7 @@ TEST(Geometry, SlightlyNonUnitNormalsRepairedZeroAndInfRejected) {
     GltfBuilder b;
     const int mat = b.material("M", {1, 1, 1, 1}, false);
     b.node({{"mesh", b.mesh("Q", {0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 1.005f, 0, 0.995f, 0, 0.6f, 0.8f * 1.004f, 0}, {0, 1, 2}, mat)}});
-    expect_unit_normals(convert(b, "normals-near-unit").scene, 1e-6);
+    expect_unit_normals(convert_scene(b, "normals-near-unit").scene, 1e-6);
   }
   for (float bad : {0.0f, std::numeric_limits<float>::infinity()}) {
     GltfBuilder b;
@@ -117,7 +119,7 @@ TEST(Geometry, DegenerateTrianglesDroppedOrGivenFiniteNormals) {
   // tri 0 fine, tri 1 index-degenerate, tri 2 collinear (zero area), tri 3 all at one point.
   b.node({{"mesh", b.mesh("D", {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 5, 5, 5, 5, 5, 5, 5, 5, 5}, {},
                           {0, 1, 2, 0, 0, 1, 0, 3, 4, 5, 6, 7}, lit)}});
-  const auto r = convert(b, "degenerate");
+  const auto r = convert_scene(b, "degenerate");
   bool reported = false;
   for (const auto& d : r.repairs) reported = reported || d.message.find("1 degenerate triangle") != std::string::npos;
   EXPECT_TRUE(reported);

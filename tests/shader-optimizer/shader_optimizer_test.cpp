@@ -1,5 +1,5 @@
 // Each committed scene (cluster, minimal-gauge, the twelve feature scenes) converted with
-// --optimize=on and --optimize=off through the engine API (what meter-convert does), rendered in one
+// --optimize=on and --optimize=off through the converter's API (what meter-convert does), rendered in one
 // non-trivial state on EGL and on OSMesa, and compared:
 //   on vs off (EGL), on vs off (OSMesa), on EGL vs on OSMesa, and on OSMesa: ES 3.00 text vs the
 //   same optimized programs as desktop GLSL 330 (shadergen::to_desktop_glsl).
@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/config.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/convert/converter.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
@@ -134,8 +134,8 @@ class ShaderOptimizer : public ::testing::TestWithParam<SceneFiles> {
 TEST_P(ShaderOptimizer, OptimizedAndGeneratedProgramsRenderTheSame) {
   const SceneFiles& s = GetParam();
   const engine::SceneConfig config = load_config(s.config);
-  const engine::Scene on = engine::convert_gltf(s.glb, config, engine::ConvertOptions{true}).scene;
-  const engine::Scene off = engine::convert_gltf(s.glb, config, engine::ConvertOptions{false}).scene;
+  const engine::Scene on = convert::convert_gltf(s.glb, config, convert::ConvertOptions{true}).scene;
+  const engine::Scene off = convert::convert_gltf(s.glb, config, convert::ConvertOptions{false}).scene;
 
   // The scene really went through the optimizer, and it paid off.
   // (Folding makes programs material-specific, so `on` usually holds more programs than `off`.)
@@ -192,7 +192,7 @@ TEST_P(ShaderOptimizer, OptimizedAndGeneratedProgramsRenderTheSame) {
 TEST_F(ShaderOptimizer, ToleranceDetectsAChangedState) {
   const SceneFiles s = all_scenes()[0];  // cluster: needles move with the values
   const engine::SceneConfig config = load_config(s.config);
-  const engine::Scene on = engine::convert_gltf(s.glb, config, engine::ConvertOptions{true}).scene;
+  const engine::Scene on = convert::convert_gltf(s.glb, config, convert::ConvertOptions{true}).scene;
   auto egl = backend(platform::BackendKind::Egl);
   const platform::Image a = render(*egl, on, state(config, 0.6));
   const platform::Image b = render(*egl, on, state(config, 0.62));

@@ -10,7 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "meter/engine/concatenation.hpp"
+#include "meter/engine/merged_draws.hpp"
 #include "meter/platform/gl_api.hpp"
 
 #ifndef METER_FONT_FILE

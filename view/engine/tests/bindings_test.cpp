@@ -3,10 +3,12 @@
 #include <map>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter::engine;
+using namespace meter::convert;
 using meter::protocol::SignalStatus;
 
 namespace {

@@ -1,4 +1,4 @@
-// Mesh concatenation render equivalence (issue #10): the cluster converted with
+// Mesh concatenation render equivalence: the cluster converted with
 // scenes/cluster/cluster.scene.json (17 groups, 142 of 163 objects) is drawn merged and
 // unmerged from ONE package on both backends in several states, and the images are compared.
 #include <gtest/gtest.h>
@@ -9,7 +9,8 @@
 #include <filesystem>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -17,6 +18,7 @@
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 namespace fs = std::filesystem;
 
 namespace {

@@ -10,7 +10,8 @@
 #include <map>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -18,6 +19,7 @@
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 namespace fs = std::filesystem;
 
 namespace {

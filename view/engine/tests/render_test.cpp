@@ -7,13 +7,15 @@
 #include <map>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 namespace fs = std::filesystem;
 
 namespace {

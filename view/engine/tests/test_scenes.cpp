@@ -14,7 +14,8 @@
 
 #include <tiny_gltf.h>
 
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 
 namespace meter::engine::test {
 namespace {
@@ -122,7 +123,7 @@ struct Builder {
 const Scene& cluster_scene() {
   static const Scene s = [] {
     const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-    return convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), ConvertOptions{}).scene;
+    return convert::convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), convert::ConvertOptions{}).scene;
   }();
   return s;
 }

@@ -23,4 +23,18 @@ const Scene& cluster_scene();
 // A fresh empty directory under the build tree for one test.
 std::string scratch_dir(const std::string& name);
 
+// A unit quad (two triangles) in the XY plane with POSITION + NORMAL, centred on the origin.
+inline Primitive quad_primitive(int material, float size = 1.0f) {
+  Primitive p;
+  p.material = material;
+  p.vertex_count = 4;
+  p.stride = 6;
+  p.layout = {{AttributeSemantic::Position, -1, 3, 0}, {AttributeSemantic::Normal, -1, 3, 3}};
+  const float h = size * 0.5f;
+  p.vertices = {-h, -h, 0, 0, 0, 1, h, -h, 0, 0, 0, 1, h, h, 0, 0, 0, 1, -h, h, 0, 0, 0, 1};
+  p.indices = {0, 1, 2, 0, 2, 3};
+  p.bounds_min = glm::vec3(-h, -h, 0), p.bounds_max = glm::vec3(h, h, 0);
+  return p;
+}
+
 }  // namespace meter::engine::test

@@ -8,7 +8,8 @@
 
 #include "meter/shadergen/shadergen.hpp"
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/converter.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -16,6 +17,7 @@
 
 using namespace meter;
 using namespace meter::engine;
+using namespace meter::convert;
 namespace fs = std::filesystem;
 
 namespace {

@@ -8,7 +8,7 @@
 #include <ostream>
 
 #include "meter/engine/bindings.hpp"
-#include "meter/engine/package.hpp"
+#include "meter/engine/package_reader.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/view/timing_csv.hpp"

@@ -1,5 +1,5 @@
-// Quality ladder (issue #9): see quality.hpp.
-#include "meter/engine/quality.hpp"
+// The quality ladder: see quality.hpp.
+#include "meter/convert/quality.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <meshoptimizer.h>
 
-namespace meter::engine {
+namespace meter::convert {
 
 namespace {
 // Affine interpolation: every user varying gets the `noperspective` qualifier of
@@ -344,4 +344,4 @@ std::string describe_quality(const QualitySettings& q) {
   return out.empty() ? "default" : out;
 }
 
-}  // namespace meter::engine
+}  // namespace meter::convert

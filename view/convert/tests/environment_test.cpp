@@ -1,4 +1,4 @@
-// Environment maps (issue #9): the converter reads `meter_environment` from the glTF scene extras,
+// Environment maps: the data converter reads `meter_environment` from the glTF scene extras,
 // refuses a missing or malformed file by name, packs the image, integrates its ambient cube, and
 // gives the environment feature only to the programs that can use it, only in scenes that have
 // one; the package keeps it.
@@ -10,12 +10,15 @@
 #include <nlohmann/json.hpp>
 
 #include "meter/shadergen/shadergen.hpp"
-#include "meter/engine/converter.hpp"
-#include "meter/engine/package.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/convert/package_writer.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/engine/package_reader.hpp"
 #include "meter/platform/image.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter::engine;
+using namespace meter::convert;
 namespace fs = std::filesystem;
 using meter::shadergen::ShadingModel;
 using meter::shadergen::TextureSlot;

@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
-#include "meter/engine/config.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
 #include "test_scenes.hpp"
 
-using namespace meter::engine;
+using namespace meter::bridge;
 
 namespace {
 std::string error_of(const std::string& json) {
@@ -17,7 +17,7 @@ std::string error_of(const std::string& json) {
 }  // namespace
 
 TEST(SceneConfig, ParsesTheDocumentedShape) {
-  auto c = parse_scene_config(test::dial_config_json(), "dial.json");
+  auto c = parse_scene_config(meter::engine::test::dial_config_json(), "dial.json");
   EXPECT_EQ(c.size[0], 320);
   EXPECT_EQ(c.camera, "Camera");
   ASSERT_EQ(c.bindings.size(), 4u);

@@ -2,11 +2,14 @@
 
 #include <cstring>
 
-#include "meter/engine/converter.hpp"
-#include "meter/engine/package.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/convert/package_writer.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/engine/package_reader.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter::engine;
+using namespace meter::convert;
 
 namespace {
 std::vector<std::uint8_t> dial_package() {

@@ -1,31 +1,21 @@
-// Mesh concatenation, pure parts (issue #10): group checks and proposals on hand-built scenes,
-// CPU vertex transform, index compaction/winding, package round trip of groups.
+// Mesh concatenation planning: group checks and proposals on hand-built scenes, and the package
+// round trip of groups (writer -> reader, with the reader's group check).
 #include <gtest/gtest.h>
 
-#include <glm/gtc/matrix_transform.hpp>
-
-#include "meter/engine/concatenation.hpp"
-#include "meter/engine/package.hpp"
+#include "meter/convert/concat_plan.hpp"
+#include "meter/convert/package_writer.hpp"
+#include "meter/engine/merged_draws.hpp"
+#include "meter/engine/package_reader.hpp"
+#include "test_scenes.hpp"
 
 using namespace meter;
-using namespace meter::engine;
+using namespace meter::convert;
+using engine::check_groups;
+using engine::deserialize_scene;
+using engine::test::quad_primitive;
 using bridge::AttributeSemantic;
 
 namespace {
-
-// A unit quad (two triangles) in the XY plane with POSITION + NORMAL.
-Primitive quad(int material, float size = 1.0f) {
-  Primitive p;
-  p.material = material;
-  p.vertex_count = 4;
-  p.stride = 6;
-  p.layout = {{AttributeSemantic::Position, -1, 3, 0}, {AttributeSemantic::Normal, -1, 3, 3}};
-  const float h = size * 0.5f;
-  p.vertices = {-h, -h, 0, 0, 0, 1, h, -h, 0, 0, 0, 1, h, h, 0, 0, 0, 1, -h, h, 0, 0, 0, 1};
-  p.indices = {0, 1, 2, 0, 2, 3};
-  p.bounds_min = glm::vec3(-h, -h, 0), p.bounds_max = glm::vec3(h, h, 0);
-  return p;
-}
 
 // Camera at z = 10 looking down -Z (perspective), quads laid out on z = 0 by `positions`, each
 // with its own mesh; materials "A" (opaque), "B" (opaque), "G" (blend).
@@ -51,7 +41,7 @@ Scene scene_with(const std::vector<std::pair<std::string, glm::vec3>>& objects, 
   for (std::size_t i = 0; i < objects.size(); ++i) {
     Mesh m;
     m.name = objects[i].first;
-    m.primitives.push_back(quad(materials[i]));
+    m.primitives.push_back(quad_primitive(materials[i]));
     s.meshes.push_back(m);
     Node n;
     n.name = objects[i].first;
@@ -146,31 +136,6 @@ TEST(ConcatPlan, ProposesGroupsPerMaterialAndExplainsLeftOuts) {
   const std::string r = concat_report(plan);
   EXPECT_NE(r.find("\"d\" left out: \"c\" and \"d\" overlap"), std::string::npos) << r;
   EXPECT_NE(r.find("(not proposed): e"), std::string::npos) << r;
-}
-
-TEST(ConcatRuntime, TransformMemberMovesPositionsNormalsAndSetsAlpha) {
-  Primitive p = quad(0);
-  const glm::mat4 w = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(10, 20, 30)), glm::vec3(2, 2, 4));
-  std::vector<float> out(std::size_t(4 * merged_stride(p)), -1.0f);
-  transform_member(p, w, 1.0f, out);
-  // vertex 2: (0.5, 0.5, 0) -> (11, 21, 30); normal (0,0,1) -> inverse transpose -> (0,0,0.25)
-  const float* v = out.data() + 2 * 7;
-  EXPECT_FLOAT_EQ(v[0], 11.0f);
-  EXPECT_FLOAT_EQ(v[1], 21.0f);
-  EXPECT_FLOAT_EQ(v[2], 30.0f);
-  EXPECT_FLOAT_EQ(v[5], 0.25f);
-  EXPECT_FLOAT_EQ(v[6], 1.0f);
-  set_member_alpha(p, 0.0f, out);
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(out[std::size_t(i * 7 + 6)], 0.0f);
-  EXPECT_FLOAT_EQ(out[2 * 7], 11.0f);  // positions untouched
-}
-
-TEST(ConcatRuntime, IndicesAreOffsetAndMirroredMembersFlipWinding) {
-  Primitive p = quad(0);
-  std::vector<std::uint32_t> idx;
-  append_member_indices(p, 100, false, idx);
-  append_member_indices(p, 4, true, idx);
-  EXPECT_EQ(idx, (std::vector<std::uint32_t>{100, 101, 102, 100, 102, 103, 4, 6, 5, 4, 7, 6}));
 }
 
 TEST(ConcatPackage, GroupsRoundTripAndBadGroupsAreRefused) {

@@ -1,6 +1,8 @@
-#include "meter/engine/package.hpp"
+// The package reader: bounds-checked decoding of the format in meter/bridge/package_format.hpp.
+#include "meter/engine/package_reader.hpp"
 
-#include "meter/engine/concatenation.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/engine/merged_draws.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -10,44 +12,6 @@
 
 namespace meter::engine {
 namespace {
-
-std::uint64_t fnv1a(std::span<const std::uint8_t> data) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (std::uint8_t b : data) {
-    h ^= b;
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-
-class Writer {
- public:
-  std::vector<std::uint8_t> buf;
-  template <typename T>
-  void pod(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-    buf.insert(buf.end(), p, p + sizeof(T));
-  }
-  void u32(std::uint32_t v) { pod(v); }
-  void i32(std::int32_t v) { pod(v); }
-  void f32(float v) { pod(v); }
-  void f64(double v) { pod(v); }
-  void boolean(bool v) { pod(static_cast<std::uint8_t>(v ? 1 : 0)); }
-  void str(const std::string& s) {
-    u32(static_cast<std::uint32_t>(s.size()));
-    buf.insert(buf.end(), s.begin(), s.end());
-  }
-  template <typename T>
-  void vec(const std::vector<T>& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    u32(static_cast<std::uint32_t>(v.size()));
-    const auto* p = reinterpret_cast<const std::uint8_t*>(v.data());
-    buf.insert(buf.end(), p, p + v.size() * sizeof(T));
-  }
-  void v3(const glm::vec3& v) { f32(v.x), f32(v.y), f32(v.z); }
-  void v4(const glm::vec4& v) { f32(v.x), f32(v.y), f32(v.z), f32(v.w); }
-};
 
 class Reader {
  public:
@@ -120,19 +84,6 @@ E enum_in(Reader& r, int max, const char* what) {
   return static_cast<E>(v);
 }
 
-void write_features(Writer& w, const bridge::MaterialFeatures& f) {
-  w.i32(int(f.shading)), w.i32(int(f.alpha)), w.i32(int(f.precision));
-  w.boolean(f.base_color_texture), w.boolean(f.metallic_roughness_texture), w.boolean(f.normal_texture);
-  w.boolean(f.emissive_texture), w.boolean(f.occlusion_texture);
-  w.u32(f.texcoord1_slots);
-  w.boolean(f.texture_transform), w.boolean(f.vertex_colors), w.boolean(f.vertex_alpha);
-  w.boolean(f.double_sided);
-  w.i32(f.skin_joints), w.i32(f.morph_targets);
-  w.boolean(f.morph_normals);
-  w.i32(f.lights.directional), w.i32(f.lights.point), w.i32(f.lights.spot);
-  w.boolean(f.environment_map_2d), w.boolean(f.has_tangents);
-}
-
 bridge::MaterialFeatures read_features(Reader& r) {
   using namespace bridge;
   MaterialFeatures f;
@@ -158,27 +109,6 @@ bridge::MaterialFeatures read_features(Reader& r) {
   f.environment_map_2d = r.boolean("features");
   f.has_tangents = r.boolean("features");
   return f;
-}
-
-void write_program(Writer& w, const ProgramEntry& e) {
-  const auto& p = e.program;
-  w.str(p.vertex_source), w.str(p.fragment_source);
-  w.u32(static_cast<std::uint32_t>(p.attributes.size()));
-  for (const auto& a : p.attributes) w.str(a.name), w.i32(int(a.semantic)), w.i32(a.index), w.i32(a.location), w.i32(a.components);
-  w.u32(static_cast<std::uint32_t>(p.uniforms.size()));
-  for (const auto& u : p.uniforms) w.str(u.name), w.str(u.glsl_type), w.i32(int(u.semantic)), w.i32(u.index), w.i32(u.array_size);
-  w.u32(static_cast<std::uint32_t>(p.samplers.size()));
-  for (const auto& s : p.samplers) w.str(s.name), w.i32(int(s.slot)), w.i32(s.unit);
-  write_features(w, p.features);
-  w.boolean(p.blend), w.boolean(p.cull_back_faces), w.boolean(p.optimized), w.boolean(p.uber);
-  const auto& o = e.optimize_report;
-  for (std::size_t v : {o.source_bytes_before, o.source_bytes_after, o.spirv_instructions_before,
-                        o.spirv_instructions_after, o.uniforms_before, o.uniforms_after,
-                        o.varyings_before, o.varyings_after, o.samplers_before, o.samplers_after}) {
-    w.pod(static_cast<std::uint64_t>(v));
-  }
-  w.u32(static_cast<std::uint32_t>(o.folded.size()));
-  for (const auto& f : o.folded) w.str(f);
 }
 
 ProgramEntry read_program(Reader& r) {
@@ -237,98 +167,8 @@ void check_index(Reader& r, int v, std::size_t size, bool allow_none, const char
 
 }  // namespace
 
-std::vector<std::uint8_t> serialize_scene(const Scene& s) {
-  Writer w;
-  w.str(s.source_name);
-  w.u32(static_cast<std::uint32_t>(s.nodes.size()));
-  for (const auto& n : s.nodes) {
-    w.str(n.name), w.i32(n.parent);
-    w.vec(n.children);
-    w.v3(n.translation);
-    w.v4(glm::vec4(n.rotation.x, n.rotation.y, n.rotation.z, n.rotation.w));
-    w.v3(n.scale);
-    w.i32(n.mesh), w.i32(n.camera), w.i32(n.light), w.i32(n.skin);
-    w.vec(n.weights);
-  }
-  w.vec(s.roots);
-  w.u32(static_cast<std::uint32_t>(s.meshes.size()));
-  for (const auto& m : s.meshes) {
-    w.str(m.name);
-    w.vec(m.weights);
-    w.u32(static_cast<std::uint32_t>(m.primitives.size()));
-    for (const auto& p : m.primitives) {
-      w.i32(p.material), w.u32(p.vertex_count), w.i32(p.stride), w.i32(p.morph_targets);
-      w.u32(static_cast<std::uint32_t>(p.layout.size()));
-      for (const auto& a : p.layout) w.i32(int(a.semantic)), w.i32(a.index), w.i32(a.components), w.i32(a.offset);
-      w.vec(p.vertices);
-      w.vec(p.indices);
-      w.v3(p.bounds_min), w.v3(p.bounds_max);
-    }
-  }
-  w.u32(static_cast<std::uint32_t>(s.materials.size()));
-  for (const auto& m : s.materials) {
-    w.str(m.name), w.i32(int(m.shading)), w.i32(int(m.alpha)), w.boolean(m.double_sided);
-    w.v4(m.base_color), w.v3(m.emissive);
-    w.f32(m.metallic), w.f32(m.roughness), w.f32(m.normal_scale), w.f32(m.occlusion_strength), w.f32(m.alpha_cutoff);
-    w.v3(m.specular_color), w.f32(m.shininess);
-    for (int i = 0; i < 6; ++i) {
-      w.i32(m.texture[i]), w.i32(m.texcoord[i]);
-      for (int c = 0; c < 3; ++c) w.v3(m.uv_transform[i][c]);
-    }
-    w.boolean(m.has_uv_transform);
-  }
-  w.u32(static_cast<std::uint32_t>(s.textures.size()));
-  for (const auto& t : s.textures) {
-    w.str(t.name), w.i32(t.width), w.i32(t.height), w.vec(t.rgba), w.boolean(t.srgb);
-    w.i32(t.min_filter), w.i32(t.mag_filter), w.i32(t.wrap_s), w.i32(t.wrap_t);
-  }
-  w.u32(static_cast<std::uint32_t>(s.cameras.size()));
-  for (const auto& c : s.cameras) {
-    w.str(c.name), w.boolean(c.perspective), w.f32(c.yfov), w.f32(c.znear), w.f32(c.zfar), w.f32(c.xmag), w.f32(c.ymag);
-  }
-  w.u32(static_cast<std::uint32_t>(s.lights.size()));
-  for (const auto& l : s.lights) {
-    w.str(l.name), w.i32(int(l.type)), w.v3(l.color), w.f32(l.intensity), w.f32(l.range), w.f32(l.inner_cone), w.f32(l.outer_cone);
-  }
-  w.u32(static_cast<std::uint32_t>(s.skins.size()));
-  for (const auto& k : s.skins) {
-    w.str(k.name), w.vec(k.joints);
-    w.u32(static_cast<std::uint32_t>(k.inverse_bind.size()));
-    for (const auto& m : k.inverse_bind) {
-      for (int c = 0; c < 4; ++c) w.v4(m[c]);
-    }
-  }
-  w.u32(static_cast<std::uint32_t>(s.animations.size()));
-  for (const auto& a : s.animations) {
-    w.str(a.name), w.f32(a.start), w.f32(a.end);
-    w.u32(static_cast<std::uint32_t>(a.samplers.size()));
-    for (const auto& sm : a.samplers) w.i32(int(sm.interpolation)), w.i32(sm.components), w.vec(sm.input), w.vec(sm.output);
-    w.u32(static_cast<std::uint32_t>(a.channels.size()));
-    for (const auto& ch : a.channels) w.i32(ch.sampler), w.i32(ch.node), w.i32(int(ch.path));
-  }
-  w.u32(static_cast<std::uint32_t>(s.programs.size()));
-  for (const auto& p : s.programs) write_program(w, p);
-  w.u32(static_cast<std::uint32_t>(s.draws.size()));
-  for (const auto& d : s.draws) w.i32(d.node), w.i32(d.mesh), w.i32(d.primitive), w.i32(d.program);
-  w.u32(static_cast<std::uint32_t>(s.groups.size()));  // version 2: mesh concatenation groups
-  for (const auto& g : s.groups) w.str(g.name), w.vec(g.draws);
-  // version 3: the world environment (texture index, strength, ambient cube)
-  w.i32(s.environment.texture), w.f32(s.environment.strength);
-  for (const auto& e : s.environment.irradiance) w.v3(e);
-  w.str(s.config.source_json);
-
-  Writer out;
-  out.buf.insert(out.buf.end(), std::begin(kPackageMagic), std::end(kPackageMagic));
-  out.u32(kPackageVersion);
-  out.u32(0);
-  out.pod(static_cast<std::uint64_t>(w.buf.size()));
-  out.pod(fnv1a(w.buf));
-  out.buf.insert(out.buf.end(), w.buf.begin(), w.buf.end());
-  return std::move(out.buf);
-}
-
 Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& origin) {
-  constexpr std::size_t kHeader = 8 + 4 + 4 + 8 + 8;
+  constexpr std::size_t kHeader = kPackageHeaderSize;
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kPackageMagic, 8) != 0) {
     throw SceneError(origin + ": not a meter scene package (bad magic; expected \"METERSCN\" — convert the "
                      "glTF with meter-convert first)");
@@ -350,7 +190,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
                      " bytes but the header says " + std::to_string(size) + " (truncated or padded file)");
   }
   auto payload = bytes.subspan(kHeader);
-  if (fnv1a(payload) != hash) throw SceneError(origin + ": package checksum mismatch (file corrupted)");
+  if (package_checksum(payload) != hash) throw SceneError(origin + ": package checksum mismatch (file corrupted)");
 
   Reader r(payload, origin);
   Scene s;
@@ -562,19 +402,6 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
   }
   s.ambient = glm::vec3(s.config.ambient[0], s.config.ambient[1], s.config.ambient[2]);
   return s;
-}
-
-void write_package(const Scene& scene, const std::string& path) {
-  auto bytes = serialize_scene(scene);
-  std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw SceneError(path + ": cannot open for writing");
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw SceneError(path + ": write failed");
-  }
-  // Rename so a viewer never sees a half-written package.
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw SceneError(path + ": cannot rename " + tmp);
 }
 
 Scene read_package(const std::string& path) {

@@ -1,4 +1,5 @@
-// glTF 2.0 (+ scene config) -> Scene with generated programs: what meter-convert does.
+// The data converter: glTF 2.0 (+ scene config) -> Scene with generated programs, what
+// meter-convert does.
 //
 // Validation names the element and the problem ("nodes[3].rotation: quaternion not unit length
 // (|q| = 1.2)"). Problems with one obviously right answer are repaired and reported as warnings
@@ -8,10 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "meter/engine/config.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/convert/scene.hpp"
 
-namespace meter::engine {
+namespace meter::convert {
 
 struct Diagnostic {
   std::string path;     // JSON-ish element path: "meshes[0].primitives[0].attributes.NORMAL"
@@ -26,8 +26,8 @@ struct ConvertError : SceneError {
 };
 
 struct ConvertOptions {
-  bool optimize = true;  // run shadergen::optimize() with the scene's constants (issue #11)
-  bool propose_groups = false;  // also group ungrouped objects automatically (issue #10)
+  bool optimize = true;         // shader optimizer: shadergen::optimize() with the scene's constants
+  bool propose_groups = false;  // mesh concatenation: also group ungrouped objects automatically
 };
 
 struct ConvertResult {
@@ -49,4 +49,4 @@ void resolve_config(const Scene& scene, const SceneConfig& config, const std::st
 // counts, draws using it).
 std::string program_report(const Scene& scene);
 
-}  // namespace meter::engine
+}  // namespace meter::convert

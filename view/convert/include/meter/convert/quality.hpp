@@ -1,4 +1,4 @@
-// The quality ladder (issue #9): settings an integrator trades against frame time, applied to a
+// The quality ladder: settings an integrator trades against frame time, applied to a
 // converted Scene before the Renderer is built (at load), globally or per object.
 //
 //   shading model   programs regenerated with another shadergen::ShadingModel (unlit .. PBR);
@@ -14,11 +14,11 @@
 //                   NV_shader_noperspective_interpolation (Mesa has it; a driver without it
 //                   fails to compile and says so). Global: every program is patched;
 //   environment     off: drop the scene's environment map (programs regenerated without it; the
-//                   config's uniform ambient lights the scene instead), the engine before issue #9's
-//                   environment support. Only scenes that have one are affected.
+//                   config's uniform ambient lights the scene instead), as the engine drew before it
+//                   supported environment maps. Only scenes that have one are affected.
 //
 // Why after conversion and not inside convert_gltf: the ladder is a runtime choice (the frame-rate
-// governor of a later issue picks a level on the target), and a Scene already holds the features
+// governor picks a level on the target), and a Scene already holds the features
 // every program was generated from, so nothing about the glTF is needed again.
 // Regenerated programs are NOT constant-folded by shadergen::optimize() (the converter owns the
 // folding constants): compare ladder points on a scene converted with optimize = false.
@@ -29,10 +29,10 @@
 #include <string>
 #include <vector>
 
-#include "meter/engine/scene.hpp"
+#include "meter/convert/scene.hpp"
 #include "meter/shadergen/shadergen.hpp"
 
-namespace meter::engine {
+namespace meter::convert {
 
 enum class TextureFilter { Nearest, Bilinear, Trilinear, Anisotropic };
 
@@ -79,4 +79,4 @@ QualitySettings parse_quality(const std::string& text);
 // The canonical text of the global part ("shading=..,msaa=.." in a fixed order; "default" if empty).
 std::string describe_quality(const QualitySettings& settings);
 
-}  // namespace meter::engine
+}  // namespace meter::convert

@@ -1,4 +1,6 @@
-#include "meter/engine/config.hpp"
+// The scene config parser. Both sides run it: the converter on the artist's file, the runtime on
+// the config text the package stores.
+#include "meter/bridge/scene_config_parser.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -11,7 +13,7 @@
 
 #include "meter/protocol/catalog.hpp"
 
-namespace meter::engine {
+namespace meter::bridge {
 namespace {
 
 using nlohmann::json;
@@ -291,4 +293,4 @@ SceneConfig load_scene_config(const std::string& path) {
   return parse_scene_config(ss.str(), path);
 }
 
-}  // namespace meter::engine
+}  // namespace meter::bridge

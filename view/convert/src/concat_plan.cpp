@@ -1,64 +1,19 @@
-#include "meter/engine/concatenation.hpp"
+#include "meter/convert/concat_plan.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 
-#include <glm/gtc/matrix_inverse.hpp>
-#include <glm/gtc/matrix_transform.hpp>
+#include "meter/engine/merged_draws.hpp"
 
-#include "meter/engine/animation.hpp"
+namespace meter::convert {
 
-namespace meter::engine {
-
-using bridge::AlphaMode;
-using bridge::AttributeSemantic;
+using engine::vertex_layout_key;
+using engine::check_groups;
 
 namespace {
-
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// Same camera choice and projection as Renderer::view_projection (a scene without a camera gets
-// no screen test: the 3D x/y extents are compared instead, which is stricter for a front view).
-bool camera_vp(const Scene& s, const std::vector<glm::mat4>& world, glm::mat4& vp) {
-  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    const Node& n = s.nodes[i];
-    if (n.camera < 0) continue;
-    const Camera& c = s.cameras[static_cast<std::size_t>(n.camera)];
-    if (!s.config.camera.empty() && n.name != s.config.camera && c.name != s.config.camera) continue;
-    glm::mat4 w = world[i];
-    for (int k = 0; k < 3; ++k) w[k] = glm::vec4(glm::normalize(glm::vec3(w[k])), 0.0f);
-    const float aspect = float(s.config.size[0]) / float(s.config.size[1]);
-    glm::mat4 proj = c.perspective ? (c.zfar > 0 ? glm::perspective(c.yfov, aspect, c.znear, c.zfar) : glm::infinitePerspective(c.yfov, aspect, c.znear))
-                                   : glm::ortho(-c.xmag, c.xmag, -c.ymag, c.ymag, c.znear, c.zfar);
-    vp = proj * glm::inverse(w);
-    return true;
-  }
-  return false;
-}
-
-// The sample times of animation a: every key and 8 steps inside each key interval.
-std::vector<double> sample_times(const Animation& a) {
-  std::set<double> t;
-  for (const auto& sm : a.samplers) {
-    for (std::size_t k = 0; k < sm.input.size(); ++k) {
-      t.insert(sm.input[k]);
-      if (k + 1 < sm.input.size()) {
-        for (int j = 1; j < 8; ++j) t.insert(sm.input[k] + (sm.input[k + 1] - sm.input[k]) * j / 8.0);
-      }
-    }
-  }
-  return {t.begin(), t.end()};
-}
-
-std::string layout_key(const Primitive& p) {
-  std::string k = std::to_string(p.stride);
-  for (const auto& a : p.layout) k += "|" + std::to_string(int(a.semantic)) + "." + std::to_string(a.index) + "." + std::to_string(a.components) + "." + std::to_string(a.offset);
-  return k;
-}
 
 // Order of two draws in the renderer's sorted list: opaque front-to-back, blended back-to-front,
 // ties in draw order (stable sort). -1: a first, +1: b first, 0: depends on the animation state.
@@ -127,88 +82,6 @@ struct Planner {
 
 }  // namespace
 
-std::vector<DrawExtent> draw_extents(const Scene& s) {
-  // Draw order = preorder from the roots, primitives in order (Converter::generate_programs).
-  std::vector<DrawExtent> out;
-  {
-    std::vector<int> stack(s.roots.rbegin(), s.roots.rend());
-    while (!stack.empty()) {
-      const int n = stack.back();
-      stack.pop_back();
-      const Node& node = s.nodes[static_cast<std::size_t>(n)];
-      stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
-      if (node.mesh < 0) continue;
-      const Mesh& mesh = s.meshes[static_cast<std::size_t>(node.mesh)];
-      for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-        DrawExtent e;
-        e.node = n, e.primitive = static_cast<int>(p);
-        e.blend = s.materials[static_cast<std::size_t>(mesh.primitives[p].material)].alpha == AlphaMode::Blend;
-        e.screen_min = glm::vec2(kInf), e.screen_max = glm::vec2(-kInf);
-        e.depth_min = e.key_min = kInf, e.depth_max = e.key_max = -kInf;
-        out.push_back(e);
-      }
-    }
-  }
-  // Poses to evaluate: rest + every animation at its start, then each animation swept with the
-  // others at their start and at their end.
-  std::vector<std::pair<int, double>> sweeps;  // (animation, time) with -1 = none
-  const std::size_t na = s.animations.size();
-  std::vector<double> start(na), end(na);
-  for (std::size_t a = 0; a < na; ++a) start[a] = s.animations[a].start, end[a] = s.animations[a].end;
-  std::vector<glm::mat4> world;
-  auto accumulate = [&](const Pose& pose) {
-    world_matrices(s, pose, world);
-    glm::mat4 vp(1.0f);
-    const bool cam = camera_vp(s, world, vp);
-    const float w = float(s.config.size[0]), h = float(s.config.size[1]);
-    for (auto& e : out) {
-      const Primitive& prim = s.meshes[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(e.node)].mesh)].primitives[static_cast<std::size_t>(e.primitive)];
-      const glm::mat4 m = world[static_cast<std::size_t>(e.node)];
-      for (int k = 0; k < 8; ++k) {
-        glm::vec3 p((k & 1) ? prim.bounds_max.x : prim.bounds_min.x, (k & 2) ? prim.bounds_max.y : prim.bounds_min.y,
-                    (k & 4) ? prim.bounds_max.z : prim.bounds_min.z);
-        glm::vec4 wp = m * glm::vec4(p, 1.0f);
-        glm::vec2 sp;
-        float depth;
-        if (cam) {
-          glm::vec4 c = vp * wp;
-          // Behind the eye: the projection is meaningless, take the whole screen.
-          if (c.w <= 1e-6f) {
-            sp = glm::vec2(-kInf);
-            e.screen_min = glm::vec2(-kInf), e.screen_max = glm::vec2(kInf);
-          } else {
-            sp = glm::vec2((c.x / c.w * 0.5f + 0.5f) * w, (c.y / c.w * 0.5f + 0.5f) * h);
-          }
-          depth = c.w;
-        } else {
-          sp = glm::vec2(wp.x, wp.y);
-          depth = -wp.z;
-        }
-        if (std::isfinite(sp.x)) e.screen_min = glm::min(e.screen_min, sp), e.screen_max = glm::max(e.screen_max, sp);
-        e.depth_min = std::min(e.depth_min, depth), e.depth_max = std::max(e.depth_max, depth);
-      }
-      const glm::vec3 c = (prim.bounds_min + prim.bounds_max) * 0.5f;
-      const float key = cam ? (vp * m * glm::vec4(c, 1.0f)).w : 0.0f;
-      e.key_min = std::min(e.key_min, key), e.key_max = std::max(e.key_max, key);
-    }
-  };
-  for (int others = 0; others < 2; ++others) {
-    Pose base = Pose::rest(s);
-    for (std::size_t a = 0; a < na; ++a) apply_animation(s, static_cast<int>(a), others ? end[a] : start[a], base);
-    if (na == 0 || others == 0) accumulate(base);
-    for (std::size_t a = 0; a < na; ++a) {
-      for (double t : sample_times(s.animations[a])) {
-        Pose p = base;
-        apply_animation(s, static_cast<int>(a), t, p);
-        accumulate(p);
-      }
-    }
-  }
-  // Half a pixel of margin: anti-aliased edges and MSAA samples reach that far past the geometry.
-  for (auto& e : out) e.screen_min -= glm::vec2(0.5f), e.screen_max += glm::vec2(0.5f);
-  return out;
-}
-
 ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, bool propose, const std::string& origin) {
   ConcatPlan plan;
   Planner pl{s, draw_extents(s), {}, {}};
@@ -230,7 +103,7 @@ ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, boo
       if (p.morph_targets > 0) return "has morph targets (not merged: the CPU path handles rigid transforms only)";
       if (material >= 0 && p.material != material) return "has primitives with different materials";
       material = p.material;
-      layout = layout_key(p);
+      layout = vertex_layout_key(p);
     }
     if (material < 0) return "has no primitives";
     return "";
@@ -399,73 +272,4 @@ void attach_groups(Scene& s, const ConcatPlan& plan) {
   if (!why.empty()) throw SceneError(s.source_name + ": " + why);
 }
 
-std::string check_groups(const Scene& s) {
-  std::set<int> seen;
-  for (std::size_t g = 0; g < s.groups.size(); ++g) {
-    const auto& mg = s.groups[g];
-    const std::string p = "groups[" + std::to_string(g) + "] (\"" + mg.name + "\"): ";
-    if (mg.draws.empty()) return p + "no draws";
-    int program = -1;
-    std::string layout;
-    for (int d : mg.draws) {
-      if (d < 0 || static_cast<std::size_t>(d) >= s.draws.size()) return p + "draw index " + std::to_string(d) + " out of range";
-      if (!seen.insert(d).second) return p + "draw " + std::to_string(d) + " is in two groups";
-      const DrawItem& di = s.draws[static_cast<std::size_t>(d)];
-      const Primitive& prim = s.meshes[static_cast<std::size_t>(di.mesh)].primitives[static_cast<std::size_t>(di.primitive)];
-      if (program < 0) program = di.program, layout = layout_key(prim);
-      if (di.program != program) return p + "members use different programs";
-      if (layout_key(prim) != layout) return p + "members have different vertex layouts";
-      if (prim.morph_targets > 0 || s.nodes[static_cast<std::size_t>(di.node)].skin >= 0) return p + "a member is skinned or morphed";
-    }
-    const auto& prog = s.programs[static_cast<std::size_t>(program)].program;
-    // (not Program::find_attribute: the runtime library uses shadergen's headers only)
-    if (std::none_of(prog.attributes.begin(), prog.attributes.end(), [](const auto& a) { return a.semantic == AttributeSemantic::VertexAlpha; })) {
-      return p + "the program has no vertex alpha attribute";
-    }
-    if (prog.features.skin_joints > 0 || prog.features.morph_targets > 0) return p + "the program skins or morphs";
-  }
-  return "";
-}
-
-void transform_member(const Primitive& src, const glm::mat4& world, float alpha, std::span<float> dst) {
-  const int out_stride = merged_stride(src);
-  const glm::mat3 normal = glm::inverseTranspose(glm::mat3(world));
-  const glm::mat3 linear(world);
-  for (std::uint32_t v = 0; v < src.vertex_count; ++v) {
-    const float* in = src.vertices.data() + std::size_t(v) * std::size_t(src.stride);
-    float* out = dst.data() + std::size_t(v) * std::size_t(out_stride);
-    std::copy(in, in + src.stride, out);
-    for (const auto& a : src.layout) {
-      float* o = out + a.offset;
-      const float* i = in + a.offset;
-      if (a.semantic == AttributeSemantic::Position) {
-        const glm::vec4 p = world * glm::vec4(i[0], i[1], i[2], 1.0f);
-        o[0] = p.x, o[1] = p.y, o[2] = p.z;
-      } else if (a.semantic == AttributeSemantic::Normal) {
-        const glm::vec3 n = normal * glm::vec3(i[0], i[1], i[2]);
-        o[0] = n.x, o[1] = n.y, o[2] = n.z;
-      } else if (a.semantic == AttributeSemantic::Tangent) {
-        const glm::vec3 t = linear * glm::vec3(i[0], i[1], i[2]);
-        o[0] = t.x, o[1] = t.y, o[2] = t.z;
-      }
-    }
-    out[src.stride] = alpha;
-  }
-}
-
-void set_member_alpha(const Primitive& src, float alpha, std::span<float> dst) {
-  const int out_stride = merged_stride(src);
-  for (std::uint32_t v = 0; v < src.vertex_count; ++v) dst[std::size_t(v) * std::size_t(out_stride) + std::size_t(src.stride)] = alpha;
-}
-
-void append_member_indices(const Primitive& src, std::uint32_t base, bool mirror, std::vector<std::uint32_t>& out) {
-  for (std::size_t i = 0; i + 2 < src.indices.size(); i += 3) {
-    if (mirror) {
-      out.insert(out.end(), {base + src.indices[i], base + src.indices[i + 2], base + src.indices[i + 1]});
-    } else {
-      out.insert(out.end(), {base + src.indices[i], base + src.indices[i + 1], base + src.indices[i + 2]});
-    }
-  }
-}
-
-}  // namespace meter::engine
+}  // namespace meter::convert

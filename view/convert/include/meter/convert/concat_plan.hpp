@@ -1,10 +1,8 @@
-// Mesh concatenation (issue #10; the DENSO paper sec. 5.2, docs/concatenation.md).
+// Mesh concatenation planning (the DENSO paper sec. 5.2, docs/concatenation.md).
 //
-// Many small objects that share a material are drawn as ONE draw: the runtime keeps one vertex
-// array per group holding every member's vertices already transformed to world space by the CPU,
-// a per-vertex alpha for visibility, and an index array holding only the visible members.
-//
-// Conversion side (plan_groups): a group is only accepted when merging it cannot change the image:
+// Many small objects that share a material are drawn as ONE draw (the runtime side is
+// meter/engine/merged_draws.hpp). The data converter decides which (plan_groups): a group is only
+// accepted when merging it cannot change the image:
 //   - every member is a mesh node whose primitives all use the group's one material (so one set of
 //     uniforms and one blend state serve all), with the same vertex layout, no skin, no morph;
 //   - no member is in two groups;
@@ -17,16 +15,14 @@
 // Pure functions on the Scene: no GL, no shader compiler.
 #pragma once
 
-#include <span>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "meter/engine/config.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/convert/scene.hpp"
 
-namespace meter::engine {
+namespace meter::convert {
 
 // Where a would-be draw (node x primitive, in the traversal order the converter emits draws in)
 // can be on screen and in depth over the animation ranges.
@@ -66,26 +62,4 @@ std::string concat_report(const ConcatPlan& plan);
 // Fills scene.groups (draw indices) from the plan once scene.draws exists.
 void attach_groups(Scene& scene, const ConcatPlan& plan);
 
-// Checks a loaded scene's groups (package reader): indices in range, one program with the vertex
-// alpha attribute and no skin/morph, equal layouts, no draw in two groups. Returns "" when fine.
-std::string check_groups(const Scene& scene);
-
-// ---- runtime helpers (used by Renderer; pure so they are unit-tested without GL)
-
-// Merged vertex record: the members' own record followed by one float, the vertex alpha.
-inline int merged_stride(const Primitive& p) { return p.stride + 1; }
-
-// Writes `src`'s vertices transformed by `world` into dst (vertex_count * merged_stride floats):
-// POSITION by world, NORMAL by the inverse transpose (not normalised: the shader normalises, as it
-// does for the unmerged draw), TANGENT xyz by the upper 3x3 (w kept), everything else copied;
-// the appended alpha = `alpha`.
-void transform_member(const Primitive& src, const glm::mat4& world, float alpha, std::span<float> dst);
-
-// Rewrites only the alpha float of each vertex in dst.
-void set_member_alpha(const Primitive& src, float alpha, std::span<float> dst);
-
-// Appends src's triangles offset by `base`; reversed winding when `mirrored` (the world matrix has
-// a negative determinant: the unmerged draw flips glFrontFace instead, the merged draw cannot).
-void append_member_indices(const Primitive& src, std::uint32_t base, bool mirrored, std::vector<std::uint32_t>& out);
-
-}  // namespace meter::engine
+}  // namespace meter::convert

@@ -1,0 +1,30 @@
+#include "meter/convert/convert_tool.hpp"
+
+#include "meter/convert/converter.hpp"
+#include "meter/convert/package_writer.hpp"
+#include "meter/bridge/scene_config_parser.hpp"
+
+namespace meter::convert {
+
+int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err) {
+  try {
+    const auto config = load_scene_config(o.config);
+    ConvertOptions opt;
+    opt.optimize = o.optimize == "on";
+    opt.propose_groups = o.propose_groups;
+    auto result = convert_gltf(o.input, config, opt);
+    if (!o.quiet) {
+      for (const auto& r : result.repairs) err << o.input << ": warning: " << r.path << ": " << r.message << "\n";
+    }
+    write_package(result.scene, o.output);
+    if (o.report) out << program_report(result.scene) << result.concat_report;
+    err << "meter-convert: wrote " << o.output << " (" << result.scene.draws.size() << " draws, "
+        << result.scene.programs.size() << " programs, " << result.scene.groups.size() << " merged groups, " << result.repairs.size() << " repairs)\n";
+  } catch (const std::exception& e) {
+    err << "meter-convert: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace meter::convert

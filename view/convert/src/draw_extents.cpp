@@ -1,0 +1,133 @@
+// Where each would-be draw can be on screen and in depth over the whole range of every animation:
+// the input of the mesh concatenation planner's overlap and draw-order checks.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "meter/convert/concat_plan.hpp"
+#include "meter/engine/animation.hpp"
+
+namespace meter::convert {
+
+using bridge::AlphaMode;
+using engine::Pose;
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Same camera choice and projection as Renderer::view_projection (a scene without a camera gets
+// no screen test: the 3D x/y extents are compared instead, which is stricter for a front view).
+bool camera_vp(const Scene& s, const std::vector<glm::mat4>& world, glm::mat4& vp) {
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const Node& n = s.nodes[i];
+    if (n.camera < 0) continue;
+    const Camera& c = s.cameras[static_cast<std::size_t>(n.camera)];
+    if (!s.config.camera.empty() && n.name != s.config.camera && c.name != s.config.camera) continue;
+    glm::mat4 w = world[i];
+    for (int k = 0; k < 3; ++k) w[k] = glm::vec4(glm::normalize(glm::vec3(w[k])), 0.0f);
+    const float aspect = float(s.config.size[0]) / float(s.config.size[1]);
+    glm::mat4 proj = c.perspective ? (c.zfar > 0 ? glm::perspective(c.yfov, aspect, c.znear, c.zfar) : glm::infinitePerspective(c.yfov, aspect, c.znear))
+                                   : glm::ortho(-c.xmag, c.xmag, -c.ymag, c.ymag, c.znear, c.zfar);
+    vp = proj * glm::inverse(w);
+    return true;
+  }
+  return false;
+}
+
+// The sample times of animation a: every key and 8 steps inside each key interval.
+std::vector<double> sample_times(const Animation& a) {
+  std::set<double> t;
+  for (const auto& sm : a.samplers) {
+    for (std::size_t k = 0; k < sm.input.size(); ++k) {
+      t.insert(sm.input[k]);
+      if (k + 1 < sm.input.size()) {
+        for (int j = 1; j < 8; ++j) t.insert(sm.input[k] + (sm.input[k + 1] - sm.input[k]) * j / 8.0);
+      }
+    }
+  }
+  return {t.begin(), t.end()};
+}
+
+}  // namespace
+
+std::vector<DrawExtent> draw_extents(const Scene& s) {
+  // Draw order = node_preorder, primitives in order (as generate_programs emits the draws).
+  std::vector<DrawExtent> out;
+  for (const int n : node_preorder(s)) {
+    const Node& node = s.nodes[static_cast<std::size_t>(n)];
+    if (node.mesh < 0) continue;
+    const Mesh& mesh = s.meshes[static_cast<std::size_t>(node.mesh)];
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      DrawExtent e;
+      e.node = n, e.primitive = static_cast<int>(p);
+      e.blend = s.materials[static_cast<std::size_t>(mesh.primitives[p].material)].alpha == AlphaMode::Blend;
+      e.screen_min = glm::vec2(kInf), e.screen_max = glm::vec2(-kInf);
+      e.depth_min = e.key_min = kInf, e.depth_max = e.key_max = -kInf;
+      out.push_back(e);
+    }
+  }
+  // Poses to evaluate: rest + every animation at its start, then each animation swept with the
+  // others at their start and at their end.
+  std::vector<std::pair<int, double>> sweeps;  // (animation, time) with -1 = none
+  const std::size_t na = s.animations.size();
+  std::vector<double> start(na), end(na);
+  for (std::size_t a = 0; a < na; ++a) start[a] = s.animations[a].start, end[a] = s.animations[a].end;
+  std::vector<glm::mat4> world;
+  auto accumulate = [&](const Pose& pose) {
+    engine::world_matrices(s, pose, world);
+    glm::mat4 vp(1.0f);
+    const bool cam = camera_vp(s, world, vp);
+    const float w = float(s.config.size[0]), h = float(s.config.size[1]);
+    for (auto& e : out) {
+      const Primitive& prim = s.meshes[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(e.node)].mesh)].primitives[static_cast<std::size_t>(e.primitive)];
+      const glm::mat4 m = world[static_cast<std::size_t>(e.node)];
+      for (int k = 0; k < 8; ++k) {
+        glm::vec3 p((k & 1) ? prim.bounds_max.x : prim.bounds_min.x, (k & 2) ? prim.bounds_max.y : prim.bounds_min.y,
+                    (k & 4) ? prim.bounds_max.z : prim.bounds_min.z);
+        glm::vec4 wp = m * glm::vec4(p, 1.0f);
+        glm::vec2 sp;
+        float depth;
+        if (cam) {
+          glm::vec4 c = vp * wp;
+          // Behind the eye: the projection is meaningless, take the whole screen.
+          if (c.w <= 1e-6f) {
+            sp = glm::vec2(-kInf);
+            e.screen_min = glm::vec2(-kInf), e.screen_max = glm::vec2(kInf);
+          } else {
+            sp = glm::vec2((c.x / c.w * 0.5f + 0.5f) * w, (c.y / c.w * 0.5f + 0.5f) * h);
+          }
+          depth = c.w;
+        } else {
+          sp = glm::vec2(wp.x, wp.y);
+          depth = -wp.z;
+        }
+        if (std::isfinite(sp.x)) e.screen_min = glm::min(e.screen_min, sp), e.screen_max = glm::max(e.screen_max, sp);
+        e.depth_min = std::min(e.depth_min, depth), e.depth_max = std::max(e.depth_max, depth);
+      }
+      const glm::vec3 c = (prim.bounds_min + prim.bounds_max) * 0.5f;
+      const float key = cam ? (vp * m * glm::vec4(c, 1.0f)).w : 0.0f;
+      e.key_min = std::min(e.key_min, key), e.key_max = std::max(e.key_max, key);
+    }
+  };
+  for (int others = 0; others < 2; ++others) {
+    Pose base = Pose::rest(s);
+    for (std::size_t a = 0; a < na; ++a) engine::apply_animation(s, static_cast<int>(a), others ? end[a] : start[a], base);
+    if (na == 0 || others == 0) accumulate(base);
+    for (std::size_t a = 0; a < na; ++a) {
+      for (double t : sample_times(s.animations[a])) {
+        Pose p = base;
+        engine::apply_animation(s, static_cast<int>(a), t, p);
+        accumulate(p);
+      }
+    }
+  }
+  // Half a pixel of margin: anti-aliased edges and MSAA samples reach that far past the geometry.
+  for (auto& e : out) e.screen_min -= glm::vec2(0.5f), e.screen_max += glm::vec2(0.5f);
+  return out;
+}
+
+}  // namespace meter::convert

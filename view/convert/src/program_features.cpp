@@ -1,0 +1,122 @@
+#include "program_features.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "meter/engine/animation.hpp"
+
+namespace meter::convert {
+
+using shadergen::AttributeSemantic;
+using shadergen::TextureSlot;
+using engine::Pose;
+
+shadergen::MaterialFeatures draw_features(const Scene& s, const Node& node, const Primitive& prim,
+                                          const shadergen::LightCounts& lights, bool vertex_alpha) {
+  const Material& mat = s.materials[static_cast<std::size_t>(prim.material)];
+  shadergen::MaterialFeatures f;
+  f.shading = mat.shading;
+  f.alpha = mat.alpha;
+  auto has_attr = [&](AttributeSemantic a) {
+    return std::any_of(prim.layout.begin(), prim.layout.end(), [&](const VertexAttribute& v) { return v.semantic == a; });
+  };
+  auto tex = [&](TextureSlot slot) {
+    const int k = int(slot);
+    if (mat.texture[k] < 0) return false;
+    if (!has_attr(mat.texcoord[k] == 1 ? AttributeSemantic::TexCoord1 : AttributeSemantic::TexCoord0)) return false;
+    if (mat.texcoord[k] == 1) f.texcoord1_slots |= 1u << k;
+    return true;
+  };
+  const bool lit = mat.shading != shadergen::ShadingModel::Unlit;
+  const bool per_pixel = mat.shading == shadergen::ShadingModel::Flat || mat.shading == shadergen::ShadingModel::BlinnPhong ||
+                         mat.shading == shadergen::ShadingModel::PbrMetallicRoughness;
+  f.base_color_texture = tex(TextureSlot::BaseColor);
+  f.metallic_roughness_texture = mat.shading == shadergen::ShadingModel::PbrMetallicRoughness && tex(TextureSlot::MetallicRoughness);
+  f.normal_texture = per_pixel && tex(TextureSlot::Normal);
+  f.emissive_texture = tex(TextureSlot::Emissive);
+  f.occlusion_texture = lit && tex(TextureSlot::Occlusion);
+  f.texture_transform = mat.has_uv_transform && (f.base_color_texture || f.metallic_roughness_texture || f.normal_texture ||
+                                                  f.emissive_texture || f.occlusion_texture);
+  f.vertex_colors = has_attr(AttributeSemantic::Color0);
+  f.double_sided = mat.double_sided;
+  if (node.skin >= 0 && has_attr(AttributeSemantic::Joints0)) f.skin_joints = static_cast<int>(s.skins[static_cast<std::size_t>(node.skin)].joints.size());
+  f.morph_targets = prim.morph_targets;
+  f.morph_normals = has_attr(AttributeSemantic::MorphNormal);
+  f.lights = lit ? lights : shadergen::LightCounts{};
+  // Only scenes that name an environment get it, and only on models that can use it.
+  f.environment_map_2d = s.environment.present() && (mat.shading == shadergen::ShadingModel::BlinnPhong ||
+                                                     mat.shading == shadergen::ShadingModel::PbrMetallicRoughness);
+  f.has_tangents = f.normal_texture && has_attr(AttributeSemantic::Tangent);
+  // Concatenated members: visibility becomes vertex alpha. The unmerged draw of the same
+  // node feeds a constant 1 (Renderer), so one program serves both ways of drawing.
+  f.vertex_alpha = vertex_alpha;
+  return f;
+}
+
+std::vector<char> dynamic_nodes(const Scene& s) {
+  std::vector<char> animated(s.nodes.size(), 0), dyn(s.nodes.size(), 0);
+  for (const auto& a : s.animations) {
+    for (const auto& ch : a.channels) animated[static_cast<std::size_t>(ch.node)] = 1;
+  }
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    for (int n = static_cast<int>(i); n >= 0; n = s.nodes[static_cast<std::size_t>(n)].parent) {
+      if (animated[static_cast<std::size_t>(n)]) dyn[i] = 1;
+    }
+  }
+  return dyn;
+}
+
+shadergen::ConstantValues folding_constants(const Scene& s, const Material& m, bool fold_material, const std::vector<int>& light_nodes,
+                                            const std::vector<char>& dyn) {
+  using U = shadergen::UniformSemantic;
+  shadergen::ConstantValues cv;
+  if (fold_material) {
+    cv.set(U::BaseColorFactor, {m.base_color.r, m.base_color.g, m.base_color.b, m.base_color.a});
+    cv.set(U::EmissiveFactor, {m.emissive.r, m.emissive.g, m.emissive.b});
+  }
+  cv.set(U::MetallicFactor, {m.metallic});
+  cv.set(U::RoughnessFactor, {m.roughness});
+  cv.set(U::NormalScale, {m.normal_scale});
+  cv.set(U::OcclusionStrength, {m.occlusion_strength});
+  cv.set(U::AlphaCutoff, {m.alpha_cutoff});
+  cv.set(U::SpecularColor, {m.specular_color.r, m.specular_color.g, m.specular_color.b});
+  cv.set(U::Shininess, {m.shininess});
+  cv.set(U::AmbientLight, {s.ambient.r, s.ambient.g, s.ambient.b});
+  cv.set(U::Exposure, {static_cast<float>(std::exp2(s.config.exposure))});
+  cv.set(U::EnvironmentIntensity, {s.environment.strength});
+  for (int a = 0; a < 6; ++a) {
+    const glm::vec3& e = s.environment.irradiance[std::size_t(a)];
+    cv.set(U::EnvironmentIrradiance, a, {e.r, e.g, e.b});
+  }
+  for (int k = 0; k < 5; ++k) {
+    const glm::mat3& t = m.uv_transform[std::size_t(k)];
+    cv.set(U::TextureTransform, k, std::vector<float>(glm::value_ptr(t), glm::value_ptr(t) + 9));
+  }
+  // Lights: colour, intensity, range and cones never change at runtime; position and direction
+  // come from node transforms, folded only when the light node cannot move (no animated ancestor).
+  Pose rest = Pose::rest(s);
+  std::vector<glm::mat4> world;
+  engine::world_matrices(s, rest, world);
+  for (std::size_t i = 0; i < light_nodes.size(); ++i) {
+    const int g = static_cast<int>(i);
+    const int n = light_nodes[i];
+    const Light& l = s.lights[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(n)].light)];
+    cv.set(U::LightColor, g, {l.color.r, l.color.g, l.color.b});
+    cv.set(U::LightIntensity, g, {l.intensity});
+    cv.set(U::LightRange, g, {l.range});
+    cv.set(U::LightInnerConeCos, g, {std::cos(l.inner_cone)});
+    cv.set(U::LightOuterConeCos, g, {std::cos(l.outer_cone)});
+    if (!dyn[static_cast<std::size_t>(n)]) {
+      const glm::mat4& w = world[static_cast<std::size_t>(n)];
+      glm::vec3 pos(w[3]);
+      glm::vec3 dir = glm::normalize(glm::vec3(w * glm::vec4(0, 0, -1, 0)));  // lights point down -Z
+      cv.set(U::LightPosition, g, {pos.x, pos.y, pos.z});
+      cv.set(U::LightDirection, g, {dir.x, dir.y, dir.z});
+    }
+  }
+  return cv;
+}
+
+}  // namespace meter::convert
