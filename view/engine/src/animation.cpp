@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -165,17 +164,27 @@ double loop_time(double uptime, double start, double end) {
   return start + r;
 }
 
+NodeOrder NodeOrder::of(const Scene& scene) {
+  NodeOrder o;
+  o.preorder = node_preorder(scene);
+  o.parent.assign(scene.nodes.size(), -1);
+  for (int n : o.preorder)
+    for (int c : scene.nodes[static_cast<std::size_t>(n)].children) o.parent[static_cast<std::size_t>(c)] = n;
+  return o;
+}
+
 void world_matrices(const Scene& scene, const Pose& pose, std::vector<glm::mat4>& world) {
+  world_matrices(scene, NodeOrder::of(scene), pose, world);
+}
+
+void world_matrices(const Scene& scene, const NodeOrder& order, const Pose& pose, std::vector<glm::mat4>& world) {
   world.assign(scene.nodes.size(), glm::mat4(1.0f));
-  // Iterative DFS from the roots: the converter guarantees a forest (no loops, one parent each).
-  std::vector<std::pair<int, glm::mat4>> stack;
-  for (int r : scene.roots) stack.emplace_back(r, glm::mat4(1.0f));
-  while (!stack.empty()) {
-    auto [n, parent] = stack.back();
-    stack.pop_back();
+  // The converter guarantees a forest (no loops, one parent each): every parent is done first.
+  for (int n : order.preorder) {
     const auto i = static_cast<std::size_t>(n);
-    world[i] = parent * local_matrix(pose.translation[i], pose.rotation[i], pose.scale[i]);
-    for (int c : scene.nodes[i].children) stack.emplace_back(c, world[i]);
+    const int p = order.parent[i];
+    const glm::mat4 local = local_matrix(pose.translation[i], pose.rotation[i], pose.scale[i]);
+    world[i] = p >= 0 ? world[static_cast<std::size_t>(p)] * local : glm::mat4(1.0f) * local;
   }
 }
 

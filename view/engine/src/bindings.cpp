@@ -15,6 +15,15 @@ std::string binding_text(const Binding& b, double value) {
   return format_number(b.format, value);
 }
 
+BindingOutputs resting_outputs(const Scene& scene) {
+  BindingOutputs o;
+  o.animation_time.assign(scene.animations.size(), scene.config.time);
+  o.node_visible.assign(scene.nodes.size(), -1);
+  o.emissive.assign(scene.materials.size(), std::nullopt);
+  o.base_color.assign(scene.materials.size(), std::nullopt);
+  return o;
+}
+
 BindingEvaluator::BindingEvaluator(const Scene& scene) : scene_(scene), bindings_(scene.config.bindings) {
   for (const auto& b : bindings_) {
     Resolved r;
@@ -34,10 +43,7 @@ BindingEvaluator::BindingEvaluator(const Scene& scene) : scene_(scene), bindings
   }
   state_.resize(bindings_.size());
   if (!scene.config.link_loss.text_node.empty()) link_loss_node_ = scene.find_node(scene.config.link_loss.text_node);
-  out_.animation_time.assign(scene.animations.size(), scene.config.time);
-  out_.node_visible.assign(scene.nodes.size(), -1);
-  out_.emissive.assign(scene.materials.size(), std::nullopt);
-  out_.base_color.assign(scene.materials.size(), std::nullopt);
+  out_ = resting_outputs(scene);
 }
 
 namespace {
@@ -51,11 +57,7 @@ double unit(double v, const std::array<double, 2>& range) {
 
 bool BindingEvaluator::update(const SignalLookup& signals, bool link_up, double dt) {
   using protocol::SignalStatus;
-  BindingOutputs next;
-  next.animation_time.assign(scene_.animations.size(), scene_.config.time);
-  next.node_visible.assign(scene_.nodes.size(), -1);
-  next.emissive.assign(scene_.materials.size(), std::nullopt);
-  next.base_color.assign(scene_.materials.size(), std::nullopt);
+  BindingOutputs next = resting_outputs(scene_);
   next.link_lost = !link_up;
   animating_ = false;
   for (std::size_t i = 0; i < bindings_.size(); ++i) {

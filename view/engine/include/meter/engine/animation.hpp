@@ -49,7 +49,17 @@ glm::mat3 normal_matrix(const glm::mat4& model);
 // non-finite uptime or an empty loop gives start. The result is in [start, end).
 double loop_time(double uptime, double start, double end);
 
-// World matrices of all nodes (parents before children via the node tree).
+// The scene's one traversal order (bridge::node_preorder) with each node's parent (-1 for a
+// root and for nodes no root reaches): parents come before their children.
+struct NodeOrder {
+  std::vector<int> preorder;
+  std::vector<int> parent;  // per node
+  static NodeOrder of(const Scene& scene);
+};
+
+// World matrices of all nodes (parents before children, in node_preorder); a node no root reaches
+// keeps the identity.
 void world_matrices(const Scene& scene, const Pose& pose, std::vector<glm::mat4>& world);
+void world_matrices(const Scene& scene, const NodeOrder& order, const Pose& pose, std::vector<glm::mat4>& world);
 
 }  // namespace meter::engine

@@ -56,6 +56,9 @@ struct BindingOutputs {
   bool operator==(const BindingOutputs&) const = default;
 };
 
+// The outputs when no binding drives anything: every animation at config.time, no overrides.
+BindingOutputs resting_outputs(const Scene& scene);
+
 // What each binding showed in the last update (for frames.csv: values as drawn).
 struct BindingState {
   double value = 0.0;        // smoothed value used for the effect

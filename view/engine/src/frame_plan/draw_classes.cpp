@@ -1,0 +1,54 @@
+#include "meter/engine/frame_plan/draw_classes.hpp"
+
+namespace meter::engine {
+
+DrawClasses classify_draws(const Scene& scene, bool merged, int camera_node) {
+  DrawClasses c;
+  c.group.assign(scene.draws.size(), -1);
+  if (merged)
+    for (std::size_t g = 0; g < scene.groups.size(); ++g)
+      for (int d : scene.groups[g].draws) c.group[static_cast<std::size_t>(d)] = static_cast<int>(g);
+  // What the scene's animations and bindings can reach. An animation nobody drives stays at
+  // config.time, but it is counted as moving anyway: this decides what may be cached, so it errs
+  // towards drawing more, never towards a stale layer (the plan also checks the layer each frame).
+  std::vector<char> node_moves(scene.nodes.size(), 0), material_changes(scene.materials.size(), 0);
+  auto mark = [](std::vector<char>& v, int i) {
+    if (i >= 0 && static_cast<std::size_t>(i) < v.size()) v[static_cast<std::size_t>(i)] = 1;
+  };
+  for (const auto& a : scene.animations)
+    for (const auto& ch : a.channels) mark(node_moves, ch.node);
+  for (const auto& b : scene.config.bindings) {
+    if (b.kind == BindingKind::Visibility || b.kind == BindingKind::Morph) mark(node_moves, scene.find_node(b.node));
+    if (b.kind == BindingKind::Emissive || b.kind == BindingKind::Color) mark(material_changes, scene.find_material(b.material));
+  }
+  // Transforms and visibility are inherited: below a moving node everything moves.
+  for (int n : node_preorder(scene))
+    if (node_moves[static_cast<std::size_t>(n)])
+      for (int ch : scene.nodes[static_cast<std::size_t>(n)].children) node_moves[static_cast<std::size_t>(ch)] = 1;
+  c.changeable.assign(scene.draws.size(), 0);
+  for (std::size_t i = 0; i < scene.draws.size(); ++i) {
+    const DrawItem& d = scene.draws[i];
+    const Primitive& prim = scene.meshes[static_cast<std::size_t>(d.mesh)].primitives[static_cast<std::size_t>(d.primitive)];
+    const auto node = static_cast<std::size_t>(d.node);
+    c.changeable[i] = node_moves[node] || material_changes[static_cast<std::size_t>(prim.material)] ||
+                      scene.nodes[node].skin >= 0 || prim.morph_targets > 0;
+  }
+  if (merged)
+    for (const auto& g : scene.groups) {
+      char& rep = c.changeable[static_cast<std::size_t>(g.draws.front())];
+      for (int m : g.draws) rep = rep || c.changeable[static_cast<std::size_t>(m)];
+    }
+  bool any_static_opaque = false;
+  for (std::size_t i = 0; i < scene.draws.size(); ++i) {
+    const bool drawn_alone_or_for_group = c.group[i] < 0 || c.representative(i, scene);
+    const bool blend = scene.programs[static_cast<std::size_t>(scene.draws[i].program)].program.blend;
+    if (drawn_alone_or_for_group && !c.changeable[i] && !blend) any_static_opaque = true;
+  }
+  bool view_fixed = camera_node >= 0 && !node_moves[static_cast<std::size_t>(camera_node)];
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    if (scene.nodes[n].light >= 0 && node_moves[n]) view_fixed = false;
+  c.layer_pays = any_static_opaque && view_fixed;
+  return c;
+}
+
+}  // namespace meter::engine

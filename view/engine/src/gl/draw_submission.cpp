@@ -1,0 +1,213 @@
+#include "gl/draw_submission.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "meter/engine/animation.hpp"
+#include "meter/engine/renderer.hpp"
+
+namespace meter::engine {
+
+using bridge::UniformSemantic;
+
+namespace {
+// Runtime switches of shadergen::generate_uber() for a draw generated with `f` (the bit layout is
+// uber.cpp's). Slot 0: vertex stage, slot 1: fragment stage.
+glm::ivec4 uber_switches(const bridge::MaterialFeatures& f, int slot) {
+  using bridge::ShadingModel;
+  int textures = 0;
+  const bool tex[5] = {f.base_color_texture, f.metallic_roughness_texture, f.normal_texture, f.emissive_texture,
+                       f.occlusion_texture};
+  for (int k = 0; k < 5; ++k) textures |= tex[k] ? 1 << k : 0;
+  if (slot == 0) return {0, 0, (f.vertex_colors ? 1 : 0) | (f.skin_joints > 0 ? 2 : 0), 0};
+  const int model = f.shading == ShadingModel::Unlit ? 0 : f.shading == ShadingModel::PbrMetallicRoughness ? 2 : 1;
+  const int bits = (f.double_sided ? 4 : 0) | (f.has_tangents ? 8 : 0) | (f.texture_transform ? 16 : 0);
+  return {model, textures, bits, static_cast<int>(f.alpha) | static_cast<int>(f.texcoord1_slots << 4)};
+}
+}  // namespace
+
+DrawSubmission::DrawSubmission(const platform::Gl& gl, const Scene& scene, const GpuScene& gpu,
+                               const std::vector<int>& light_nodes)
+    : gl_(gl), scene_(scene), gpu_(gpu) {
+  auto type = [&](int node) {
+    return static_cast<int>(scene.lights[static_cast<std::size_t>(scene.nodes[static_cast<std::size_t>(node)].light)].type);
+  };
+  for (std::size_t k = 0; k < light_nodes.size(); ++k)
+    if (light_count_[type(light_nodes[k])]++ == 0) light_first_[type(light_nodes[k])] = static_cast<int>(k);
+}
+
+void DrawSubmission::submit(platform::RenderTarget& target, const Pass& pass, const FrameState& frame,
+                            RendererStats& stats) const {
+  const auto& gl = gl_;
+  target.bind();
+  // The scissor clips the clear and every draw below (and the text after it) to the region.
+  if (pass.scissor) {
+    gl.Enable(GL_SCISSOR_TEST);
+    gl.Scissor(pass.scissor->x, pass.scissor->y, pass.scissor->width, pass.scissor->height);
+  } else {
+    gl.Disable(GL_SCISSOR_TEST);
+  }
+  const auto& cc = scene_.config.clear_color;
+  gl.ClearColor(float(cc[0]), float(cc[1]), float(cc[2]), float(cc[3]));
+  gl.ClearDepthf(1.0f);
+  gl.DepthMask(GL_TRUE);
+  // Over the static layer the region already holds its copy (colour and depth).
+  if (pass.set != DrawSet::OverStatic) gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LEQUAL);
+  std::vector<float> scratch;
+  const GpuProgram* current = nullptr;
+  for (int i : pass.draws) {
+    draw_one(static_cast<std::size_t>(i), frame, current, scratch);
+    ++stats.draw_calls;
+  }
+  gl.BindVertexArray(0);
+  gl.DepthMask(GL_TRUE);
+  gl.Disable(GL_BLEND);
+  gl.UseProgram(0);
+}
+
+void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current,
+                              std::vector<float>& scratch) const {
+  const auto& gl = gl_;
+  const GpuDraw* d = gpu_.draws()[index].get();
+  const GpuProgram* gp = d->program;
+  const glm::mat4& vp = frame.view_projection;
+  const glm::vec3& eye = frame.eye;
+  const DrawState& state = frame.draws[index];
+  const auto node_index = static_cast<std::size_t>(d->item->node);
+  const Node& node = scene_.nodes[node_index];
+  const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
+  static const glm::mat4 kIdentity(1.0f);
+  // Merged vertices are already in world space.
+  const glm::mat4& model = d->group ? kIdentity : frame.world[node_index];
+  if (gp != current) {
+    gl.UseProgram(gp->program);
+    current = gp;
+  }
+  const bridge::Program& shape = *d->shape;
+  if (shape.blend) {
+    gl.Enable(GL_BLEND);
+    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    gl.DepthMask(GL_FALSE);
+  } else {
+    gl.Disable(GL_BLEND);
+    gl.DepthMask(GL_TRUE);
+  }
+  if (shape.cull_back_faces) {
+    gl.Enable(GL_CULL_FACE);
+    gl.CullFace(GL_BACK);
+  } else {
+    gl.Disable(GL_CULL_FACE);
+  }
+  // A mirroring transform flips the winding.
+  gl.FrontFace(glm::determinant(glm::mat3(model)) < 0 ? GL_CW : GL_CCW);
+  const glm::vec4& base = state.base;
+  const glm::vec3& emissive = state.emissive;
+  for (const auto& u : gp->uniforms) {
+    const GLint l = u.location;
+    switch (u.semantic) {
+      case UniformSemantic::ModelMatrix: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(model)); break;
+      case UniformSemantic::ViewProjection: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(vp)); break;
+      case UniformSemantic::NormalMatrix: {
+        const glm::mat3 n = normal_matrix(model);  // finite even for a zero scale
+        gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(n));
+        break;
+      }
+      case UniformSemantic::CameraPosition: gl.Uniform3f(l, eye.x, eye.y, eye.z); break;
+      case UniformSemantic::BaseColorFactor: gl.Uniform4f(l, base.r, base.g, base.b, base.a); break;
+      case UniformSemantic::EmissiveFactor: gl.Uniform3f(l, emissive.r, emissive.g, emissive.b); break;
+      case UniformSemantic::MetallicFactor: gl.Uniform1f(l, mat.metallic); break;
+      case UniformSemantic::RoughnessFactor: gl.Uniform1f(l, mat.roughness); break;
+      case UniformSemantic::NormalScale: gl.Uniform1f(l, mat.normal_scale); break;
+      case UniformSemantic::OcclusionStrength: gl.Uniform1f(l, mat.occlusion_strength); break;
+      case UniformSemantic::AlphaCutoff: gl.Uniform1f(l, mat.alpha_cutoff); break;
+      case UniformSemantic::SpecularColor: gl.Uniform3f(l, mat.specular_color.r, mat.specular_color.g, mat.specular_color.b); break;
+      case UniformSemantic::Shininess: gl.Uniform1f(l, mat.shininess); break;
+      case UniformSemantic::AmbientLight: gl.Uniform3f(l, scene_.ambient.r, scene_.ambient.g, scene_.ambient.b); break;
+      case UniformSemantic::Exposure: gl.Uniform1f(l, static_cast<float>(std::exp2(scene_.config.exposure))); break;
+      case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, scene_.environment.strength); break;
+      case UniformSemantic::EnvironmentIrradiance:
+        if (u.index >= 0 && u.index < 6) {
+          const glm::vec3& e = scene_.environment.irradiance[static_cast<std::size_t>(u.index)];
+          gl.Uniform3f(l, e.r, e.g, e.b);
+        }
+        break;
+      case UniformSemantic::LightColor:
+      case UniformSemantic::LightIntensity:
+      case UniformSemantic::LightPosition:
+      case UniformSemantic::LightDirection:
+      case UniformSemantic::LightRange:
+      case UniformSemantic::LightInnerConeCos:
+      case UniformSemantic::LightOuterConeCos: {
+        int index = u.index;
+        if (gp->info->uber) {
+          // Uber arrays: index = 2 * type + k (k-th light of that type); generated programs
+          // index the type-sorted list directly.
+          const int type = index / 2, k = index % 2;
+          index = k < light_count_[type] ? light_first_[type] + k : -1;
+        }
+        if (index < 0 || static_cast<std::size_t>(index) >= frame.lights.size()) break;
+        const auto& [ln, lw] = frame.lights[static_cast<std::size_t>(index)];
+        const Light& li = scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(ln)].light)];
+        if (u.semantic == UniformSemantic::LightColor) gl.Uniform3f(l, li.color.r, li.color.g, li.color.b);
+        if (u.semantic == UniformSemantic::LightIntensity) gl.Uniform1f(l, li.intensity);
+        if (u.semantic == UniformSemantic::LightRange) gl.Uniform1f(l, li.range);
+        if (u.semantic == UniformSemantic::LightInnerConeCos) gl.Uniform1f(l, std::cos(li.inner_cone));
+        if (u.semantic == UniformSemantic::LightOuterConeCos) gl.Uniform1f(l, std::cos(li.outer_cone));
+        if (u.semantic == UniformSemantic::LightPosition) gl.Uniform3f(l, lw[3].x, lw[3].y, lw[3].z);
+        if (u.semantic == UniformSemantic::LightDirection) {
+          glm::vec3 dir = glm::normalize(glm::vec3(lw * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+          gl.Uniform3f(l, dir.x, dir.y, dir.z);
+        }
+        break;
+      }
+      case UniformSemantic::JointMatrices: {
+        if (node.skin < 0) break;
+        const Skin& skin = scene_.skins[static_cast<std::size_t>(node.skin)];
+        const glm::mat4 inv_model = glm::inverse(model);
+        scratch.assign(static_cast<std::size_t>(u.array_size) * 16, 0.0f);
+        for (std::size_t j = 0; j < skin.joints.size() && j < static_cast<std::size_t>(u.array_size); ++j) {
+          glm::mat4 jm = inv_model * frame.world[static_cast<std::size_t>(skin.joints[j])] * skin.inverse_bind[j];
+          std::copy(glm::value_ptr(jm), glm::value_ptr(jm) + 16, scratch.begin() + static_cast<std::ptrdiff_t>(j * 16));
+        }
+        gl.UniformMatrix4fv(l, u.array_size, GL_FALSE, scratch.data());
+        break;
+      }
+      case UniformSemantic::MorphWeights: {
+        scratch.assign(static_cast<std::size_t>(u.array_size), 0.0f);
+        const auto& w = state.morph_weights;
+        for (std::size_t k = 0; k < w.size() && k < scratch.size(); ++k) scratch[k] = w[k];
+        gl.Uniform1fv(l, u.array_size, scratch.data());
+        break;
+      }
+      case UniformSemantic::TextureTransform:
+        if (u.index >= 0 && u.index < 6) gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(mat.uv_transform[static_cast<std::size_t>(u.index)]));
+        break;
+      case UniformSemantic::UberSwitches: {  // uber baseline only; never in a package
+        const glm::ivec4 sw = uber_switches(shape.features, u.index);
+        gl.Uniform4i(l, sw.x, sw.y, sw.z, sw.w);
+        break;
+      }
+      case UniformSemantic::UberLightCounts: {
+        const auto& c = shape.features.lights;
+        gl.Uniform3i(l, std::min(c.directional, 2), std::min(c.point, 2), std::min(c.spot, 2));
+        break;
+      }
+    }
+  }
+  for (const auto& s : gp->samplers) {
+    const int tex = s.slot == bridge::TextureSlot::Environment ? scene_.environment.texture
+                                                                   : mat.texture[static_cast<std::size_t>(s.slot)];
+    gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + s.unit));
+    gl.BindTexture(GL_TEXTURE_2D, gpu_.texture(tex));
+    gl.Uniform1i(s.location, s.unit);
+  }
+  gl.BindVertexArray(d->group ? d->group->vao : d->vao);
+  for (const auto& [loc, v] : d->group ? d->group->constant_attributes : d->constant_attributes) gl.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
+  gl.DrawElements(GL_TRIANGLES, d->group ? d->group->index_count : d->index_count, GL_UNSIGNED_INT, nullptr);
+}
+
+}  // namespace meter::engine

@@ -1,0 +1,34 @@
+// Submits one pass of the frame plan: binds the target, sets the scissor, clears (unless the pass
+// draws over a copy of the static layer) and issues the pass's draws with their uniforms (matrices,
+// material parameters, lights, joints, morph weights) from the evaluated frame.
+#pragma once
+
+#include <vector>
+
+#include "gl/gpu_scene.hpp"
+#include "meter/engine/evaluation/frame_state.hpp"
+#include "meter/engine/frame_plan/frame_plan.hpp"
+#include "meter/platform/render_target.hpp"
+
+namespace meter::engine {
+
+struct RendererStats;
+
+class DrawSubmission {
+ public:
+  // `light_nodes`: the scene's light_order (the index light uniforms use).
+  DrawSubmission(const platform::Gl& gl, const Scene& scene, const GpuScene& gpu, const std::vector<int>& light_nodes);
+
+  void submit(platform::RenderTarget& target, const Pass& pass, const FrameState& frame, RendererStats& stats) const;
+
+ private:
+  void draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current, std::vector<float>& scratch) const;
+
+  const platform::Gl& gl_;
+  const Scene& scene_;
+  const GpuScene& gpu_;
+  // First index and count of each light type (directional, point, spot) in light_order.
+  int light_first_[3] = {0, 0, 0}, light_count_[3] = {0, 0, 0};
+};
+
+}  // namespace meter::engine

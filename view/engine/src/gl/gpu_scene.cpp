@@ -1,0 +1,266 @@
+#include "gl/gpu_scene.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "meter/engine/merged_draws.hpp"
+#include "meter/engine/renderer.hpp"
+
+namespace meter::engine {
+
+using bridge::AttributeSemantic;
+using bridge::UniformSemantic;
+
+namespace {
+bool is_light_semantic(UniformSemantic s) {
+  return s == UniformSemantic::LightColor || s == UniformSemantic::LightIntensity || s == UniformSemantic::LightPosition ||
+         s == UniformSemantic::LightDirection || s == UniformSemantic::LightRange ||
+         s == UniformSemantic::LightInnerConeCos || s == UniformSemantic::LightOuterConeCos;
+}
+}  // namespace
+
+GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged)
+    : gl_(gl), scene_(scene) {
+  // Programs: the package's generated ones, or (benchmark baseline) the uber-shader alone.
+  if (uber_shader) {
+    if (!uber_shader->uber) throw SceneError("RendererOptions::uber_shader is not an uber-shader program");
+    add_program(*uber_shader, scene_.source_name + " uber-shader");
+  } else {
+    for (std::size_t i = 0; i < scene_.programs.size(); ++i)
+      add_program(scene_.programs[i].program, scene_.source_name + " program " + std::to_string(i));
+  }
+  upload_textures();
+  build_draws(uber_shader != nullptr);
+  if (merged) build_groups();
+  platform::check_gl(gl_, scene_.source_name + ": uploading the scene");
+}
+
+GpuScene::~GpuScene() {
+  for (auto& d : draws_) gl_.DeleteVertexArrays(1, &d->vao);
+  for (auto& g : groups_) {
+    gl_.DeleteVertexArrays(1, &g->vao);
+    gl_.DeleteBuffers(1, &g->vbo);
+    gl_.DeleteBuffers(1, &g->ebo);
+  }
+  if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
+  if (!textures_.empty()) gl_.DeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+  if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
+  for (auto& p : programs_) gl_.DeleteProgram(p->program);
+}
+
+void GpuScene::add_program(const bridge::Program& p, const std::string& label) {
+  auto gp = std::make_unique<GpuProgram>();
+  gp->info = &p;
+  gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source, label);
+  for (const auto& u : p.uniforms) {
+    GpuProgram::Uniform gu;
+    gu.semantic = u.semantic;
+    if (is_light_semantic(u.semantic) && u.array_size > 1) {
+      // The uber-shader's light arrays: one location per element, each set like a single light.
+      for (int k = 0; k < u.array_size; ++k) {
+        gu.location = gl_.GetUniformLocation(gp->program, (u.name + "[" + std::to_string(k) + "]").c_str());
+        gu.index = u.index + k;
+        if (gu.location >= 0) gp->uniforms.push_back(gu);
+      }
+      continue;
+    }
+    gu.location = gl_.GetUniformLocation(gp->program, u.name.c_str());
+    gu.index = u.index;
+    gu.array_size = u.array_size;
+    if (gu.location >= 0) gp->uniforms.push_back(gu);  // the driver may drop unused uniforms
+  }
+  for (const auto& s : p.samplers) {
+    GpuProgram::Sampler gs{gl_.GetUniformLocation(gp->program, s.name.c_str()), s.slot, s.unit};
+    if (gs.location >= 0) gp->samplers.push_back(gs);
+  }
+  programs_.push_back(std::move(gp));
+}
+
+void GpuScene::upload_textures() {
+  for (const auto& t : scene_.textures) {
+    GLuint tex = 0;
+    gl_.GenTextures(1, &tex);
+    gl_.BindTexture(GL_TEXTURE_2D, tex);
+    gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl_.TexImage2D(GL_TEXTURE_2D, 0, t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
+    const bool mip = t.min_filter == GL_NEAREST_MIPMAP_NEAREST || t.min_filter == GL_LINEAR_MIPMAP_NEAREST ||
+                     t.min_filter == GL_NEAREST_MIPMAP_LINEAR || t.min_filter == GL_LINEAR_MIPMAP_LINEAR;
+    if (mip) gl_.GenerateMipmap(GL_TEXTURE_2D);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, t.min_filter);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, t.wrap_s);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, t.wrap_t);
+    if (t.max_anisotropy > 1.0f) {
+      // EXT_texture_filter_anisotropic (llvmpipe has it on both backends); without it the query
+      // fails and the texture stays trilinear.
+      constexpr GLenum kMaxAnisotropy = 0x84FE, kMaxSupported = 0x84FF;
+      GLfloat supported = 1.0f;
+      gl_.GetFloatv(kMaxSupported, &supported);
+      if (gl_.GetError() == GL_NO_ERROR && supported > 1.0f)
+        gl_.TexParameterf(GL_TEXTURE_2D, kMaxAnisotropy, std::min(t.max_anisotropy, supported));
+    }
+    textures_.push_back(tex);
+  }
+  {
+    const std::uint8_t white[4] = {255, 255, 255, 255};
+    gl_.GenTextures(1, &white_texture_);
+    gl_.BindTexture(GL_TEXTURE_2D, white_texture_);
+    gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, white);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+}
+
+void GpuScene::build_draws(bool uber) {
+  // Vertex/index buffers, one pair per primitive, shared by every draw of it.
+  std::map<std::pair<int, int>, std::pair<GLuint, GLuint>> vbos;
+  for (const auto& d : scene_.draws) {
+    const Primitive& prim = scene_.meshes[static_cast<std::size_t>(d.mesh)].primitives[static_cast<std::size_t>(d.primitive)];
+    auto key = std::make_pair(d.mesh, d.primitive);
+    if (!vbos.count(key)) {
+      GLuint b[2];
+      gl_.GenBuffers(2, b);
+      gl_.BindBuffer(GL_ARRAY_BUFFER, b[0]);
+      gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.vertices.size() * sizeof(float)), prim.vertices.data(), GL_STATIC_DRAW);
+      gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b[1]);
+      gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.indices.size() * sizeof(std::uint32_t)), prim.indices.data(), GL_STATIC_DRAW);
+      buffers_.insert(buffers_.end(), {b[0], b[1]});
+      vbos[key] = {b[0], b[1]};
+    }
+    auto gd = std::make_unique<GpuDraw>();
+    gd->item = &d;
+    gd->prim = &prim;
+    gd->shape = &scene_.programs[static_cast<std::size_t>(d.program)].program;
+    gd->program = programs_[uber ? 0 : static_cast<std::size_t>(d.program)].get();
+    gd->index_count = static_cast<GLsizei>(prim.indices.size());
+    gl_.GenVertexArrays(1, &gd->vao);
+    gl_.BindVertexArray(gd->vao);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, vbos[key].first);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, vbos[key].second);
+    for (const auto& a : gd->program->info->attributes) {
+      auto it = std::find_if(prim.layout.begin(), prim.layout.end(), [&](const VertexAttribute& v) {
+        return v.semantic == a.semantic && (v.index == a.index || (v.index < 0 && a.index < 0));
+      });
+      const auto loc = static_cast<GLuint>(a.location);
+      if (it == prim.layout.end()) {
+        // Missing data gets the neutral value: white vertex colour, full vertex alpha, zero otherwise.
+        glm::vec4 c(0.0f, 0.0f, 0.0f, 1.0f);
+        if (a.semantic == AttributeSemantic::Color0 || a.semantic == AttributeSemantic::VertexAlpha) c = glm::vec4(1.0f);
+        if (a.semantic == AttributeSemantic::Weights0) c = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+        gd->constant_attributes.emplace_back(loc, c);
+        continue;
+      }
+      gl_.EnableVertexAttribArray(loc);
+      gl_.VertexAttribPointer(loc, it->components, GL_FLOAT, GL_FALSE, prim.stride * static_cast<GLsizei>(sizeof(float)),
+                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(it->offset) * sizeof(float)));
+    }
+    gl_.BindVertexArray(0);
+    draws_.push_back(std::move(gd));
+  }
+}
+
+void GpuScene::build_groups() {
+  for (const auto& mg : scene_.groups) {
+    auto g = std::make_unique<GpuGroup>();
+    g->info = &mg;
+    std::uint32_t vertices = 0;
+    for (int d : mg.draws) {
+      GpuGroup::Member m;
+      m.draw = draws_[static_cast<std::size_t>(d)].get();
+      m.first_vertex = vertices;
+      vertices += m.draw->prim->vertex_count;
+      g->members.push_back(m);
+    }
+    GpuDraw* rep = draws_[static_cast<std::size_t>(mg.draws.front())].get();
+    rep->group = g.get();
+    const Primitive& layout = *rep->prim;
+    const int stride = merged_stride(layout);
+    g->vertices.assign(std::size_t(vertices) * std::size_t(stride), 0.0f);
+    GLuint b[2];
+    gl_.GenBuffers(2, b);
+    g->vbo = b[0], g->ebo = b[1];
+    gl_.GenVertexArrays(1, &g->vao);
+    gl_.BindVertexArray(g->vao);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, g->vbo);
+    // DYNAMIC: rewritten (in member ranges) whenever a member moves.
+    gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(g->vertices.size() * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
+    for (const auto& a : rep->program->info->attributes) {
+      const auto loc = static_cast<GLuint>(a.location);
+      int components = 0, offset = 0;
+      if (a.semantic == AttributeSemantic::VertexAlpha) {
+        components = 1, offset = layout.stride;
+      } else {
+        auto it = std::find_if(layout.layout.begin(), layout.layout.end(), [&](const VertexAttribute& v) {
+          return v.semantic == a.semantic && (v.index == a.index || (v.index < 0 && a.index < 0));
+        });
+        if (it == layout.layout.end()) {
+          glm::vec4 c(0.0f, 0.0f, 0.0f, 1.0f);
+          if (a.semantic == AttributeSemantic::Color0) c = glm::vec4(1.0f);
+          g->constant_attributes.emplace_back(loc, c);
+          continue;
+        }
+        components = it->components, offset = it->offset;
+      }
+      gl_.EnableVertexAttribArray(loc);
+      gl_.VertexAttribPointer(loc, components, GL_FLOAT, GL_FALSE, stride * static_cast<GLsizei>(sizeof(float)),
+                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset) * sizeof(float)));
+    }
+    gl_.BindVertexArray(0);
+    groups_.push_back(std::move(g));
+  }
+}
+
+void GpuScene::update_groups(const FrameState& frame, RendererStats& stats) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (auto& g : groups_) {
+    std::size_t lo = g->vertices.size(), hi = 0;
+    bool rebuild = false;
+    for (auto& m : g->members) {
+      const auto node = static_cast<std::size_t>(m.draw->item->node);
+      const glm::mat4& w = frame.world[node];
+      const char vis = frame.visible[node] ? 1 : 0;
+      const Primitive& p = *m.draw->prim;
+      const std::size_t stride = static_cast<std::size_t>(merged_stride(p));
+      std::span<float> dst(g->vertices.data() + std::size_t(m.first_vertex) * stride, std::size_t(p.vertex_count) * stride);
+      if (!m.uploaded || w != m.world) {
+        transform_member(p, w, float(vis), dst);
+        m.world = w;
+        m.uploaded = true;
+        ++stats.member_transforms;
+        stats.vertices_transformed += p.vertex_count;
+        const bool mir = glm::determinant(glm::mat3(w)) < 0.0f;
+        if (mir != m.mirrored) m.mirrored = mir, rebuild = true;
+      } else if (vis == m.visible) {
+        continue;
+      } else {
+        set_member_alpha(p, float(vis), dst);
+      }
+      if (vis != m.visible) m.visible = vis, rebuild = true;
+      lo = std::min(lo, std::size_t(m.first_vertex) * stride);
+      hi = std::max(hi, std::size_t(m.first_vertex) * stride + dst.size());
+    }
+    if (lo < hi) {
+      gl_.BindBuffer(GL_ARRAY_BUFFER, g->vbo);
+      gl_.BufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(lo * sizeof(float)), static_cast<GLsizeiptr>((hi - lo) * sizeof(float)),
+                        g->vertices.data() + lo);
+    }
+    if (rebuild) {
+      // Index compaction: hidden members are left out, so they cost no vertex or pixel work.
+      g->indices.clear();
+      for (const auto& m : g->members) {
+        if (m.visible) append_member_indices(*m.draw->prim, m.first_vertex, m.mirrored, g->indices);
+      }
+      g->index_count = static_cast<GLsizei>(g->indices.size());
+      gl_.BindVertexArray(0);
+      gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
+      gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, g->indices.size()) * sizeof(std::uint32_t)),
+                     g->indices.empty() ? nullptr : g->indices.data(), GL_DYNAMIC_DRAW);
+      ++stats.index_rebuilds;
+    }
+  }
+  stats.concat_cpu_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace meter::engine

@@ -1,0 +1,104 @@
+// GPU resources of a scene: programs with their uniform and sampler locations, textures, one
+// vertex/index buffer pair per primitive and a VAO per draw, and the merged groups' dynamic
+// buffers (world-space vertices of every member, indices of the visible ones).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meter/engine/evaluation/frame_state.hpp"
+#include "meter/engine/scene.hpp"
+#include "meter/platform/gl_api.hpp"
+
+namespace meter::engine {
+
+struct RendererStats;
+
+struct GpuProgram {
+  GLuint program = 0;
+  const bridge::Program* info = nullptr;
+  struct Uniform {
+    GLint location = -1;
+    bridge::UniformSemantic semantic{};
+    int index = -1, array_size = 1;
+  };
+  std::vector<Uniform> uniforms;
+  struct Sampler {
+    GLint location = -1;
+    bridge::TextureSlot slot{};
+    int unit = 0;
+  };
+  std::vector<Sampler> samplers;
+};
+
+struct GpuGroup;
+
+struct GpuDraw {
+  const DrawItem* item = nullptr;
+  const Primitive* prim = nullptr;
+  GpuProgram* program = nullptr;
+  GLuint vao = 0;
+  GLsizei index_count = 0;
+  // Program attributes the primitive lacks: constant values set before the draw.
+  std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
+  GpuGroup* group = nullptr;  // set on a merged group's representative only
+  // The program generated for this draw: blend and cull state, and (uber mode) the switches.
+  const bridge::Program* shape = nullptr;
+};
+
+// One merged group: world-space vertices of every member in one dynamic buffer, indices of the
+// visible members only. Member ranges are rewritten only when that member's world matrix or
+// visibility changed, so a static scene costs nothing per frame.
+struct GpuGroup {
+  const MergedGroup* info = nullptr;
+  GLuint vao = 0, vbo = 0, ebo = 0;
+  std::vector<float> vertices;
+  std::vector<std::uint32_t> indices;
+  GLsizei index_count = 0;
+  std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
+  struct Member {
+    const GpuDraw* draw = nullptr;
+    std::uint32_t first_vertex = 0;
+    glm::mat4 world{0.0f};
+    bool uploaded = false, mirrored = false;
+    char visible = -1;
+  };
+  std::vector<Member> members;
+};
+
+class GpuScene {
+ public:
+  // `uber_shader`: every draw goes through this one program (benchmark baseline), else the
+  // package's generated programs. `merged`: the merged groups get their buffers.
+  GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged);
+  ~GpuScene();
+  GpuScene(const GpuScene&) = delete;
+  GpuScene& operator=(const GpuScene&) = delete;
+
+  // Brings the merged groups' buffers to the frame's world matrices and visibility.
+  void update_groups(const FrameState& frame, RendererStats& stats);
+
+  const std::vector<std::unique_ptr<GpuDraw>>& draws() const { return draws_; }
+  GLuint texture(int index) const { return index >= 0 ? textures_[static_cast<std::size_t>(index)] : white_texture_; }
+
+ private:
+  void add_program(const bridge::Program& p, const std::string& label);
+  void upload_textures();
+  void build_draws(bool uber);
+  void build_groups();
+
+  const platform::Gl& gl_;
+  const Scene& scene_;
+  std::vector<std::unique_ptr<GpuProgram>> programs_;
+  std::vector<std::unique_ptr<GpuDraw>> draws_;
+  std::vector<std::unique_ptr<GpuGroup>> groups_;
+  std::vector<GLuint> textures_;
+  GLuint white_texture_ = 0;
+  std::vector<GLuint> buffers_;
+};
+
+}  // namespace meter::engine
