@@ -29,7 +29,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"

@@ -23,7 +23,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/quality.hpp"
 #include "meter/engine/renderer.hpp"

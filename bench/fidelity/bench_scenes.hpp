@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/platform/backend.hpp"

@@ -18,7 +18,7 @@
 
 #include <gtest/gtest.h>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/convert/quality.hpp"

@@ -9,7 +9,7 @@
 #include <numbers>
 #include <random>
 
-#include "meter/engine/animation.hpp"
+#include "meter/engine/evaluation/animation.hpp"
 #include "anim_sampling.hpp"
 
 using namespace meter::engine;

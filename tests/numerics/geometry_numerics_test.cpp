@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "gltf_builder.hpp"
-#include "meter/engine/animation.hpp"
+#include "meter/engine/evaluation/animation.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 

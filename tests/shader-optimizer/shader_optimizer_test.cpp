@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/engine/renderer.hpp"

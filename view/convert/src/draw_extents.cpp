@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "meter/convert/concat_plan.hpp"
-#include "meter/engine/animation.hpp"
+#include "meter/engine/evaluation/animation.hpp"
 
 namespace meter::convert {
 

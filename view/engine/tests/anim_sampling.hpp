@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "meter/engine/animation.hpp"
+#include "meter/engine/evaluation/animation.hpp"
 
 namespace meter::engine::testing {
 

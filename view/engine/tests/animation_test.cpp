@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "meter/engine/animation.hpp"
+#include "meter/engine/evaluation/animation.hpp"
 #include "anim_sampling.hpp"
 
 using namespace meter::engine;

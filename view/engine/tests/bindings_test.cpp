@@ -2,7 +2,7 @@
 
 #include <map>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "test_scenes.hpp"

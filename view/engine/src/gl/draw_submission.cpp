@@ -5,7 +5,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "meter/engine/animation.hpp"
+#include "meter/engine/evaluation/animation.hpp"
 #include "meter/engine/renderer.hpp"
 
 namespace meter::engine {

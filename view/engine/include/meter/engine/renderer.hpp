@@ -23,7 +23,7 @@
 
 #include <glm/glm.hpp>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/scene_evaluator.hpp"
 #include "meter/engine/frame_plan/frame_plan.hpp"
 #include "meter/engine/scene.hpp"

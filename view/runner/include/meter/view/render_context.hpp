@@ -7,7 +7,7 @@
 #include <memory>
 #include <ostream>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"

@@ -4,7 +4,7 @@
 
 #include <map>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 
 namespace meter::view {
 

@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/platform/render_target.hpp"
 
 namespace meter::engine {

@@ -14,8 +14,8 @@
 
 #include <glm/glm.hpp>
 
-#include "meter/engine/animation.hpp"
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/animation.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/frame_state.hpp"
 #include "meter/engine/scene.hpp"
 

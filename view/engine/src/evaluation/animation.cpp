@@ -1,4 +1,4 @@
-#include "meter/engine/animation.hpp"
+#include "meter/engine/evaluation/animation.hpp"
 
 #include <algorithm>
 #include <cmath>

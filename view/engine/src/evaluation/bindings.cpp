@@ -1,4 +1,4 @@
-#include "meter/engine/bindings.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
 
 #include <algorithm>
 #include <cmath>
