@@ -25,7 +25,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/convert/quality.hpp"
+#include "meter/convert/quality_ladder.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
@@ -39,7 +39,7 @@ namespace meter::bench {
 
 struct Ladder {
   std::string name, spec;
-  int scale = 1;  // 2: drawn at twice the size and box-filtered down (supersampling; not a quality.hpp setting)
+  int scale = 1;  // 2: drawn at twice the size and box-filtered down (supersampling; not a quality-ladder setting)
 };
 
 std::vector<Ladder> ladder() {
@@ -144,7 +144,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
     platform::Image ref, ss;
     engine::BindingOutputs state;
     try {
-      // optimize = false: regenerated ladder programs are not constant-folded (quality.hpp), so the
+      // optimize = false: regenerated ladder programs are not constant-folded (quality_ladder.hpp), so the
       // base is unfolded too and only the ladder setting differs between rows.
       base = convert(s, false);
       state = reference_state(base, s.name == "cluster");

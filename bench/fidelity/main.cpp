@@ -8,7 +8,7 @@
 //     and docs/fidelity.md (the paper's Table 1 beside ours).
 //
 //   meter-bench accuracy [--backend egl|osmesa] [--out DIR] [--doc FILE] [--rounds N] [--frames N]
-//     For each scene x quality-ladder point (quality.hpp): median and p99 frame time, measured
+//     For each scene x quality-ladder point (quality_ladder.hpp): median and p99 frame time, measured
 //     interleaved (round r draws K frames of every ladder point in turn, R rounds), and PSNR
 //     against (a) the engine's maximum quality supersampled (2x size, MSAA 4, box-filtered down in
 //     linear light) and (b) the Blender reference. Then fits the Keio cost model

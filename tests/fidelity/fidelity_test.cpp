@@ -21,7 +21,7 @@
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
-#include "meter/convert/quality.hpp"
+#include "meter/convert/quality_ladder.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
@@ -213,7 +213,7 @@ TEST(Fidelity, FiftyDbDetectsAnEdgeOnlyChange) {
   EXPECT_LT(platform::psnr(r4.last_image(), r1.last_image()), kPreviewEqualsTargetDb);
 }
 
-// Quality ladder (engine/quality.hpp): settings really change what is drawn, and bad input is named.
+// Quality ladder (meter/convert/quality_ladder.hpp): settings really change what is drawn, and bad input is named.
 TEST(QualityLadder, EachStepChangesTheSceneAndBadInputIsNamed) {
   const SceneFiles s = all_scenes()[2];
   const engine::Scene base = convert(s);

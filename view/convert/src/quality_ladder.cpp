@@ -1,5 +1,5 @@
-// The quality ladder: see quality.hpp.
-#include "meter/convert/quality.hpp"
+// The quality ladder: see quality_ladder.hpp.
+#include "meter/convert/quality_ladder.hpp"
 
 #include <algorithm>
 #include <cmath>
