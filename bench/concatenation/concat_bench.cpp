@@ -316,8 +316,8 @@ int main(int argc, char** argv) {
   t3 << "backend,mode,cpu_ms,gpu_ms,frame_ms,draw_calls_per_frame,member_transforms_per_frame\n";
   std::printf("\ncluster frame time, 1280x480 MSAA 4, needles sweeping every frame, median of %d frames (Table 3)\n", frames);
   std::printf("%-7s %-8s %9s %9s %9s %7s %10s\n", "backend", "mode", "cpu_ms", "gpu_ms", "frame_ms", "draws", "transforms");
-  const int speed = static_cast<int>(protocol::find_signal("Vehicle.Speed")->id);
-  const int rpm = static_cast<int>(protocol::find_signal("Vehicle.Powertrain.CombustionEngine.Speed")->id);
+  const protocol::SignalId speed = protocol::find_signal("Vehicle.Speed")->id;
+  const protocol::SignalId rpm = protocol::find_signal("Vehicle.Powertrain.CombustionEngine.Speed")->id;
   for (auto kind : {platform::BackendKind::Egl, platform::BackendKind::OSMesa}) {
     auto backend = platform::create_backend(kind);
     // Unmerged and merged take turns frame by frame (same load for both).
@@ -332,13 +332,11 @@ int main(int argc, char** argv) {
       ev[k] = std::make_unique<BindingEvaluator>(cluster);
     }
     for (int f = 0; f < frames + 5; ++f) {
-      std::map<int, SignalValue> v{{speed, {double(f % 200), protocol::SignalStatus::Valid, ""}},
-                                   {rpm, {double((f * 37) % 7000), protocol::SignalStatus::Valid, ""}}};
+      protocol::SignalTable v;
+      v.set(speed, {double(f % 200), protocol::SignalStatus::Valid, ""});
+      v.set(rpm, {double((f * 37) % 7000), protocol::SignalStatus::Valid, ""});
       for (std::size_t k = 0; k < 2; ++k) {
-        ev[k]->update([&](int id) -> const SignalValue* {
-          auto it = v.find(id);
-          return it == v.end() ? nullptr : &it->second;
-        }, true, -1.0);
+        ev[k]->update(v, true, -1.0);
         r[k]->apply(ev[k]->outputs());
         const auto t = r[k]->render(true, false);
         if (f == 4) first[k] = r[k]->stats();

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
-#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -54,25 +53,19 @@ platform::Image read_reference(const std::string& file, const fs::path& tmp_dir)
 // Cluster: Blender's preview is frame 100 (speed needle at 100 km/h, every needle at its frame-100
 // key or its end key), every telltale lit, no text (text is the engine's).
 engine::BindingOutputs reference_state(const engine::Scene& scene, bool cluster) {
-  std::map<int, engine::SignalValue> values;
+  protocol::SignalTable values;
   if (cluster) {
     for (const auto& b : scene.config.bindings) {
       const auto* info = protocol::find_signal(b.signal);
       if (!info || info->kind == protocol::SignalKind::Text) continue;
-      engine::SignalValue v;
-      v.status = protocol::SignalStatus::Valid;
-      if (b.kind == engine::BindingKind::Visibility || b.kind == engine::BindingKind::Emissive || b.kind == engine::BindingKind::Color)
-        v.value = b.has_input ? (b.invert ? b.input[0] : b.input[1]) : (b.invert ? b.threshold - 1.0 : b.threshold + 1.0);
-      else
-        v.value = b.input[0];
-      values[info->id] = v;
+      const bool lamp = b.kind == engine::BindingKind::Visibility || b.kind == engine::BindingKind::Emissive ||
+                        b.kind == engine::BindingKind::Color;
+      const double lit = b.has_input ? (b.invert ? b.input[0] : b.input[1]) : (b.invert ? b.threshold - 1.0 : b.threshold + 1.0);
+      values.set(info->id, {lamp ? lit : b.input[0], protocol::SignalStatus::Valid, ""});
     }
   }
   engine::BindingEvaluator ev(scene);
-  ev.update([&](int id) -> const engine::SignalValue* {
-    auto it = values.find(id);
-    return it == values.end() ? nullptr : &it->second;
-  }, true, -1.0);
+  ev.update(values, true, -1.0);
   engine::BindingOutputs out = ev.outputs();
   if (cluster) {
     out.animation_time.assign(scene.animations.size(), 100.0 / 24.0);

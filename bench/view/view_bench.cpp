@@ -91,16 +91,13 @@ double median_compile_ms(const platform::Gl& gl, const shadergen::Program& p) {
   return percentile(v, 0.5);
 }
 
-std::map<int, engine::SignalValue> mid_state(const engine::SceneConfig& c) {
-  std::map<int, engine::SignalValue> values;
+protocol::SignalTable mid_state(const engine::SceneConfig& c) {
+  protocol::SignalTable values;
   for (const auto& b : c.bindings) {
     const auto* info = protocol::find_signal(b.signal);
     if (!info) continue;
-    engine::SignalValue v;
-    v.status = protocol::SignalStatus::Valid;
-    v.value = info->kind == protocol::SignalKind::Text ? 0.0 : b.input[0] + 0.6 * (b.input[1] - b.input[0]);
-    v.text = "A12";
-    values[info->id] = v;
+    const double v = info->kind == protocol::SignalKind::Text ? 0.0 : b.input[0] + 0.6 * (b.input[1] - b.input[0]);
+    values.set(info->id, {v, protocol::SignalStatus::Valid, "A12"});
   }
   return values;
 }
@@ -118,11 +115,7 @@ FrameStats frames(platform::GpuBackend& backend, const engine::Scene& scene,
   o.height = h;
   engine::Renderer r(backend, scene, o);
   engine::BindingEvaluator ev(scene);
-  const auto values = mid_state(config);
-  ev.update([&](int id) -> const engine::SignalValue* {
-    auto it = values.find(id);
-    return it == values.end() ? nullptr : &it->second;
-  }, true, -1.0);
+  ev.update(mid_state(config), true, -1.0);
   r.apply(ev.outputs());
   s.startup_ms = ms_since(t);
   t = Clock::now();
@@ -159,7 +152,7 @@ void layer_memory(platform::GpuBackend& backend, const engine::Scene& cluster) {
   r.render(true, false);
   const long before = resident_kb();
   engine::BindingEvaluator ev(cluster);
-  ev.update([](int) -> const engine::SignalValue* { return nullptr; }, true, -1.0);
+  ev.update(protocol::SignalTable{}, true, -1.0);  // nothing known: every binding at rest
   r.apply(ev.outputs());
   r.render(false, false);  // the first unforced frame draws the layer
   const long after = resident_kb();
@@ -208,10 +201,9 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
       if (m.uber) o.uber_shader = &uber;
       engine::Renderer r(backend, cluster, o);
       engine::BindingEvaluator ev(cluster);
-      std::map<int, engine::SignalValue> values;
+      protocol::SignalTable values;
       auto set = [&](std::string_view name, double v) {
-        if (const auto* info = protocol::find_signal(name))
-          values[static_cast<int>(info->id)] = {v, protocol::SignalStatus::Valid, ""};
+        if (const auto* info = protocol::find_signal(name)) values.set(info->id, {v, protocol::SignalStatus::Valid, ""});
       };
       std::vector<double> v;
       double worst_ms = 0.0, worst_fraction = 0.0;
@@ -224,10 +216,7 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
         set("Vehicle.Powertrain.FuelSystem.RelativeLevel", 60.0 - 0.2 * t);
         set("Vehicle.Powertrain.CombustionEngine.ECT", 85.0 + t);
         set("Cluster.Telltale.TurnLeft", std::fmod(t, 0.666) < 0.333 ? 1.0 : 0.0);  // 1.5 Hz
-        ev.update([&](int id) -> const engine::SignalValue* {
-          auto it = values.find(id);
-          return it == values.end() ? nullptr : &it->second;
-        }, true, f == 0 ? -1.0 : 1.0 / 60.0);
+        ev.update(values, true, f == 0 ? -1.0 : 1.0 / 60.0);
         r.apply(ev.outputs());
         const auto t0 = Clock::now();
         const engine::FrameTiming ft = r.render(false, false);

@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <string>
 
@@ -26,6 +25,7 @@
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"
+#include "bound_signals.hpp"
 
 namespace {
 
@@ -59,22 +59,8 @@ engine::Scene convert(const SceneFiles& s) {
 // Every bound signal at 60 % of its range, visibility/emissive on, text set: needles, lamps and the
 // text overlay all appear in the compared frame.
 engine::BindingOutputs state(const engine::Scene& scene) {
-  std::map<int, engine::SignalValue> values;
-  for (const auto& b : scene.config.bindings) {
-    const auto* info = protocol::find_signal(b.signal);
-    if (!info) continue;
-    engine::SignalValue v;
-    v.status = protocol::SignalStatus::Valid;
-    if (info->kind == protocol::SignalKind::Text) v.text = "A12";
-    else if (b.kind == engine::BindingKind::Visibility) v.value = b.threshold + 1.0;
-    else v.value = b.input[0] + 0.6 * (b.input[1] - b.input[0]);
-    values[info->id] = v;
-  }
   engine::BindingEvaluator ev(scene);
-  ev.update([&](int id) -> const engine::SignalValue* {
-    auto it = values.find(id);
-    return it == values.end() ? nullptr : &it->second;
-  }, true, -1.0);
+  ev.update(meter::testing::bound_signals_at(scene.config, 0.6), true, -1.0);
   return ev.outputs();
 }
 

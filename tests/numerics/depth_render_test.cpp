@@ -67,7 +67,7 @@ TEST_P(DepthTest, DialLayersNeverZFightAtAnyCameraDistance) {
     o.msaa = 1;  // exact per-pixel depth results; no resolve blending
     Renderer r(*backend, scene, o);
     BindingEvaluator eval(scene);
-    eval.update(nullptr, true, -1.0);
+    eval.update(protocol::SignalTable{}, true, -1.0);  // nothing known: every binding at rest
     r.apply(eval.outputs());
     r.render(true, true);
     const platform::Image& img = r.last_image();

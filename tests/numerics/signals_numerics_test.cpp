@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <map>
 #include <random>
 
 #include "meter/controller/conditioning/needle.hpp"
@@ -43,11 +42,11 @@ engine::Scene needle_scene(bool failsafe) {
 struct Gauge {
   engine::Scene scene;
   engine::BindingEvaluator eval;
-  engine::SignalValue v;
+  protocol::SignalTable signals;
   explicit Gauge(bool failsafe) : scene(needle_scene(failsafe)), eval(scene) {}
   double time_for(double value, protocol::SignalStatus st = protocol::SignalStatus::Valid) {
-    v = {value, st, ""};
-    eval.update([&](int) { return &v; }, true, -1.0);
+    signals.set(protocol::sig::kSpeed, {value, st, ""});
+    eval.update(signals, true, -1.0);
     return eval.outputs().animation_time[0];
   }
 };

@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,6 +19,7 @@
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/shadergen/shadergen.hpp"
+#include "bound_signals.hpp"
 
 namespace {
 
@@ -61,38 +61,14 @@ std::vector<SceneFiles> all_scenes() {
   return s;
 }
 
-// A state that exercises every binding: each bound signal at `fraction` of its binding's input
-// range (needles mid-scale, morph weights and colour blends between their ends), text signals set.
-std::map<int, engine::SignalValue> state(const engine::SceneConfig& config, double fraction) {
-  std::map<int, engine::SignalValue> values;
-  for (const auto& b : config.bindings) {
-    const auto* info = protocol::find_signal(b.signal);
-    if (!info) continue;
-    engine::SignalValue v;
-    v.status = protocol::SignalStatus::Valid;
-    if (info->kind == protocol::SignalKind::Text) {
-      v.text = "A12";
-    } else if (b.kind == engine::BindingKind::Visibility) {
-      v.value = fraction >= 0.5 ? b.threshold + 1.0 : b.threshold - 1.0;
-    } else {
-      v.value = b.input[0] + fraction * (b.input[1] - b.input[0]);
-    }
-    values[info->id] = v;
-  }
-  return values;
-}
-
 platform::Image render(platform::GpuBackend& backend, const engine::Scene& scene,
-                       const std::map<int, engine::SignalValue>& values) {
+                       const protocol::SignalTable& values) {
   backend.make_current();
   engine::RendererOptions o;
   o.msaa = 4;
   engine::Renderer r(backend, scene, o);
   engine::BindingEvaluator ev(scene);
-  ev.update([&](int id) -> const engine::SignalValue* {
-    auto it = values.find(id);
-    return it == values.end() ? nullptr : &it->second;
-  }, true, -1.0);
+  ev.update(values, true, -1.0);
   r.apply(ev.outputs());
   r.render(true, true);
   return r.last_image();
@@ -154,7 +130,7 @@ TEST_P(ShaderOptimizer, OptimizedAndGeneratedProgramsRenderTheSame) {
   engine::Scene desktop = on;
   for (auto& p : desktop.programs) p.program = shadergen::to_desktop_glsl(p.program, 330);
 
-  const auto values = state(config, 0.6);
+  const auto values = meter::testing::bound_signals_at(config, 0.6);
   platform::Image egl_on, egl_off, os_on, os_off, os_desktop;
   {
     auto egl = backend(platform::BackendKind::Egl);
@@ -194,8 +170,8 @@ TEST_F(ShaderOptimizer, ToleranceDetectsAChangedState) {
   const engine::SceneConfig config = load_config(s.config);
   const engine::Scene on = convert::convert_gltf(s.glb, config, convert::ConvertOptions{true}).scene;
   auto egl = backend(platform::BackendKind::Egl);
-  const platform::Image a = render(*egl, on, state(config, 0.6));
-  const platform::Image b = render(*egl, on, state(config, 0.62));
+  const platform::Image a = render(*egl, on, meter::testing::bound_signals_at(config, 0.6));
+  const platform::Image b = render(*egl, on, meter::testing::bound_signals_at(config, 0.62));
   EXPECT_LT(platform::psnr(a, b), kSameImagePsnrDb);
 }
 

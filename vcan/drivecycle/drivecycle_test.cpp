@@ -55,20 +55,28 @@ TEST(DriveCycle, DecodedLogFollowsTheIntendedProfile) {
     for (auto& d : out) ASSERT_EQ(d.status, DecodeStatus::Valid) << m->name;
     const double t = static_cast<double>(f.timestamp_ns - drivecycle::kStartNs) / 1e9;
     last_t = t;
-    auto val = [&](const char* name) { return out[static_cast<std::size_t>(m->find_signal(name))].physical; };
     if (m == esp) {
+      const DecodedSignal* speed = find_decoded(*m, out, "VehicleSpeed");
+      ASSERT_NE(speed, nullptr);
       // The speed on the bus is the profile, to the DBC's 0.01 km/h resolution.
-      EXPECT_NEAR(val("VehicleSpeed"), drivecycle::speed_at(std::max(0.0, t)), 0.0051) << "t=" << t;
-      vmax = std::max(vmax, val("VehicleSpeed"));
-      last_speed = val("VehicleSpeed");
+      EXPECT_NEAR(speed->physical, drivecycle::speed_at(std::max(0.0, t)), 0.0051) << "t=" << t;
+      vmax = std::max(vmax, speed->physical);
+      last_speed = speed->physical;
       ++speed_frames;
     } else if (m == tcm) {
-      gears.insert(static_cast<int>(val("CurrentGear")));
+      const DecodedSignal* gear = find_decoded(*m, out, "CurrentGear");
+      ASSERT_NE(gear, nullptr);
+      gears.insert(static_cast<int>(gear->physical));
     } else if (m == bcm) {
-      left |= val("TurnLeftReq") == 1;
-      right |= val("TurnRightReq") == 1;
+      const DecodedSignal* turn_left = find_decoded(*m, out, "TurnLeftReq");
+      const DecodedSignal* turn_right = find_decoded(*m, out, "TurnRightReq");
+      ASSERT_TRUE(turn_left && turn_right);
+      left |= turn_left->physical == 1;
+      right |= turn_right->physical == 1;
     } else if (m == ecm) {
-      oil |= val("OilPressureLow") == 1 && t > 40;
+      const DecodedSignal* oil_low = find_decoded(*m, out, "OilPressureLow");
+      ASSERT_NE(oil_low, nullptr);
+      oil |= oil_low->physical == 1 && t > 40;
     }
   }
   EXPECT_NEAR(vmax, 130.0, 0.01);

@@ -52,10 +52,10 @@ Diff diff(const platform::Image& a, const platform::Image& b) {
   return d;
 }
 
-int sig(std::string_view name) {
+protocol::SignalId sig(std::string_view name) {
   const auto* s = protocol::find_signal(name);
   if (!s) throw std::runtime_error("no catalog signal " + std::string(name));
-  return static_cast<int>(s->id);
+  return s->id;
 }
 
 struct State {
@@ -76,12 +76,9 @@ class ConcatRender : public ::testing::TestWithParam<platform::BackendKind> {
     evaluator_ = std::make_unique<BindingEvaluator>(cluster());
   }
   BindingOutputs outputs(const State& st) {
-    std::map<int, SignalValue> v;
-    for (const auto& [n, x] : st.values) v[sig(n)] = {x, protocol::SignalStatus::Valid, ""};
-    evaluator_->update([&](int id) -> const SignalValue* {
-      auto it = v.find(id);
-      return it == v.end() ? nullptr : &it->second;
-    }, true, -1.0);
+    protocol::SignalTable v;
+    for (const auto& [n, x] : st.values) v.set(sig(n), {x, protocol::SignalStatus::Valid, ""});
+    evaluator_->update(v, true, -1.0);
     BindingOutputs o = evaluator_->outputs();
     o.node_visible.resize(cluster().nodes.size(), -1);
     for (const auto& h : st.hidden) {

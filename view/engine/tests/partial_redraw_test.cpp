@@ -96,16 +96,13 @@ class PartialRedraw : public ::testing::TestWithParam<platform::BackendKind> {
     Renderer a(*backend_, scene, partial), b(*backend_, scene, full);
     BindingEvaluator ev(scene);
     for (const Step& st : drive()) {
-      std::map<int, SignalValue> values;
+      protocol::SignalTable values;
       for (const auto& [name, x] : st.values) {
         const auto* info = protocol::find_signal(name);
         EXPECT_NE(info, nullptr) << name;
-        if (info) values[static_cast<int>(info->id)] = {x, protocol::SignalStatus::Valid, ""};
+        if (info) values.set(info->id, {x, protocol::SignalStatus::Valid, ""});
       }
-      ev.update([&](int id) -> const SignalValue* {
-        auto it = values.find(id);
-        return it == values.end() ? nullptr : &it->second;
-      }, st.link_up, -1.0);
+      ev.update(values, st.link_up, -1.0);
       a.apply(ev.outputs());
       b.apply(ev.outputs());
       // Not forced: the partial renderer decides what to redraw, as in the live loop.

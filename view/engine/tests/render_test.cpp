@@ -4,7 +4,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <map>
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
@@ -35,7 +34,7 @@ const Scene& dial() {
 }
 
 struct State {
-  std::map<int, SignalValue> values;
+  protocol::SignalTable values;
   bool link_up = true;
 };
 
@@ -49,10 +48,7 @@ class RenderTest : public ::testing::TestWithParam<platform::BackendKind> {
     evaluator_ = std::make_unique<BindingEvaluator>(dial());
   }
   const platform::Image& render(const State& st) {
-    evaluator_->update([&](int id) -> const SignalValue* {
-      auto it = st.values.find(id);
-      return it == st.values.end() ? nullptr : &it->second;
-    }, st.link_up, -1.0);
+    evaluator_->update(st.values, st.link_up, -1.0);
     renderer_->apply(evaluator_->outputs());
     renderer_->render(false, true);
     return renderer_->last_image();
@@ -76,9 +72,9 @@ bool reddish(const platform::Image& img, int x, int y) {
   return p[0] > 150 && p[1] < 90 && p[2] < 90;
 }
 
-State valid(std::initializer_list<std::pair<int, double>> kv) {
+State valid(std::initializer_list<std::pair<protocol::SignalId, double>> kv) {
   State s;
-  for (auto [id, v] : kv) s.values[id] = {v, protocol::SignalStatus::Valid, ""};
+  for (auto [id, v] : kv) s.values.set(id, {v, protocol::SignalStatus::Valid, ""});
   return s;
 }
 

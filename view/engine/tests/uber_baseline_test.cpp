@@ -30,9 +30,9 @@ platform::Image render(platform::GpuBackend& backend, const Scene& scene, bool u
   o.width = 640, o.height = 240, o.uber_shader = uber ? &kUber : nullptr;
   Renderer r(backend, scene, o);
   BindingEvaluator ev(scene);
-  SignalValue v{speed, protocol::SignalStatus::Valid, ""};
-  const auto* speed_info = protocol::find_signal("Vehicle.Speed");
-  ev.update([&](int id) -> const SignalValue* { return speed_info && id == int(speed_info->id) ? &v : nullptr; }, true, -1.0);
+  protocol::SignalTable signals;
+  signals.set(protocol::sig::kSpeed, {speed, protocol::SignalStatus::Valid, ""});
+  ev.update(signals, true, -1.0);
   r.apply(ev.outputs());
   r.render(true, true);
   return r.last_image();

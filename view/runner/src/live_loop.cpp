@@ -10,7 +10,6 @@
 #include "meter/view/option_units.hpp"
 #include "meter/view/png_writer.hpp"
 #include "meter/view/process_signals.hpp"
-#include "meter/view/signal_values.hpp"
 
 namespace meter::view {
 namespace {
@@ -36,15 +35,6 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   protocol::Subscriber sub(protocol::endpoint_from_option(options.link),
                           protocol::link_options("meter-view", std::chrono::milliseconds(options.link_timeout_ms)));
   FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
-  SignalValues cache;
-  auto lookup = [&](int id) -> const engine::SignalValue* {
-    const auto& s = sub.get(static_cast<protocol::SignalId>(id));
-    auto& v = cache[id];
-    v.value = s.value;
-    v.status = s.status;
-    v.text = s.text;
-    return &v;
-  };
   LatencyTrace trace(options.trace_csv);
   auto trace_applied = [&] { trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied()); };
   auto poll = [&](std::chrono::milliseconds timeout) {
@@ -79,7 +69,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     drain();
     const auto ft = pacer.begin_frame(Clock::now());
     const std::int64_t t_update = LatencyTrace::now();
-    ctx.evaluator.update(lookup, sub.link_up(), ft.dt);
+    ctx.evaluator.update(sub.signals(), sub.link_up(), ft.dt);  // read in place, no copy
     ctx.renderer.apply(ctx.evaluator.outputs());
     const bool want = policy.decide(frame, ft.t, take_dump_request());
     const auto timing = ctx.renderer.render(false, want);

@@ -8,12 +8,12 @@
 namespace meter::view {
 
 void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
-  SignalValues values;
+  protocol::SignalTable values;
   if (!options.values_csv.empty()) {
     load_values_csv(options.values_csv, options.at.empty() ? 1e300 : parse_time(options.at, "--at"), values);
   }
   for (const auto& s : options.sets) parse_set(s, values, "--set");
-  ctx.evaluator.update(lookup_in(values), !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
+  ctx.evaluator.update(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
   ctx.renderer.apply(ctx.evaluator.outputs());
   const auto ft = ctx.renderer.render(true, true);
   ctx.timing.row(0, 0.0, ft);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -47,14 +48,18 @@ std::vector<std::string> split_fields(const std::string& line) {
   return fields;
 }
 
-}  // namespace
+struct Assignment {
+  protocol::SignalId id = 0;
+  protocol::SignalState state;
+};
 
-void parse_set(const std::string& arg, SignalValues& values, const std::string& where) {
+// NAME=VALUE[@status] as the signal it names and the whole state it gives it.
+Assignment parse_assignment(const std::string& arg, const std::string& where) {
   auto eq = arg.find('=');
   if (eq == std::string::npos || eq == 0) throw ViewError(where + ": expected NAME=VALUE, got \"" + arg + "\"");
   const auto& info = signal_named(arg.substr(0, eq), where);
   std::string value = arg.substr(eq + 1);
-  engine::SignalValue sv;
+  protocol::SignalState sv;
   sv.status = protocol::SignalStatus::Valid;
   auto at = value.rfind('@');
   if (at != std::string::npos) {
@@ -73,13 +78,20 @@ void parse_set(const std::string& arg, SignalValues& values, const std::string& 
     if (!v) throw ViewError(where + ": value \"" + value + "\" for " + std::string(info.name) + " is not a finite number");
     sv.value = *v;
   }
-  values[info.id] = sv;
+  return {info.id, std::move(sv)};
 }
 
-void read_values_csv(std::istream& in, const std::string& name, double t, SignalValues& values) {
+}  // namespace
+
+void parse_set(const std::string& arg, protocol::SignalTable& values, const std::string& where) {
+  auto a = parse_assignment(arg, where);
+  values.set(a.id, std::move(a.state));
+}
+
+void read_values_csv(std::istream& in, const std::string& name, double t, protocol::SignalTable& values) {
   std::string line;
   int lineno = 0;
-  std::map<int, double> row_time;
+  std::map<protocol::SignalId, double> row_time;
   while (std::getline(in, line)) {
     ++lineno;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -93,18 +105,15 @@ void read_values_csv(std::istream& in, const std::string& name, double t, Signal
     if (f.size() < 3 || f.size() > 4) throw ViewError(where + ": expected time,signal,value[,status]");
     if (*rt > t) continue;
     const std::string set = f[1] + "=" + f[2] + (f.size() == 4 ? "@" + f[3] : "");
-    SignalValues one;
-    parse_set(set, one, where);
-    for (auto& [id, v] : one) {
-      if (!row_time.count(id) || row_time[id] <= *rt) {
-        row_time[id] = *rt;
-        values[id] = v;
-      }
+    auto a = parse_assignment(set, where);
+    if (!row_time.count(a.id) || row_time[a.id] <= *rt) {
+      row_time[a.id] = *rt;
+      values.set(a.id, std::move(a.state));
     }
   }
 }
 
-void load_values_csv(const std::string& path, double t, SignalValues& values) {
+void load_values_csv(const std::string& path, double t, protocol::SignalTable& values) {
   std::ifstream in(path);
   if (!in) throw ViewError(path + ": cannot open values CSV");
   read_values_csv(in, path, t, values);

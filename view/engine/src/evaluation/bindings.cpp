@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace meter::engine {
 
@@ -13,6 +14,11 @@ std::string binding_text(const Binding& b, double value) {
     if (it != b.map.end()) return it->second;
   }
   return format_number(b.format, value);
+}
+
+std::optional<protocol::SignalId> bound_signal_id(const Binding& b) {
+  if (b.signal_id < 0 || b.signal_id > std::numeric_limits<protocol::SignalId>::max()) return std::nullopt;
+  return static_cast<protocol::SignalId>(b.signal_id);
 }
 
 BindingOutputs resting_outputs(const Scene& scene) {
@@ -55,7 +61,7 @@ double unit(double v, const std::array<double, 2>& range) {
 
 }  // namespace
 
-bool BindingEvaluator::update(const SignalLookup& signals, bool link_up, double dt) {
+bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up, double dt) {
   using protocol::SignalStatus;
   BindingOutputs next = resting_outputs(scene_);
   next.link_lost = !link_up;
@@ -64,7 +70,10 @@ bool BindingEvaluator::update(const SignalLookup& signals, bool link_up, double 
     const Binding& b = bindings_[i];
     const Resolved& r = resolved_[i];
     BindingState& st = state_[i];
-    const SignalValue* sv = signals ? signals(b.signal_id) : nullptr;
+    // Absent (no such id) and present-but-NotAvailable read the same: status NotAvailable, and the
+    // entry's value and text are only ever read when it is Valid.
+    const auto id = bound_signal_id(b);
+    const protocol::SignalState* sv = id ? signals.find(*id) : nullptr;
     st.status = sv ? sv->status : SignalStatus::NotAvailable;
     const bool valid = link_up && sv && sv->status == SignalStatus::Valid && std::isfinite(sv->value);
     st.failsafe = !valid;
@@ -121,7 +130,7 @@ bool BindingEvaluator::update(const SignalLookup& signals, bool link_up, double 
         }
         break;
       case BindingKind::Text: {
-        const auto* info = protocol::find_signal(static_cast<protocol::SignalId>(b.signal_id));
+        const auto* info = id ? protocol::find_signal(*id) : nullptr;
         if (valid) {
           st.text = info && info->kind == protocol::SignalKind::Text ? sv->text : binding_text(b, st.value);
         } else if (b.failsafe_text) {

@@ -1,24 +1,26 @@
 // Offline signal values: `--set NAME=VALUE[@status]` and the values CSV (`--values F --at T`).
-// Errors (ViewError) name where the text came from ("--set", "drive.csv:7") and what was expected.
+// Both fill a protocol::SignalTable, the state the bindings read (signals never named stay at the
+// table's resting NotAvailable). Errors (ViewError) name where the text came from ("--set",
+// "drive.csv:7") and what was expected.
 #pragma once
 
 #include <istream>
 #include <string>
 
-#include "meter/view/signal_values.hpp"
+#include "meter/protocol/signal_table.hpp"
 
 namespace meter::view {
 
 // NAME=VALUE (VALUE a finite number, or any text for Text signals), optionally NAME=VALUE@status
-// (valid, timed-out, invalid, not-available; valid when left out). Sets values[id of NAME].
-// `where` prefixes errors.
-void parse_set(const std::string& arg, SignalValues& values, const std::string& where);
+// (valid, timed-out, invalid, not-available; valid when left out). Replaces the whole state of
+// NAME in `values` (a number leaves no text, a text value 0). `where` prefixes errors.
+void parse_set(const std::string& arg, protocol::SignalTable& values, const std::string& where);
 
 // CSV rows "time,signal,value[,status]" (a header on the first line, blank lines and # comments
 // are allowed); the state at time `t` (seconds) is, per signal, the last row with time <= t.
 // Rows after `t` are not checked beyond their time. The first bad row throws.
-void read_values_csv(std::istream& in, const std::string& name, double t, SignalValues& values);
+void read_values_csv(std::istream& in, const std::string& name, double t, protocol::SignalTable& values);
 // The same from a file; a file that cannot be opened throws.
-void load_values_csv(const std::string& path, double t, SignalValues& values);
+void load_values_csv(const std::string& path, double t, protocol::SignalTable& values);
 
 }  // namespace meter::view

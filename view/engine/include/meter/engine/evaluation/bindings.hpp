@@ -9,7 +9,6 @@
 //   effect = a function of drawn only (so equal inputs give equal outputs: the renderer can skip).
 #pragma once
 
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,17 +17,9 @@
 
 #include "meter/engine/scene.hpp"
 #include "meter/protocol/catalog.hpp"
+#include "meter/protocol/signal_table.hpp"
 
 namespace meter::engine {
-
-struct SignalValue {
-  double value = 0.0;
-  protocol::SignalStatus status = protocol::SignalStatus::NotAvailable;
-  std::string text;
-};
-
-// Returns the current state of a signal id, or nullptr when nothing is known (treated as NotAvailable).
-using SignalLookup = std::function<const SignalValue*(int signal_id)>;
 
 struct TextItem {
   int node = -1;
@@ -74,9 +65,12 @@ class BindingEvaluator {
   // Resolves names against the scene (throws SceneError like resolve_config).
   explicit BindingEvaluator(const Scene& scene);
 
-  // One step. dt_seconds: time since the previous step (smoothing); pass a negative dt to jump
-  // straight to the targets (offline rendering of a state). Returns true when the outputs changed.
-  bool update(const SignalLookup& signals, bool link_up, double dt_seconds);
+  // One step over the current signal states (the Subscriber's table live, a parsed one offline).
+  // A binding whose signal is not in the table reads as NotAvailable, like the table's own
+  // resting entries. dt_seconds: time since the previous step (smoothing); pass a negative dt to
+  // jump straight to the targets (offline rendering of a state). Returns true when the outputs
+  // changed.
+  bool update(const protocol::SignalTable& signals, bool link_up, double dt_seconds);
 
   const BindingOutputs& outputs() const { return out_; }
   const std::vector<BindingState>& states() const { return state_; }
@@ -97,6 +91,10 @@ class BindingEvaluator {
   bool first_ = true;
   bool animating_ = false;
 };
+
+// The catalog id a binding reads: std::nullopt when it is unresolved (-1) or outside the SignalId
+// range, so an out-of-range number can never wrap onto a real signal's id.
+std::optional<protocol::SignalId> bound_signal_id(const Binding& b);
 
 // The text a text binding shows for a value: the map entry for an integral value, else the format.
 std::string binding_text(const Binding& b, double value);
