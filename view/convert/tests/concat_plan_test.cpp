@@ -28,10 +28,7 @@ Scene scene_with(const std::vector<std::pair<std::string, glm::vec3>>& objects, 
     if (std::string(name) == "G") m.alpha = bridge::AlphaMode::Blend;
     s.materials.push_back(m);
   }
-  Camera cam;
-  cam.name = "Cam";
-  cam.yfov = 0.9f;
-  s.cameras.push_back(cam);
+  s.cameras.push_back(engine::test::perspective_camera("Cam", 0.9f));
   Node c;
   c.name = "Camera";
   c.camera = 0;

@@ -55,10 +55,7 @@ Scene every_section() {
   t.rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 0};
   t.srgb = true;
   s.textures.push_back(t);
-  Camera cam;
-  cam.name = "Cam";
-  cam.yfov = 0.7f;
-  s.cameras.push_back(cam);
+  s.cameras.push_back(engine::test::perspective_camera("Cam", 0.7f));
   Light l;
   l.name = "Sun";
   l.type = LightType::Spot;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 
 #include "meter/engine/scene.hpp"
 
@@ -22,6 +23,14 @@ const Scene& cluster_scene();
 
 // A fresh empty directory under the build tree for one test.
 std::string scratch_dir(const std::string& name);
+
+// A perspective camera with a vertical field of view of `yfov` radians.
+inline Camera perspective_camera(std::string name, float yfov) {
+  Camera c;
+  c.name = std::move(name);
+  c.yfov = yfov;
+  return c;
+}
 
 // A unit quad (two triangles) in the XY plane with POSITION + NORMAL, centred on the origin.
 inline Primitive quad_primitive(int material, float size = 1.0f) {
