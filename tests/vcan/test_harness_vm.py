@@ -1,10 +1,13 @@
 """The VM harness's contract beyond CAN: a TCP port of the guest reachable from the host
 (--hostfwd, how meter-view on the host talks to meter-controller in the VM), the command's exit
-code propagated, and bounded boot with the guest console printed on failure."""
+code propagated, bounded boot with the guest console printed on failure, and the host's /tmp
+visible to the guest (a checkout may live there) without the guest writing to it."""
 import os
+import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import unittest
 
@@ -63,6 +66,33 @@ class HarnessVm(unittest.TestCase):
         self.assertIn("boot did not finish within 1s", p.stderr)
         self.assertIn("---- guest console ----", p.stderr)
         self.assertIn("---- end of guest console ----", p.stderr)
+
+    def test_host_tmp_readable_but_guest_writes_stay_in_the_guest(self):
+        # A checkout (and ../shared beside it) may live under /tmp: the guest must run what is
+        # there, while its own writes to /tmp never reach the host.
+        out = v.fresh_dir("harness_host_tmp")
+        host = tempfile.mkdtemp(prefix="meter-vm-host-tmp-", dir="/tmp")
+        try:
+            script = os.path.join(host, "hello.sh")
+            with open(script, "w") as f:
+                f.write("#!/bin/sh\necho \"hello from the host's /tmp\"\n")
+            os.chmod(script, 0o755)
+            guest = (f"{script} > {out}/seen.txt 2>&1; "
+                     f"echo guest > {host}/written-by-guest && echo written > {out}/wrote.txt; "
+                     f"cat {host}/written-by-guest >> {out}/wrote.txt; "
+                     f"touch /tmp/meter-guest-scratch && echo scratch-ok >> {out}/wrote.txt")
+            p = subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "vm", "run-in-vm"), "--share-out", out,
+                                "--", "bash", "-c", guest], capture_output=True, text=True, timeout=110)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            with open(os.path.join(out, "seen.txt")) as f:
+                self.assertEqual(f.read().strip(), "hello from the host's /tmp")
+            with open(os.path.join(out, "wrote.txt")) as f:
+                self.assertEqual(f.read().split(), ["written", "guest", "scratch-ok"])
+            self.assertFalse(os.path.exists(os.path.join(host, "written-by-guest")),
+                             "a write to /tmp in the guest reached the host")
+            self.assertFalse(os.path.exists("/tmp/meter-guest-scratch"))
+        finally:
+            shutil.rmtree(host, ignore_errors=True)
 
 
 if __name__ == "__main__":
