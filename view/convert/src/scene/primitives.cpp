@@ -3,7 +3,7 @@
 // list, flat normals where lit shading has none, then interleaved into the runtime vertex record.
 #include "convert_context.hpp"
 #include "meter/shadergen/shadergen.hpp"
-#include "vertex_layout.hpp"
+#include "scene/vertex_layout.hpp"
 
 namespace meter::convert {
 

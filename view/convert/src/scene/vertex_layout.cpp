@@ -1,4 +1,4 @@
-#include "vertex_layout.hpp"
+#include "scene/vertex_layout.hpp"
 
 #include <limits>
 

@@ -1,4 +1,4 @@
-#include "program_features.hpp"
+#include "programs/program_features.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 
 #include "convert_context.hpp"
 #include "meter/shadergen/glsl.hpp"
-#include "program_features.hpp"
+#include "programs/program_features.hpp"
 
 namespace meter::convert {
 
