@@ -51,16 +51,4 @@ TEST(LightOrder, GroupsLightsByTypeKeepingTraversalOrderWithinEachType) {
   EXPECT_EQ(light_order(s), (std::vector<int>{sun, sun2, bulb, spot}));
 }
 
-TEST(NumberFormat, AcceptsOneFloatConversionAndFormatsIt) {
-  std::string why;
-  EXPECT_TRUE(valid_number_format("%.1f km", &why)) << why;
-  EXPECT_EQ(format_number("%.1f km", 12.34), "12.3 km");
-  EXPECT_EQ(format_number("%05.0f%%", 7.0), "00007%");
-  EXPECT_FALSE(valid_number_format("%s", &why));
-  EXPECT_NE(why.find("only %f %e %g"), std::string::npos) << why;
-  EXPECT_FALSE(valid_number_format("%f %f", &why));
-  EXPECT_FALSE(valid_number_format("%100f", &why));
-  EXPECT_FALSE(valid_number_format("no conversion", &why));
-}
-
 }  // namespace

@@ -47,6 +47,8 @@ Renderer::~Renderer() {
 std::string Renderer::backend_info() const { return backend_.renderer_info(); }
 
 void Renderer::apply(const BindingOutputs& outputs) {
+  // Equal outputs draw the same frame: an idle display costs this comparison and nothing more.
+  if (outputs == evaluator_.outputs()) return;
   evaluator_.apply(outputs);
   stats_.animation_samples = evaluator_.animation_samples();
   dirty_ = true;
@@ -111,7 +113,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   if (!dirty_ && !force) return skip();
   auto t1 = Clock::now();
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
-  const FrameState now = evaluator_.evaluate(width_, height_, *text_);
+  FrameState now = evaluator_.evaluate(width_, height_, *text_);
   PlanSettings settings;
   settings.width = width_, settings.height = height_, settings.force = force;
   settings.partial_redraw = options_.partial_redraw;
@@ -132,7 +134,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     t.regions = static_cast<int>(plan.regions.size());
     ++stats_.partial_frames;
   }
-  drawn_ = drawn_frame(now);
+  drawn_ = drawn_frame(std::move(now));
   t.submit_ms = ms_since(t1);
   auto t2 = Clock::now();
   gl_.Finish();

@@ -239,12 +239,18 @@ TEST_F(FramePlanTest, ForcedFrameIsFullWithoutTheLayer) {
   EXPECT_FALSE(p.copy_layer);
 }
 
-TEST_F(FramePlanTest, WithoutPartialRedrawAChangeIsAFullFrame) {
+// Without partial redraw no damage is worked out: every planned frame is drawn whole (the
+// renderer plans only after changed outputs were applied), changed or not.
+TEST_F(FramePlanTest, WithoutPartialRedrawEveryPlannedFrameIsAFullFrame) {
   PlanSettings s;
   s.partial_redraw = false;
-  EXPECT_FALSE(plan(frame(), s).draw);
+  FramePlan p = plan(frame(), s);
+  EXPECT_TRUE(p.draw && p.full && p.regions.empty());
   outputs_.animation_time[0] = 0.5;
-  EXPECT_TRUE(plan(frame(), s).full);
+  p = plan(frame(), s);
+  EXPECT_TRUE(p.draw && p.full && p.regions.empty());
+  ASSERT_EQ(p.passes.size(), 1U);
+  EXPECT_FALSE(p.passes[0].scissor);
 }
 
 TEST_F(FramePlanTest, DrawOrderIsStaticThenChangeableFrontToBackThenBlendedBackToFront) {

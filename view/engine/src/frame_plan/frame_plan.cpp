@@ -121,11 +121,11 @@ FramePlan plan_frame(const Scene& scene, const DrawClasses& classes, const Frame
   // backend can copy multisample pixels and the scene makes it worth keeping (classify_draws).
   const bool layered = !s.force && s.partial_redraw && s.static_layer && classes.layer_pays;
   const bool layer_ok = layered && layer_current(classes, now, layer);
-  auto regions = s.force ? std::nullopt : damage(scene, now, drawn, s.width, s.height);
+  // Without partial redraw every changed frame is drawn whole, and no damage is worked out.
+  auto regions = s.force || !s.partial_redraw ? std::nullopt : damage(scene, now, drawn, s.width, s.height);
   if (layered && !layer_ok) regions = std::nullopt;  // the layer must be redrawn: a full frame
   // Inputs changed but no pixel can have (e.g. a hidden node's text): the frame stands.
   if (regions && regions->empty()) return plan;
-  if (!s.partial_redraw) regions = std::nullopt;
   plan.draw = true;
   const DrawSet over = layered ? DrawSet::OverStatic : DrawSet::Everything;
   if (!regions) {
@@ -145,6 +145,10 @@ FramePlan plan_frame(const Scene& scene, const DrawClasses& classes, const Frame
 
 DrawnFrame drawn_frame(const FrameState& now) {
   return DrawnFrame{true, now.view_projection, now.draws, now.texts, now.lights};
+}
+
+DrawnFrame drawn_frame(FrameState&& now) {
+  return DrawnFrame{true, now.view_projection, std::move(now.draws), std::move(now.texts), std::move(now.lights)};
 }
 
 }  // namespace meter::engine

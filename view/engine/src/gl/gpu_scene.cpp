@@ -163,7 +163,6 @@ void GpuScene::build_draws(bool uber) {
 void GpuScene::build_groups() {
   for (const auto& mg : scene_.groups) {
     auto g = std::make_unique<GpuGroup>();
-    g->info = &mg;
     std::uint32_t vertices = 0;
     for (int d : mg.draws) {
       GpuGroup::Member m;

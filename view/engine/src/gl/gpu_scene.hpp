@@ -54,7 +54,6 @@ struct GpuDraw {
 // visible members only. Member ranges are rewritten only when that member's world matrix or
 // visibility changed, so a static scene costs nothing per frame.
 struct GpuGroup {
-  const MergedGroup* info = nullptr;
   GLuint vao = 0, vbo = 0, ebo = 0;
   std::vector<float> vertices;
   std::vector<std::uint32_t> indices;

@@ -193,7 +193,7 @@ struct Scene {
   std::vector<Animation> animations;
   std::vector<ProgramEntry> programs;
   std::vector<DrawItem> draws;
-  std::vector<MergedGroup> groups;  // checked at conversion (concatenation.hpp)
+  std::vector<MergedGroup> groups;  // planned by the converter (meter/convert/concat_plan.hpp), checked on load (meter/engine/merged_draws.hpp)
   SceneConfig config;            // validated against this scene at conversion time
   std::string source_name;       // input file name, for messages
   glm::vec3 ambient{0.0f};       // config "ambient" (linear)

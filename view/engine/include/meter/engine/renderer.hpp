@@ -43,7 +43,7 @@ struct RendererOptions {
   // Redraw only the screen regions whose pixels can have changed since the last drawn frame (a
   // moving needle, a telltale switching, a text changing), each scissored; the rest of the target
   // keeps the last frame, as a production cluster's partial update does. The result is the same
-  // image as a full redraw (tests/partial_redraw_test.cpp proves it pixel for pixel). Off: every
+  // image as a full redraw (view/engine/tests/partial_redraw_test.cpp proves it pixel for pixel). Off: every
   // drawn frame is a full redraw (the reference for tests and benchmarks).
   bool partial_redraw = true;
   // With partial_redraw: keep the opaque draws that nothing in the scene can change (no animation
@@ -64,7 +64,7 @@ struct RendererOptions {
 };
 
 struct FrameTiming {
-  double update_ms = 0.0;        // bindings -> pose -> world matrices
+  double update_ms = 0.0;        // world matrices (bindings and pose sampling run in apply())
   double submit_ms = 0.0;        // CPU time issuing GL calls
   double gpu_readback_ms = 0.0;  // glFinish (+ resolve and readback when the frame is read)
   bool drawn = false;            // false: frame skipped (inputs unchanged)
@@ -99,11 +99,11 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Applies binding outputs to the pose/overrides. Marks the frame dirty: render() compares the
-  // evaluated frame with the last drawn one (the one place a change is detected) and skips it when
-  // no pixel can have changed.
+  // Applies binding outputs to the pose/overrides and marks the frame dirty when they differ from
+  // the last applied ones. render() then compares the evaluated frame with the last drawn one only
+  // to find where pixels changed (the damaged regions), and skips a frame where none can have.
   void apply(const BindingOutputs& outputs);
-  // True when outputs were applied since the last drawn or skipped frame.
+  // True when changed outputs were applied since the last drawn or skipped frame.
   bool dirty() const { return dirty_; }
 
   // Draws when dirty (or `force`), then waits for the GPU; with `read` also resolves and reads the
@@ -120,9 +120,6 @@ class Renderer {
   // Pixel position (origin top-left) of a node's world origin, for text anchors and tests.
   glm::vec2 project(int node) const;
 
-  // The parts, for tests and tools: the scene's evaluation and its static-layer classification.
-  const SceneEvaluator& evaluation() const { return evaluator_; }
-  const DrawClasses& draw_classes() const { return classes_; }
 
  private:
   // Runs the plan's passes: the static layer build, the layer copy, each pass and its texts.

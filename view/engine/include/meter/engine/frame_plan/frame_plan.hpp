@@ -74,7 +74,9 @@ std::vector<int> draw_list(const Scene& scene, const DrawClasses& classes, const
 FramePlan plan_frame(const Scene& scene, const DrawClasses& classes, const FrameState& now, const DrawnFrame& drawn,
                      const DrawnFrame& layer, const PlanSettings& settings);
 
-// The record of a frame drawn from `now` (into the target, or the static layer).
+// The record of a frame drawn from `now` (into the target, or the static layer); the second form
+// takes the frame's draws and texts over instead of copying them.
 DrawnFrame drawn_frame(const FrameState& now);
+DrawnFrame drawn_frame(FrameState&& now);
 
 }  // namespace meter::engine
