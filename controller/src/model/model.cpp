@@ -45,7 +45,7 @@ constexpr double kIgnitionOn = 4;
 }  // namespace
 
 Model::Model(const Database* db, Mapping mapping, ModelOptions options)
-    : db_(db), mapping_(std::move(mapping)), options_(std::move(options)), sources_(db_, mapping_),
+    : mapping_(std::move(mapping)), options_(std::move(options)), sources_(db, mapping_),
       bulb_(mapping_.bulb_check_s) {
   build_outputs();
   if (!options_.state_dir.empty() && mapping_.find(protocol::sig::kOdometer)) {
@@ -66,6 +66,7 @@ void Model::build_outputs() {
     std::vector<std::optional<int>> cycles;
     for (int s : sources) cycles.push_back(sources_[s].cycle_ms);
     const SourceTimeouts timeouts = derive_timeouts(m, cycles, mapping_.file);
+    if (m.id == protocol::sig::kSpeed && speed_out_ < 0) speed_out_ = static_cast<int>(outs_.size());
     outs_.push_back(Out{i, outputs_.size(), std::move(sources), timeouts,
                         OutputConditioner(m, protocol::find_signal(m.id)->kind), std::nullopt, 0.0, false, 0});
     outputs_.push_back(ModelOutput{m.id});
@@ -83,9 +84,9 @@ const ModelOutput* Model::output(protocol::SignalId id) const {
 }
 
 std::optional<double> Model::true_speed() const {
-  for (const auto& o : outs_)
-    if (mapping_.outputs[o.map].id == protocol::sig::kSpeed) return o.truth_valid ? std::optional(o.truth) : std::nullopt;
-  return std::nullopt;
+  if (speed_out_ < 0) return std::nullopt;
+  const Out& o = outs_[static_cast<std::size_t>(speed_out_)];
+  return o.truth_valid ? std::optional(o.truth) : std::nullopt;
 }
 
 std::vector<std::pair<std::uint32_t, bool>> Model::used_ids() const { return sources_.used_ids(); }

@@ -1,7 +1,5 @@
 #pragma once
 
-#include <time.h>
-
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -9,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../input/clocks.hpp"
 #include "meter/controller/input/can_frame.hpp"
 
 namespace meter::controller {
@@ -29,9 +28,7 @@ class Trace {
     if (!out_) throw std::runtime_error(path + ": cannot write the trace");
     out_ << "event,t_ns,a,b\n";
     // The link's frames carry CLOCK_MONOTONIC send stamps: this pair maps them onto the trace.
-    timespec mono;
-    clock_gettime(CLOCK_MONOTONIC, &mono);
-    out_ << "c," << realtime_ns() << "," << static_cast<std::int64_t>(mono.tv_sec) * 1000000000LL + mono.tv_nsec << ",\n";
+    out_ << "c," << realtime_ns() << "," << monotonic_ns() << ",\n";
   }
   bool on() const { return out_.is_open(); }
   void frame(const CanFrame& f) {

@@ -1,8 +1,7 @@
 // Gauge needles: critically damped pointer motion and the UN ECE R39 speedometer band.
-// Signal conditioning: the pure, time-stepped pieces of the cluster model. Every class takes the
-// time explicitly (nanoseconds on the input's clock), so tests and log replay are deterministic.
+// Pure and time-stepped: time comes in explicitly (nanoseconds on the input's clock), so tests
+// and log replay are deterministic.
 #pragma once
-
 
 namespace meter::controller {
 

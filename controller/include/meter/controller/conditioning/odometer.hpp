@@ -1,6 +1,6 @@
 // Odometer and trip distance, integrated from the speed or a wheel-pulse counter.
-// Signal conditioning: the pure, time-stepped pieces of the cluster model. Every class takes the
-// time explicitly (nanoseconds on the input's clock), so tests and log replay are deterministic.
+// Pure and time-stepped: time comes in explicitly (nanoseconds on the input's clock), so tests
+// and log replay are deterministic.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // Telltale (warning lamp) timing: blink patterns, bulb check, seat-belt reminder, thresholds.
-// Signal conditioning: the pure, time-stepped pieces of the cluster model. Every class takes the
-// time explicitly (nanoseconds on the input's clock), so tests and log replay are deterministic.
+// Pure and time-stepped: time comes in explicitly (nanoseconds on the input's clock), so tests
+// and log replay are deterministic.
 #pragma once
 
 #include <cstdint>

@@ -11,7 +11,6 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "meter/controller/conditioning/odometer.hpp"
@@ -65,7 +64,7 @@ class Model {
 
   const std::vector<ModelOutput>& outputs() const { return outputs_; }
   // Indices into outputs() whose value or status the last update() changed (all of them after
-  // the first): the one place a change is detected before the values go to the link.
+  // the first): the run loop publishes and traces only these.
   const std::vector<std::size_t>& changed() const { return changed_; }
   const ModelOutput* output(protocol::SignalId id) const;
   const ModelStats& stats() const { return stats_; }
@@ -84,11 +83,11 @@ class Model {
   void on_ignition(double vss_state, std::int64_t t);
   void detect_changes();
 
-  const Database* db_;
   Mapping mapping_;
   ModelOptions options_;
   SourceTable sources_;
   std::vector<Out> outs_;
+  int speed_out_ = -1;  // the vehicle-speed output in outs_ (the odometer and conditioning read it), -1 = none
   std::vector<ModelOutput> outputs_;
   std::vector<ModelOutput> reported_;  // outputs as of the previous update (change detection)
   std::vector<std::size_t> changed_;
