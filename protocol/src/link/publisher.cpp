@@ -345,7 +345,7 @@ std::size_t index_or_invalid_argument(SignalId id, const char* who) {
   const auto index = SignalTable::index_of(id);
   if (!index) {
     throw std::invalid_argument(std::string(who) + ": signal id " + std::to_string(id) +
-                                " is not in the catalog (protocol/src/catalog.cpp)");
+                                " is not in the catalog (protocol/src/signals/catalog.cpp)");
   }
   return *index;
 }

@@ -159,10 +159,11 @@ struct Subscriber::Impl {
     pending_disconnect = PendingDisconnect{"refused publisher " + where.to_string() + ": " + why, false};
   }
 
-  void apply(const std::vector<SignalUpdate>& updates, const Frame& frame) {
-    for (const auto& u : updates) {
+  // The frame is ours (on_frame takes it by value): its texts move into the table.
+  void apply(std::vector<SignalUpdate>& updates, const Frame& frame) {
+    for (auto& u : updates) {
       // The decoder checked the id. An entry without text clears any text the signal had.
-      if (table.set(u.id, SignalState{u.value, u.status, u.has_text ? u.text : std::string()})) {
+      if (table.set(u.id, SignalState{u.value, u.status, u.has_text ? std::move(u.text) : std::string()})) {
         ++stats.signal_updates_applied;
         changed = true;
       }

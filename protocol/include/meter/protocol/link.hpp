@@ -132,7 +132,8 @@ class Subscriber {
   bool poll(std::chrono::milliseconds timeout);
   bool link_up() const;  // false before the first SNAPSHOT and after heartbeat loss
   // Everything received so far, one entry per catalog signal (NotAvailable until the SNAPSHOT).
-  // Consumers read it in place: find() per signal, changed_at() against the version they last saw.
+  // The view's bindings read it in place, find() per signal; changed_at() tells which signals changed
+  // since a version a consumer saw.
   const SignalTable& signals() const;
   const SignalState& get(SignalId id) const;  // signals().get(id); unknown id: std::out_of_range
   std::uint64_t state_version() const;        // signals().version(): increments on every applied change
