@@ -55,7 +55,4 @@ void validate_gltf(ConvertContext& ctx) {
   }
 }
 
-// The world image Blender lit the scene with, named in the default scene's extras (Blender's
-// exporter writes custom properties there; glTF itself has no environment map). The file is
-
 }  // namespace meter::convert

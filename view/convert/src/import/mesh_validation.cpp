@@ -236,6 +236,4 @@ void validate_mesh(ConvertContext& ctx, std::size_t mi) {
   if (!mesh.weights.empty() && mesh.weights.size() != targets0) ctx.error(mp + ".weights", "count differs from the number of morph targets");
 }
 
-// Unit-length check (tolerance as the Khronos validator's order of magnitude, loose enough for
-
 }  // namespace meter::convert

@@ -9,6 +9,7 @@
 
 #include "meter/convert/concat_plan.hpp"
 #include "meter/engine/evaluation/animation.hpp"
+#include "meter/engine/evaluation/scene_evaluator.hpp"
 
 namespace meter::convert {
 
@@ -19,23 +20,21 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Same camera choice and projection as Renderer::view_projection (a scene without a camera gets
-// no screen test: the 3D x/y extents are compared instead, which is stricter for a front view).
+// The runtime's camera (engine::find_camera_node) with the projection of
+// SceneEvaluator::view_projection at the config's size (a scene without a camera gets no screen
+// test: the 3D x/y extents are compared instead, which is stricter for a front view).
 bool camera_vp(const Scene& s, const std::vector<glm::mat4>& world, glm::mat4& vp) {
-  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    const Node& n = s.nodes[i];
-    if (n.camera < 0) continue;
-    const Camera& c = s.cameras[static_cast<std::size_t>(n.camera)];
-    if (!s.config.camera.empty() && n.name != s.config.camera && c.name != s.config.camera) continue;
-    glm::mat4 w = world[i];
-    for (int k = 0; k < 3; ++k) w[k] = glm::vec4(glm::normalize(glm::vec3(w[k])), 0.0f);
-    const float aspect = float(s.config.size[0]) / float(s.config.size[1]);
-    glm::mat4 proj = c.perspective ? (c.zfar > 0 ? glm::perspective(c.yfov, aspect, c.znear, c.zfar) : glm::infinitePerspective(c.yfov, aspect, c.znear))
-                                   : glm::ortho(-c.xmag, c.xmag, -c.ymag, c.ymag, c.znear, c.zfar);
-    vp = proj * glm::inverse(w);
-    return true;
-  }
-  return false;
+  const int node = engine::find_camera_node(s);
+  if (node < 0) return false;
+  const auto i = static_cast<std::size_t>(node);
+  const Camera& c = s.cameras[static_cast<std::size_t>(s.nodes[i].camera)];
+  glm::mat4 w = world[i];
+  for (int k = 0; k < 3; ++k) w[k] = glm::vec4(glm::normalize(glm::vec3(w[k])), 0.0f);
+  const float aspect = float(s.config.size[0]) / float(s.config.size[1]);
+  glm::mat4 proj = c.perspective ? (c.zfar > 0 ? glm::perspective(c.yfov, aspect, c.znear, c.zfar) : glm::infinitePerspective(c.yfov, aspect, c.znear))
+                                 : glm::ortho(-c.xmag, c.xmag, -c.ymag, c.ymag, c.znear, c.zfar);
+  vp = proj * glm::inverse(w);
+  return true;
 }
 
 // The sample times of animation a: every key and 8 steps inside each key interval.
@@ -72,7 +71,6 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
   }
   // Poses to evaluate: rest + every animation at its start, then each animation swept with the
   // others at their start and at their end.
-  std::vector<std::pair<int, double>> sweeps;  // (animation, time) with -1 = none
   const std::size_t na = s.animations.size();
   std::vector<double> start(na), end(na);
   for (std::size_t a = 0; a < na; ++a) start[a] = s.animations[a].start, end[a] = s.animations[a].end;

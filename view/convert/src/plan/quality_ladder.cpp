@@ -8,6 +8,8 @@
 
 #include <meshoptimizer.h>
 
+#include "programs/program_features.hpp"
+
 namespace meter::convert {
 
 namespace {
@@ -84,17 +86,8 @@ shadergen::MaterialFeatures features_for(const Scene& s, const DrawItem& d, cons
   // uniform ambient (for an environment scene: the map's mean radiance).
   f.environment_map_2d = per_pixel && s.environment.present();
   if (lit) {
-    // The scene's lights, exactly as the converter counts them (every node carrying a light).
-    shadergen::LightCounts lights;
-    for (const Node& n : s.nodes) {
-      if (n.light < 0) continue;
-      switch (s.lights[std::size_t(n.light)].type) {
-        case LightType::Directional: ++lights.directional; break;
-        case LightType::Point: ++lights.point; break;
-        case LightType::Spot: ++lights.spot; break;
-      }
-    }
-    f.lights = lights;
+    // The scene's lights, counted as the converter counts them.
+    f.lights = count_lights(s, light_order(s));
   } else {
     f.lights = {};
   }

@@ -119,4 +119,16 @@ shadergen::ConstantValues folding_constants(const Scene& s, const Material& m, b
   return cv;
 }
 
+shadergen::LightCounts count_lights(const Scene& s, const std::vector<int>& light_nodes) {
+  shadergen::LightCounts lights;
+  for (int n : light_nodes) {
+    switch (s.lights[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(n)].light)].type) {
+      case LightType::Directional: ++lights.directional; break;
+      case LightType::Point: ++lights.point; break;
+      case LightType::Spot: ++lights.spot; break;
+    }
+  }
+  return lights;
+}
+
 }  // namespace meter::convert

@@ -15,6 +15,10 @@ namespace meter::convert {
 shadergen::MaterialFeatures draw_features(const Scene& s, const Node& node, const Primitive& prim,
                                           const shadergen::LightCounts& lights, bool vertex_alpha);
 
+// How many lights of each type `light_nodes` (light nodes in light_order) hold: what every
+// program of the scene evaluates.
+shadergen::LightCounts count_lights(const Scene& s, const std::vector<int>& light_nodes);
+
 // Nodes whose world transform can change at runtime (animated themselves or below an animated node).
 std::vector<char> dynamic_nodes(const Scene& s);
 

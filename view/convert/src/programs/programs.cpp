@@ -23,18 +23,6 @@ void measure_unoptimized(ProgramEntry& e) {
   r.source_bytes_before = r.source_bytes_after = e.program.vertex_source.size() + e.program.fragment_source.size();
 }
 
-shadergen::LightCounts count_lights(const Scene& s, const std::vector<int>& light_nodes) {
-  shadergen::LightCounts lights;
-  for (int n : light_nodes) {
-    switch (s.lights[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(n)].light)].type) {
-      case LightType::Directional: ++lights.directional; break;
-      case LightType::Point: ++lights.point; break;
-      case LightType::Spot: ++lights.spot; break;
-    }
-  }
-  return lights;
-}
-
 }  // namespace
 
 void generate_programs(const ConvertContext& ctx, Scene& s) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "convert_context.hpp"
+#include "meter/convert/quality_ladder.hpp"
 #include "meter/shadergen/shadergen.hpp"
 
 namespace meter::convert {
@@ -58,12 +59,8 @@ Material convert_material(ConvertContext& ctx, std::size_t i, std::vector<int>& 
   out.shading = mat.extensions.count("KHR_materials_unlit") ? shadergen::ShadingModel::Unlit : shadergen::ShadingModel::PbrMetallicRoughness;
   auto ov = ctx.cfg.materials.find(out.name);
   if (ov != ctx.cfg.materials.end() && ov->second.shading) {
-    const std::string& s = *ov->second.shading;
-    out.shading = s == "unlit" ? shadergen::ShadingModel::Unlit
-                  : s == "flat" ? shadergen::ShadingModel::Flat
-                  : s == "gouraud" ? shadergen::ShadingModel::Gouraud
-                  : s == "blinn-phong" ? shadergen::ShadingModel::BlinnPhong
-                                       : shadergen::ShadingModel::PbrMetallicRoughness;
+    // The scene-config parser accepted only the model names parse_shading_model knows.
+    out.shading = parse_shading_model(*ov->second.shading).value_or(shadergen::ShadingModel::PbrMetallicRoughness);
   }
   auto slot = [&](TextureSlot s, const auto& info, bool srgb) {
     if (info.index < 0) return;
