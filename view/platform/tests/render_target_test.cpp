@@ -315,7 +315,7 @@ TEST(CrossBackend, EglAndOSMesaRenderTheSameImage) {
   }
   const double db = mp::psnr(egl_image, osmesa_image);
   std::printf("EGL vs OSMesa: PSNR %.2f dB, SSIM %.6f\n", db, mp::ssim(egl_image, osmesa_image));
-  EXPECT_GE(db, 50.0);  // the artist's preview equals the target:, PSNR >= 50 dB
+  EXPECT_GE(db, 50.0);  // the artist's preview equals the target: PSNR >= 50 dB
   // The scene is not trivially empty: most pixels differ from the clear colour.
   const auto bg = [](double linear) { return static_cast<std::uint8_t>(mp::linear_to_srgb8(linear)); };
   const mp::Mask drawn = mp::object_mask(egl_image, {bg(0.02), bg(0.03), bg(0.05)}, 2);

@@ -1,7 +1,8 @@
 #include "meter/view/live_loop.hpp"
 
-#include <algorithm>
 #include <cstdio>
+
+#include "meter/protocol/link.hpp"
 
 #include "meter/view/dump_policy.hpp"
 #include "meter/view/frame_pacing.hpp"

@@ -1,4 +1,5 @@
-// Feature sets: names, validation, canonical form and the program-cache key.
+// Feature sets: validation, canonical form and the program-cache key (the names are the
+// vocabulary's, view/bridge/src/program_names.cpp).
 #include "features.hpp"
 
 #include <stdexcept>

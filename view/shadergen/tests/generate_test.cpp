@@ -1,5 +1,5 @@
 // generate(): every feature flag produces a program that compiles (glslang, ES 3.00 profile) and
-// contains exactly the code and metadata of that feature; invalid sets throw; key() is canonical.
+// contains exactly the code and metadata of that feature; invalid sets throw; program_key() is canonical.
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -306,7 +306,7 @@ TEST(Generate, OutputIsLinearAndScaledByExposure) {
 }
 
 // A sweep over shading model x alpha x precision x a handful of flags: everything compiles, and
-// key() separates exactly the programs whose sources differ.
+// program_key() separates exactly the programs whose sources differ.
 TEST(Generate, SweepCompilesAndKeysMatchSources) {
   std::map<std::string, std::string> by_key;
   std::map<std::string, std::string> by_source;

@@ -5,7 +5,6 @@
 
 #include <ostream>
 
-#include "meter/protocol/link.hpp"
 #include "meter/view/render_context.hpp"
 #include "meter/view/view_options.hpp"
 
