@@ -331,8 +331,8 @@ int main(int argc, char** argv) {
       r[k] = std::make_unique<Renderer>(*backend, cluster, o);
       ev[k] = std::make_unique<BindingEvaluator>(cluster);
     }
+    protocol::SignalTable v;  // one table for the run; each frame sets both driven signals
     for (int f = 0; f < frames + 5; ++f) {
-      protocol::SignalTable v;
       v.set(speed, {double(f % 200), protocol::SignalStatus::Valid, ""});
       v.set(rpm, {double((f * 37) % 7000), protocol::SignalStatus::Valid, ""});
       for (std::size_t k = 0; k < 2; ++k) {

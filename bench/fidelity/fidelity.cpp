@@ -10,27 +10,15 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <thread>
-
-#include <sys/utsname.h>
-
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
-#include "meter/engine/evaluation/bindings.hpp"
-#include "meter/convert/converter.hpp"
 #include "meter/convert/quality_ladder.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/platform/render_target.hpp"
-#include "meter/protocol/catalog.hpp"
-
 
 #include "bench_scenes.hpp"
 

@@ -152,7 +152,7 @@ void layer_memory(platform::GpuBackend& backend, const engine::Scene& cluster) {
   r.render(true, false);
   const long before = resident_kb();
   engine::BindingEvaluator ev(cluster);
-  ev.update(protocol::SignalTable{}, true, -1.0);  // nothing known: every binding at rest
+  ev.update(protocol::SignalTable{}, true, -1.0);  // nothing known: every binding NotAvailable (its failsafe where it has one)
   r.apply(ev.outputs());
   r.render(false, false);  // the first unforced frame draws the layer
   const long after = resident_kb();

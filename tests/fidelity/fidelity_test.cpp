@@ -24,7 +24,6 @@
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
-#include "meter/protocol/catalog.hpp"
 #include "bound_signals.hpp"
 
 namespace {

@@ -67,7 +67,7 @@ TEST_P(DepthTest, DialLayersNeverZFightAtAnyCameraDistance) {
     o.msaa = 1;  // exact per-pixel depth results; no resolve blending
     Renderer r(*backend, scene, o);
     BindingEvaluator eval(scene);
-    eval.update(protocol::SignalTable{}, true, -1.0);  // nothing known: every binding at rest
+    eval.update(protocol::SignalTable{}, true, -1.0);  // nothing known: every binding NotAvailable (its failsafe where it has one)
     r.apply(eval.outputs());
     r.render(true, true);
     const platform::Image& img = r.last_image();

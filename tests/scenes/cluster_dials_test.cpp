@@ -67,7 +67,7 @@ const std::vector<Gauge> kGauges = {
     {"Coolant", "CoolantNeedle", 50, 130, -50, 100, 20, 0.605, 0.685, true, 0.20, 0.55},
 };
 
-// Values each state sets, per gauge prefix. Four frames cover the values (0, 60, 115,
+// Values each state sets, per gauge prefix. Four frames cover the checked values (0, 60, 115,
 // 260 km/h; 0, 3000, 8000 rpm) and both ends plus inner points of the small gauges.
 const std::vector<std::map<std::string, double>> kStates = {
     {{"Speedo", 0}, {"Tacho", 0}, {"Fuel", 0}, {"Coolant", 50}},

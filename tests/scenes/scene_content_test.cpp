@@ -6,7 +6,7 @@
 // - minimal-gauge: the pixel geometry written in its README (pivot (320, 240), 200 px per unit,
 //   angle -120 + 240 v / 260 clockwise from up) follows from the exported camera and needle;
 // - cluster: >= 150 mesh objects, >= 14 telltales in their ISO 2575 colour class, the glTF
-//   features the issue asks for; feature scenes: a 640x480 reference and their feature's data.
+//   the features a production cluster has; feature scenes: a 640x480 reference and their feature's data.
 #include <gtest/gtest.h>
 
 #include <tiny_gltf.h>
