@@ -12,12 +12,16 @@ int main(int argc, char** argv) {
 
   RunOptions run;
   auto* r = app.add_subcommand("run", "Run the controller daemon: input -> DBC decode -> mapping -> protocol link.");
-  r->add_option("--dbc", run.dbc, "DBC file describing the bus (not needed for a Modbus-only mapping)")->check(CLI::ExistingFile);
+  r->add_option("--dbc", run.dbcs,
+                "DBC file describing the bus (not needed for a Modbus-only mapping); with several inputs "
+                "NAME=FILE for the input of that name, once per CAN input");
   r->add_option("--map", run.map, "Mapping file: bus signals -> catalog signals (docs/mapping.md)")->required()->check(CLI::ExistingFile);
-  r->add_option("--input", run.input,
+  r->add_option("--input", run.inputs,
                 "Input: log:FILE (candump -L), can:IFACE (SocketCAN, e.g. can:vcan0), modbus-tcp:HOST:PORT, "
-                "modbus-rtu:DEVICE:BAUD[:8N1]")
-      ->required();
+                "modbus-rtu:DEVICE:BAUD[:8N1]. Repeatable: several inputs are NAME=INPUT each (e.g. "
+                "--input body=can:vcan0 --input chassis=can:vcan1), read on one clock (docs/controller.md)")
+      ->required()
+      ->take_all();
   r->add_option("--replay", run.replay,
                 "Log timing: realtime (original timing), fast (simulated clock, as fast as possible), "
                 "scale:N (N times faster than recorded)")

@@ -45,7 +45,10 @@ constexpr double kIgnitionOn = 4;
 }  // namespace
 
 Model::Model(const Database* db, Mapping mapping, ModelOptions options)
-    : mapping_(std::move(mapping)), options_(std::move(options)), sources_(db, mapping_),
+    : Model(std::vector<InputDbc>{{"", db}}, std::move(mapping), std::move(options)) {}
+
+Model::Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options)
+    : mapping_(std::move(mapping)), options_(std::move(options)), sources_(std::move(inputs), mapping_),
       bulb_(mapping_.bulb_check_s) {
   build_outputs();
   if (!options_.state_dir.empty() && mapping_.find(protocol::sig::kOdometer)) {
@@ -89,7 +92,7 @@ std::optional<double> Model::true_speed() const {
   return o.truth_valid ? std::optional(o.truth) : std::nullopt;
 }
 
-std::vector<std::pair<std::uint32_t, bool>> Model::used_ids() const { return sources_.used_ids(); }
+std::vector<std::pair<std::uint32_t, bool>> Model::used_ids(int input) const { return sources_.used_ids(input); }
 
 void Model::start(std::int64_t t) {
   start_ = t;

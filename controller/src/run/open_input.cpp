@@ -19,22 +19,56 @@ std::vector<CanIdFilter> can_filters(const std::vector<std::pair<std::uint32_t, 
   return filter;
 }
 
-std::unique_ptr<Input> open_input(const RunOptions& o, const Mapping& map, const std::vector<CanIdFilter>& filter,
-                                  std::ostream& err) {
-  if (o.input.rfind("log:", 0) == 0) {
-    std::string path = o.input.substr(4);
-    ParsedLog log = load_candump_log(path);
-    report_bad_lines(log, path, err);
-    if (log.frames.empty()) throw std::runtime_error(path + ": no frames in the log");
-    return std::make_unique<LogReplay>(std::move(log), parse_replay(o.replay));
+namespace {
+
+ParsedLog load_log(const std::string& path, std::ostream& err) {
+  ParsedLog log = load_candump_log(path);
+  report_bad_lines(log, path, err);
+  if (log.frames.empty()) throw std::runtime_error(path + ": no frames in the log");
+  return log;
+}
+
+// A live input (SocketCAN, Modbus) of input index i.
+std::unique_ptr<Input> open_live(const InputSpec& s, int i, const Database* db, const Mapping& map, const Model& model) {
+  if (s.kind == InputKind::SocketCan) return std::make_unique<SocketCanInput>(s.target.substr(4), can_filters(model.used_ids(i), db));
+  if (!map.modbus) throw std::runtime_error(map.file + ": a Modbus input needs a [modbus] section with registers");
+  return std::make_unique<ModbusInput>(s.target.substr(7), *map.modbus);
+}
+
+}  // namespace
+
+std::unique_ptr<Input> open_inputs(const std::vector<InputSpec>& specs, const std::vector<std::optional<Database>>& dbs,
+                                   const std::string& replay, const Mapping& map, const Model& model, std::ostream& err) {
+  auto db_of = [&](std::size_t i) { return dbs[i] ? &*dbs[i] : nullptr; };
+  if (specs.size() == 1) {
+    if (specs[0].kind == InputKind::Log)
+      return std::make_unique<LogReplay>(load_log(specs[0].target.substr(4), err), parse_replay(replay));
+    return open_live(specs[0], 0, db_of(0), map, model);
   }
-  if (o.input.rfind("can:", 0) == 0) return std::make_unique<SocketCanInput>(o.input.substr(4), filter);
-  if (o.input.rfind("modbus-tcp:", 0) == 0 || o.input.rfind("modbus-rtu:", 0) == 0) {
-    if (!map.modbus) throw std::runtime_error(o.map + ": a Modbus input needs a [modbus] section with registers");
-    return std::make_unique<ModbusInput>(o.input.substr(7), *map.modbus);
+  std::vector<std::pair<int, ParsedLog>> logs;
+  std::string log_names;
+  for (std::size_t i = 0; i < specs.size(); ++i)
+    if (specs[i].kind == InputKind::Log) {
+      logs.emplace_back(static_cast<int>(i), load_log(specs[i].target.substr(4), err));
+      log_names += (log_names.empty() ? "" : "+") + specs[i].name;
+    }
+  const ReplayOptions replay_options = parse_replay(replay);
+  if (logs.size() == specs.size()) return std::make_unique<LogReplay>(merge_logs(std::move(logs)), replay_options);
+
+  std::vector<InputSet::Member> members;
+  if (!logs.empty()) {
+    if (replay_options.mode != ReplayMode::Realtime)
+      throw std::invalid_argument("--replay " + replay + ": with a live input (can:, modbus-) the logs replay in realtime only, "
+                                  "so that all inputs share one clock");
+    members.push_back({std::make_unique<LogReplay>(merge_logs(std::move(logs)), replay_options), log_names, -1, -1});
   }
-  throw std::invalid_argument("--input: expected log:FILE, can:IFACE, modbus-tcp:HOST:PORT or modbus-rtu:DEV:BAUD, got '" +
-                              o.input + "'");
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    if (specs[i].kind == InputKind::Log) continue;
+    auto in = open_live(specs[i], static_cast<int>(i), db_of(i), map, model);
+    const int fd = specs[i].kind == InputKind::SocketCan ? static_cast<SocketCanInput&>(*in).fd() : -1;
+    members.push_back({std::move(in), specs[i].name, static_cast<int>(i), fd});
+  }
+  return std::make_unique<InputSet>(std::move(members));
 }
 
 }  // namespace meter::controller

@@ -1,11 +1,13 @@
-// The --input argument to an input backend. This is where the mapping becomes input configuration:
-// the kernel id filter from the DBC messages the mapping reads, the Modbus register table from
-// its [modbus] sections. The input stage itself knows nothing about mappings.
+// The --input arguments to input backends. This is where the mapping becomes input configuration:
+// the kernel id filter from the DBC messages the mapping reads on each bus, the Modbus register
+// table from its [modbus] sections. The input stage itself knows nothing about mappings.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <ostream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -13,7 +15,8 @@
 #include "meter/controller/input/input.hpp"
 #include "meter/controller/input/socketcan.hpp"
 #include "meter/controller/mapping/mapping.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/model/model.hpp"
+#include "meter/controller/run/inputs.hpp"
 
 namespace meter::controller {
 
@@ -21,9 +24,13 @@ namespace meter::controller {
 // matches J1939 messages by PGN, since any source address may carry them.
 std::vector<CanIdFilter> can_filters(const std::vector<std::pair<std::uint32_t, bool>>& used_ids, const Database* db);
 
-// log:FILE | can:IFACE | modbus-tcp:HOST:PORT | modbus-rtu:DEV:BAUD[:8N1]. Throws SocketCanError
-// when the kernel or interface cannot do CAN, std::runtime_error / std::invalid_argument otherwise.
-std::unique_ptr<Input> open_input(const RunOptions& options, const Mapping& map, const std::vector<CanIdFilter>& filter,
-                                  std::ostream& err);
+// Opens every input: one as itself; several candump logs as one replay of the merged logs; logs
+// and live inputs (or several live ones) as an InputSet on the clock of the (merged) log, else of
+// the first input. dbs[i] is specs[i]'s database (empty: none). A log among live inputs replays in
+// real time only: a faster clock could not be one time base with a live bus. Throws
+// SocketCanError when the kernel or interface cannot do CAN, std::runtime_error /
+// std::invalid_argument otherwise.
+std::unique_ptr<Input> open_inputs(const std::vector<InputSpec>& specs, const std::vector<std::optional<Database>>& dbs,
+                                   const std::string& replay, const Mapping& map, const Model& model, std::ostream& err);
 
 }  // namespace meter::controller

@@ -16,6 +16,7 @@
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/model/model.hpp"
 #include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/inputs.hpp"
 #include "meter/protocol/link.hpp"
 #include "open_input.hpp"
 
@@ -47,14 +48,19 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::signal(SIGTERM, on_signal);
   std::signal(SIGPIPE, SIG_IGN);
   try {
-    std::optional<Database> db;
-    if (!o.dbc.empty()) db = load_dbc(o.dbc);
+    const std::vector<InputSpec> specs = parse_input_specs(o.inputs, o.dbcs);
+    std::vector<std::optional<Database>> dbs(specs.size());
+    std::vector<InputDbc> buses;
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      if (!specs[i].dbc.empty()) dbs[i] = load_dbc(specs[i].dbc);
+      buses.push_back(InputDbc{specs[i].name, dbs[i] ? &*dbs[i] : nullptr});
+    }
     Mapping map = load_mapping(o.map);
-    Model model(db ? &*db : nullptr, map, ModelOptions{o.state_dir});
+    Model model(std::move(buses), map, ModelOptions{o.state_dir});
 
     std::unique_ptr<Input> input;
     try {
-      input = open_input(o, map, can_filters(model.used_ids(), db ? &*db : nullptr), err);
+      input = open_inputs(specs, dbs, o.replay, map, model, err);
     } catch (const SocketCanError& e) {
       err << "meter-controller: " << e.what() << "\n";
       return 3;

@@ -19,6 +19,7 @@ struct CanFrame {
   std::uint8_t fd_flags = 0;      // CANFD_BRS = 1, CANFD_ESI = 2 (as candump writes them)
   std::uint8_t len = 0;           // payload bytes: 0..8 classic, 0..64 FD
   std::uint8_t len8_dlc = 0;      // classic frames with len 8: raw DLC 9..15 if the sender used one
+  std::uint8_t input = 0;         // which of the controller's inputs (buses) delivered it, 0 = the first
   std::array<std::uint8_t, 64> data{};
 };
 

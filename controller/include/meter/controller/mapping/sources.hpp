@@ -1,10 +1,12 @@
-// The mapping's sources: every "Message.Signal" or "modbus.NAME" a mapping names, resolved once
-// against the DBC, with the newest value received for each. Frames go in and are decoded (only
+// The mapping's sources: every "Message.Signal", "INPUT.Message.Signal" or "modbus.NAME" a mapping
+// names, resolved once against the DBC of the input (bus) that carries it, with the newest value
+// received for each. Frames go in and are decoded (only
 // the messages the mapping uses); the readings come out as plain data for mapping/apply.hpp.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -21,6 +23,13 @@ namespace meter::controller {
 
 inline bool is_modbus_source(std::string_view key) { return key.rfind("modbus.", 0) == 0; }
 
+// One input (bus) as the mapping sees it: its --input name (empty for a single unnamed input) and
+// its DBC (null when it has none, e.g. a Modbus input).
+struct InputDbc {
+  std::string name;
+  const Database* db = nullptr;
+};
+
 struct DbcSource {
   const DbcMessage* message = nullptr;
   int signal = -1;  // index into message->signals
@@ -30,8 +39,22 @@ struct DbcSource {
 // no DBC at all, no such message, or no such signal in it.
 DbcSource resolve_dbc_source(const Database* db, const std::string& key, const std::string& file, int line);
 
+// A DBC source and the input whose frames carry it.
+struct InputSource {
+  int input = 0;  // index into the inputs
+  DbcSource dbc;
+};
+// Resolves "INPUT.Message.Signal" against that input's DBC, and "Message.Signal" against the only
+// DBC there is or, with several, against the one input whose DBC has that message. Throws
+// MappingError (file, line) naming what is wrong: an unknown input, an input without a DBC, a
+// message that several inputs' DBCs define (ambiguous: the source must name its input), or a
+// message or signal that does not exist.
+InputSource resolve_input_source(std::span<const InputDbc> inputs, const std::string& key, const std::string& file,
+                                 int line);
+
 struct Source {
   std::string key;
+  int input = 0;                // the input whose frames carry it (DBC sources)
   DbcSource dbc;                // message null for Modbus sources
   std::optional<int> cycle_ms;  // DBC cycle time, or the Modbus poll period
   SourceReading reading;
@@ -45,26 +68,33 @@ enum class FrameUse : std::uint8_t { ErrorFrame, Ignored, UnknownId, Unused, Map
 class SourceTable {
  public:
   // db may be null (Modbus-only mapping); the mapping must outlive the table.
-  SourceTable(const Database* db, const Mapping& mapping) : db_(db), mapping_(mapping) {}
+  SourceTable(const Database* db, const Mapping& mapping) : SourceTable(std::vector<InputDbc>{{"", db}}, mapping) {}
+  // Several inputs (buses), each with its own DBC (or none); frames say which one they came from.
+  SourceTable(std::vector<InputDbc> inputs, const Mapping& mapping) : inputs_(std::move(inputs)), mapping_(mapping) {}
 
   // The indices of output m's sources in the order it names them, adding those not seen before.
   // Throws MappingError when a DBC source does not resolve.
   std::vector<int> add(const OutputMapping& m);
-  // Decodes the frame into the sources it carries (remote and error frames carry none).
+  // Decodes the frame with the DBC of the input it came from (frame.input) into the sources it
+  // carries (remote and error frames carry none).
   FrameUse on_frame(const CanFrame& frame);
   // A Modbus (or other named) value; false when no source has that key.
   bool on_value(std::string_view key, double value, bool valid, std::int64_t t_ns);
 
   const Source& operator[](int index) const { return sources_[static_cast<std::size_t>(index)]; }
-  // The (id, extended) of every DBC message a source reads, sorted.
-  std::vector<std::pair<std::uint32_t, bool>> used_ids() const;
+  // The (id, extended) of every DBC message a source reads from that input, sorted.
+  std::vector<std::pair<std::uint32_t, bool>> used_ids(int input = 0) const;
 
  private:
-  const Database* db_;
+  struct MessageUse {
+    int input = 0;
+    std::vector<int> sources;  // per signal index, -1 = unused
+  };
+  std::vector<InputDbc> inputs_;
   const Mapping& mapping_;
   std::vector<Source> sources_;
   std::unordered_map<std::string, int> by_key_;
-  std::unordered_map<const DbcMessage*, std::vector<int>> by_message_;  // per signal index, -1 = unused
+  std::unordered_map<const DbcMessage*, MessageUse> by_message_;
   std::vector<DecodedSignal> scratch_;
 };
 

@@ -51,6 +51,8 @@ class Model {
   // db may be null for Modbus-only mappings. Throws MappingError when the mapping names a DBC
   // signal that does not exist, or 'timeout = auto' for a message without a cycle time.
   Model(const Database* db, Mapping mapping, ModelOptions options = {});
+  // Several inputs (buses), each with its own DBC or none; frames carry their input's index.
+  Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options = {});
   ~Model();
   Model(const Model&) = delete;
   Model& operator=(const Model&) = delete;
@@ -72,8 +74,8 @@ class Model {
   const Odometer& odometer() const { return odo_; }
   // True speed (before damping and the R39 rule), for tests and the odometer.
   std::optional<double> true_speed() const;
-  // Does this frame carry a message that the mapping uses? (SocketCAN kernel filters use the ids.)
-  std::vector<std::pair<std::uint32_t, bool>> used_ids() const;
+  // The messages the mapping uses on that input (SocketCAN kernel filters use the ids).
+  std::vector<std::pair<std::uint32_t, bool>> used_ids(int input = 0) const;
 
  private:
   struct Out;

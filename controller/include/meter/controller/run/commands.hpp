@@ -5,13 +5,17 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace meter::controller {
 
 struct RunOptions {
-  std::string dbc;         // may be empty for a Modbus-only mapping
+  // One entry per input: [NAME=]log:FILE | can:IFACE | modbus-tcp:HOST:PORT | modbus-rtu:DEV:BAUD[:8N1];
+  // with several, each has a NAME the mapping's INPUT.Message.Signal sources can use.
+  std::vector<std::string> inputs;
+  // [NAME=]FILE, one per CAN input (none for a Modbus-only mapping); see parse_input_specs().
+  std::vector<std::string> dbcs;
   std::string map;
-  std::string input;       // log:FILE | can:IFACE | modbus-tcp:HOST:PORT | modbus-rtu:DEV:BAUD[:8N1]
   std::string replay = "realtime";
   std::string link;        // empty: protocol::default_endpoint()
   std::string state_dir;   // empty: odometer not persisted

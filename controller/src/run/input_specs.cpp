@@ -1,0 +1,87 @@
+// --input [NAME=]TARGET and --dbc [NAME=]FILE paired into one spec per input.
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+
+#include "meter/controller/run/inputs.hpp"
+
+namespace meter::controller {
+namespace {
+
+// "NAME=REST" when the text before the first '=' is an identifier; otherwise no name (so
+// "log:/a=b.log" is a target, not the input "log:/a").
+std::pair<std::string, std::string> split_name(const std::string& arg) {
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0) return {"", arg};
+  const std::string name = arg.substr(0, eq);
+  const bool ident = (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+                     std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+  if (!ident) return {"", arg};
+  return {name, arg.substr(eq + 1)};
+}
+
+bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+}  // namespace
+
+InputKind input_kind(const std::string& target) {
+  if (starts_with(target, "log:") && target.size() > 4) return InputKind::Log;
+  if (starts_with(target, "can:") && target.size() > 4) return InputKind::SocketCan;
+  if (starts_with(target, "modbus-tcp:") || starts_with(target, "modbus-rtu:")) return InputKind::Modbus;
+  throw std::invalid_argument("--input: expected [NAME=]log:FILE, can:IFACE, modbus-tcp:HOST:PORT or modbus-rtu:DEV:BAUD, got '" +
+                              target + "'");
+}
+
+std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs, const std::vector<std::string>& dbcs) {
+  if (inputs.empty()) throw std::invalid_argument("--input: expected at least one input");
+  if (inputs.size() > 255) throw std::invalid_argument("--input: at most 255 inputs");
+  std::vector<InputSpec> specs;
+  for (const std::string& arg : inputs) {
+    auto [name, target] = split_name(arg);
+    InputSpec s{name, target, "", input_kind(target)};
+    if (inputs.size() > 1 && name.empty())
+      throw std::invalid_argument("--input " + arg + ": with several inputs each one needs a name, e.g. --input body=" + arg);
+    if (name == "modbus")
+      throw std::invalid_argument("--input " + arg + ": 'modbus' is reserved for the mapping's modbus.NAME sources; choose another name");
+    for (const InputSpec& o : specs)
+      if (!name.empty() && o.name == name) throw std::invalid_argument("--input " + arg + ": a second input named '" + name + "'");
+    specs.push_back(std::move(s));
+  }
+  if (std::count_if(specs.begin(), specs.end(), [](const InputSpec& s) { return s.kind == InputKind::Modbus; }) > 1)
+    throw std::invalid_argument("--input: at most one Modbus input (the mapping has one [modbus] register table)");
+
+  for (const std::string& arg : dbcs) {
+    auto [name, file] = split_name(arg);
+    InputSpec* owner = nullptr;
+    if (specs.size() == 1 && (name.empty() || name == specs[0].name)) {
+      owner = &specs[0];
+    } else if (name.empty()) {
+      throw std::invalid_argument("--dbc " + arg + ": with several inputs each DBC names its input, e.g. --dbc " +
+                                  specs[0].name + "=" + arg);
+    } else {
+      for (InputSpec& s : specs)
+        if (s.name == name) owner = &s;
+    }
+    if (!owner) {
+      std::string names;
+      for (const InputSpec& s : specs) names += (names.empty() ? "" : ", ") + (s.name.empty() ? "(unnamed)" : s.name);
+      throw std::invalid_argument("--dbc " + arg + ": no input named '" + name + "' (inputs: " + names + ")");
+    }
+    if (!owner->dbc.empty())
+      throw std::invalid_argument("--dbc " + arg + ": input " + (owner->name.empty() ? "" : "'" + owner->name + "' ") +
+                                  "already has the DBC " + owner->dbc);
+    if (file.empty()) throw std::invalid_argument("--dbc " + arg + ": expected a file after '='");
+    owner->dbc = file;
+  }
+  if (specs.size() > 1)
+    for (const InputSpec& s : specs) {
+      if (s.kind != InputKind::Modbus && s.dbc.empty())
+        throw std::invalid_argument("--input " + s.name + "=" + s.target + ": a CAN input needs its DBC: --dbc " + s.name + "=FILE");
+      if (s.kind == InputKind::Modbus && !s.dbc.empty())
+        throw std::invalid_argument("--dbc " + s.name + "=" + s.dbc +
+                                    ": a Modbus input reads the mapping's [modbus] registers, not a DBC");
+    }
+  return specs;
+}
+
+}  // namespace meter::controller

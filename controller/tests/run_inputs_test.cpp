@@ -1,0 +1,212 @@
+// Several inputs in one controller: pairing --input with --dbc, candump logs merged onto one
+// timeline, the input set's one clock, and the run loop fed by two logs with a DBC each.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/log_replay.hpp"
+#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/inputs.hpp"
+#include "model_fixture.hpp"
+
+using namespace meter::controller;
+using namespace meter::controller::testing;
+
+namespace {
+
+std::string error_of(const std::vector<std::string>& inputs, const std::vector<std::string>& dbcs) {
+  try {
+    parse_input_specs(inputs, dbcs);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// A candump -L log: one frame on id every step_ms from t0_s, payload = the frame's index as a
+// little-endian 16-bit count.
+std::string make_log(std::uint32_t id, double t0_s, int step_ms, int n) {
+  std::ostringstream s;
+  for (int k = 0; k < n; ++k) {
+    CanFrame f = frame(id, static_cast<std::int64_t>(std::llround(t0_s * 1e3)) * ms + k * step_ms * ms,
+                       {static_cast<std::uint8_t>(k & 0xFF), static_cast<std::uint8_t>(k >> 8), 0, 0, 0, 0, 0, 0});
+    s << format_candump_line(f, "can0") << "\n";
+  }
+  return s.str();
+}
+
+struct Received : InputSink {
+  std::vector<CanFrame> frames;
+  void on_frame(const CanFrame& f) override { frames.push_back(f); }
+  void on_value(std::string_view, double, bool, std::int64_t) override {}
+};
+
+}  // namespace
+
+TEST(RunInputs, SingleInputFormsAreUnchanged) {
+  auto one = parse_input_specs({"log:drive.log"}, {"v.dbc"});
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0].name, "");
+  EXPECT_EQ(one[0].target, "log:drive.log");
+  EXPECT_EQ(one[0].dbc, "v.dbc");
+  EXPECT_EQ(one[0].kind, InputKind::Log);
+  EXPECT_TRUE(parse_input_specs({"modbus-tcp:127.0.0.1:1502"}, {})[0].dbc.empty());
+  // '=' inside a target is part of it, not a name.
+  EXPECT_EQ(parse_input_specs({"log:/tmp/a=b.log"}, {})[0].target, "log:/tmp/a=b.log");
+  auto named = parse_input_specs({"body=can:vcan0"}, {"v.dbc"});
+  EXPECT_EQ(named[0].name, "body");
+  EXPECT_EQ(named[0].dbc, "v.dbc");
+  EXPECT_EQ(named[0].kind, InputKind::SocketCan);
+}
+
+TEST(RunInputs, SeveralInputsPairWithTheirDbcs) {
+  auto specs = parse_input_specs({"body=can:vcan0", "chassis=log:c.log", "pump=modbus-tcp:h:1502"},
+                                 {"chassis=c.dbc", "body=b.dbc"});
+  ASSERT_EQ(specs.size(), 3u);
+  EXPECT_EQ(specs[0].dbc, "b.dbc");
+  EXPECT_EQ(specs[1].dbc, "c.dbc");
+  EXPECT_EQ(specs[2].kind, InputKind::Modbus);
+  EXPECT_TRUE(specs[2].dbc.empty());
+
+  EXPECT_TRUE(contains(error_of({"body=can:vcan0", "can:vcan1"}, {}), "--input can:vcan1: with several inputs each one needs a name"));
+  EXPECT_TRUE(contains(error_of({"a=can:vcan0", "a=can:vcan1"}, {"a=x.dbc"}), "a second input named 'a'"));
+  EXPECT_TRUE(contains(error_of({"modbus=can:vcan0"}, {}), "'modbus' is reserved"));
+  EXPECT_TRUE(contains(error_of({"a=can:vcan0", "b=can:vcan1"}, {"a=x.dbc", "x.dbc"}), "--dbc x.dbc: with several inputs each DBC names its input"));
+  EXPECT_TRUE(contains(error_of({"a=can:vcan0", "b=can:vcan1"}, {"a=x.dbc", "c=y.dbc"}), "--dbc c=y.dbc: no input named 'c' (inputs: a, b)"));
+  EXPECT_TRUE(contains(error_of({"a=can:vcan0", "b=can:vcan1"}, {"a=x.dbc", "a=y.dbc"}), "input 'a' already has the DBC x.dbc"));
+  EXPECT_TRUE(contains(error_of({"a=can:vcan0", "b=can:vcan1"}, {"a=x.dbc"}), "--input b=can:vcan1: a CAN input needs its DBC: --dbc b=FILE"));
+  EXPECT_TRUE(contains(error_of({"a=can:vcan0", "m=modbus-tcp:h:1"}, {"a=x.dbc", "m=y.dbc"}), "a Modbus input reads the mapping's [modbus] registers"));
+  EXPECT_TRUE(contains(error_of({"a=modbus-tcp:h:1", "b=modbus-rtu:/dev/x:9600"}, {}), "at most one Modbus input"));
+  EXPECT_TRUE(contains(error_of({"a=serial:x"}, {}), "expected [NAME=]log:FILE, can:IFACE"));
+  EXPECT_TRUE(contains(error_of({"log:x"}, {"other=x.dbc"}), "no input named 'other'"));
+}
+
+TEST(RunInputs, MergedLogsKeepTheirRelativeTimingAndEachFilesOrder) {
+  // Body frames every 20 ms from t = 100.000 s, chassis every 30 ms from t = 100.010 s, recorded on
+  // one clock: merged, they interleave by timestamp.
+  std::vector<std::pair<int, ParsedLog>> logs;
+  logs.emplace_back(0, parse_candump_log(make_log(0x100, 100.000, 20, 5)));
+  logs.emplace_back(1, parse_candump_log(make_log(0x300, 100.010, 30, 4)));
+  const ParsedLog merged = merge_logs(std::move(logs));
+  ASSERT_EQ(merged.frames.size(), 9u);
+  std::vector<std::pair<int, std::int64_t>> got;
+  for (const CanFrame& f : merged.frames) got.emplace_back(f.input, (f.timestamp_ns - 100000 * ms) / ms);
+  const std::vector<std::pair<int, std::int64_t>> want{{0, 0},  {1, 10}, {0, 20}, {0, 40}, {1, 40},
+                                                       {0, 60}, {1, 70}, {0, 80}, {1, 100}};
+  EXPECT_EQ(got, want);
+
+  // Replayed on the simulated clock, the frames come out in that order at those times.
+  LogReplay replay(merged, ReplayOptions{ReplayMode::Fast, 1.0, std::chrono::milliseconds(10)});
+  Received rx;
+  while (replay.poll(rx, std::chrono::milliseconds(0))) {
+  }
+  ASSERT_EQ(rx.frames.size(), 9u);
+  for (std::size_t i = 0; i < 9; ++i) EXPECT_EQ(rx.frames[i].input, want[i].first) << i;
+
+  // A file whose timestamps step back keeps its own order.
+  std::vector<std::pair<int, ParsedLog>> odd;
+  odd.emplace_back(0, parse_candump_log("(5.000) can0 100#01\n(4.000) can0 100#02\n"));
+  odd.emplace_back(1, parse_candump_log("(4.500) can0 300#03\n"));
+  const ParsedLog m2 = merge_logs(std::move(odd));
+  ASSERT_EQ(m2.frames.size(), 3u);
+  EXPECT_EQ(m2.frames[0].data[0], 3);  // 4.5 < 5.0
+  EXPECT_EQ(m2.frames[1].data[0], 1);
+  EXPECT_EQ(m2.frames[2].data[0], 2);
+}
+
+TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
+  // Two inputs on clocks 4000 s apart, both replayed in real time: the second one's frames arrive
+  // tagged with its index and stamped on the first one's clock.
+  std::vector<InputSet::Member> members;
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1, -1});
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 4)), ReplayOptions{}), "b", 1, -1});
+  InputSet set(std::move(members));
+  EXPECT_EQ(set.describe().rfind("a: candump log (4 frames", 0), 0u) << set.describe();
+  Received rx;
+  int polls = 0;
+  while (set.poll(rx, std::chrono::milliseconds(5)) && ++polls < 400) {
+  }
+  EXPECT_LT(polls, 400) << "the set never ended";
+  ASSERT_EQ(rx.frames.size(), 8u);
+  int a = 0, b = 0;
+  for (const CanFrame& f : rx.frames) {
+    const int k = f.data[0];
+    const std::int64_t base = 1000000 * ms + k * 20 * ms;
+    // Both replays start in the same poll, microseconds apart; 20 ms leaves room for a loaded
+    // machine descheduling the test between the two clock reads.
+    EXPECT_NEAR(static_cast<double>(f.timestamp_ns - base), 0.0, 20.0 * ms) << "input " << int(f.input) << " frame " << k;
+    (f.input == 0 ? a : b) += 1;
+    EXPECT_EQ(f.id, f.input == 0 ? 0x100u : 0x300u);
+  }
+  EXPECT_EQ(a, 4);
+  EXPECT_EQ(b, 4);
+}
+
+namespace {
+
+const char* kChassisDbc =
+    "BO_ 768 Engine: 8 ECU\n"
+    " SG_ Rpm : 0|16@1+ (1,0) [0|8000] \"rpm\" ICL\n"
+    "BA_DEF_ BO_ \"GenMsgCycleTime\" INT 0 10000;\n"
+    "BA_ \"GenMsgCycleTime\" BO_ 768 30;\n";
+
+struct TempDir {
+  std::filesystem::path path = std::filesystem::temp_directory_path() / ("meter-inputs-" + std::to_string(::getpid()));
+  TempDir() { std::filesystem::create_directories(path); }
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name) << text;
+    return (path / name).string();
+  }
+};
+
+}  // namespace
+
+TEST(RunInputs, TheRunLoopReadsTwoLogsEachWithItsDbc) {
+  TempDir dir;
+  const std::string body_dbc = dir.write("body.dbc", kDbc), chassis_dbc = dir.write("chassis.dbc", kChassisDbc);
+  // Body: Speed.WheelA counts 0..49 at 0.01 m/s (last 0.49 m/s = 1.764 km/h); chassis: Engine.Rpm
+  // counts 0..29 (last 29 rpm). Both end at about 101 s.
+  const std::string body_log = dir.write("body.log", make_log(256, 100.0, 20, 50));
+  const std::string chassis_log = dir.write("chassis.log", make_log(768, 100.11, 30, 30));
+  const std::string map = dir.write("v.map",
+                                    "[Vehicle.Speed]\nsource = body.Speed.WheelA\nconvert = m/s->km/h\n"
+                                    "[Vehicle.Powertrain.CombustionEngine.Speed]\nsource = Engine.Rpm\n");
+  RunOptions o;
+  o.inputs = {"body=log:" + body_log, "chassis=log:" + chassis_log};
+  o.dbcs = {"body=" + body_dbc, "chassis=" + chassis_dbc};
+  o.map = map;
+  o.replay = "fast";
+  o.exit_at_end = true;
+  o.verbose = true;
+  o.link = "unix:" + (dir.path / "link.sock").string();
+  std::ostringstream out, err;
+  ASSERT_EQ(run_command(o, out, err), 0) << err.str();
+  EXPECT_TRUE(contains(out.str(), " 80 frames (80 mapped, 0 unknown id")) << out.str();
+  EXPECT_TRUE(contains(err.str(), "final Vehicle.Powertrain.CombustionEngine.Speed = 29 (valid)")) << err.str();
+  // No needle damping or speedometer rule in this map: the shown speed is the last frame's.
+  EXPECT_TRUE(contains(err.str(), "final Vehicle.Speed = 1.764 (valid)")) << err.str();
+
+  // The same map with the two inputs' names swapped finds no Speed message on 'body'.
+  o.dbcs = {"body=" + chassis_dbc, "chassis=" + body_dbc};
+  std::ostringstream out2, err2;
+  EXPECT_EQ(run_command(o, out2, err2), 1);
+  EXPECT_TRUE(contains(err2.str(), map + ":1: source body.Speed.WheelA: the DBC " + chassis_dbc + " has no message 'Speed'")) << err2.str();
+
+  // A log cannot run fast next to a live bus: there would be two clocks.
+  o.dbcs = {"body=" + body_dbc, "chassis=" + chassis_dbc};
+  o.inputs = {"body=log:" + body_log, "chassis=can:vcan9"};
+  std::ostringstream out3, err3;
+  EXPECT_EQ(run_command(o, out3, err3), 1);
+  EXPECT_TRUE(contains(err3.str(), "--replay fast: with a live input (can:, modbus-) the logs replay in realtime only")) << err3.str();
+}
