@@ -16,6 +16,7 @@
 #include "meter/controller/input/modbus_input.hpp"
 #include "meter/controller/input/modbus_registers.hpp"
 #include "meter/controller/mapping/mapping.hpp"
+#include "pymodbus_peer.hpp"
 
 using namespace meter::controller;
 
@@ -188,31 +189,12 @@ TEST(ModbusClient, UnreachableServerMarksEverythingInvalid) {
 }
 
 TEST(ModbusClient, AgainstPymodbusPeer) {
-  // A free port: bind to 0, read it back, release it for the Python server.
-  int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  socklen_t len = sizeof a;
-  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-  const int port = ntohs(a.sin_port);
-  ::close(s);
-  pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    std::string script = std::string(METER_SOURCE_DIR) + "/controller/tests/pymodbus_server.py";
-    std::string p = std::to_string(port);
-    ::execl("/usr/bin/python3", "python3", script.c_str(), p.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  meter::controller::testing::PymodbusPeer peer;
+  ASSERT_TRUE(peer.started());
   Mapping m = parse_mapping(kRegisters, "test.map");
-  ModbusInput in("tcp:127.0.0.1:" + std::to_string(port), *m.modbus);
+  ModbusInput in("tcp:127.0.0.1:" + std::to_string(peer.port()), *m.modbus);
   Rec r;
   // The Python interpreter needs a moment to start listening; the client reconnects each poll.
   for (int i = 0; i < 400 && !r.all_valid(); ++i) in.poll(r, std::chrono::milliseconds(25));
-  ::kill(pid, SIGTERM);
-  int status;
-  ::waitpid(pid, &status, 0);
   expect_values(r);
 }

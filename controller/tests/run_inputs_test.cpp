@@ -105,7 +105,7 @@ TEST(RunInputs, MergedLogsKeepTheirRelativeTimingAndEachFilesOrder) {
                                                        {0, 60}, {1, 70}, {0, 80}, {1, 100}};
   EXPECT_EQ(got, want);
 
-  // Replayed on the simulated clock, the frames come out in that order at those times.
+  // Replayed on the simulated clock, the frames come out in that order.
   LogReplay replay(merged, ReplayOptions{ReplayMode::Fast, 1.0, std::chrono::milliseconds(10)});
   Received rx;
   while (replay.poll(rx, std::chrono::milliseconds(0))) {
@@ -126,10 +126,11 @@ TEST(RunInputs, MergedLogsKeepTheirRelativeTimingAndEachFilesOrder) {
 
 TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
   // Two inputs on clocks 4000 s apart, both replayed in real time: the second one's frames arrive
-  // tagged with its index and stamped on the first one's clock.
+  // tagged with its index and stamped on the first one's clock. The second is one frame shorter,
+  // so it has ended before the first (the time base) ends the set.
   std::vector<InputSet::Member> members;
   members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1, -1});
-  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 4)), ReplayOptions{}), "b", 1, -1});
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 3)), ReplayOptions{}), "b", 1, -1});
   InputSet set(std::move(members));
   EXPECT_EQ(set.describe().rfind("a: candump log (4 frames", 0), 0u) << set.describe();
   Received rx;
@@ -137,7 +138,7 @@ TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
   while (set.poll(rx, std::chrono::milliseconds(5)) && ++polls < 400) {
   }
   EXPECT_LT(polls, 400) << "the set never ended";
-  ASSERT_EQ(rx.frames.size(), 8u);
+  ASSERT_EQ(rx.frames.size(), 7u);
   int a = 0, b = 0;
   for (const CanFrame& f : rx.frames) {
     const int k = f.data[0];
@@ -149,7 +150,7 @@ TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
     EXPECT_EQ(f.id, f.input == 0 ? 0x100u : 0x300u);
   }
   EXPECT_EQ(a, 4);
-  EXPECT_EQ(b, 4);
+  EXPECT_EQ(b, 3);
 }
 
 namespace {

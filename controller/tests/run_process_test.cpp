@@ -14,39 +14,19 @@
 
 #include "meter/controller/input/socketcan.hpp"
 #include "meter/protocol/link.hpp"
+#include "process_util.hpp"
 
 using namespace meter;
 namespace sig = meter::protocol::sig;
+
+using meter::controller::testing::slurp;
+using meter::controller::testing::spawn;
 
 namespace {
 const std::string kBin = std::string(METER_BINARY_DIR) + "/bin/meter-controller";
 const std::string kShared = METER_SHARED_DIR;
 const std::string kSrc = METER_SOURCE_DIR;
 
-pid_t spawn(const std::vector<std::string>& args, const std::string& stderr_file) {
-  pid_t pid = ::fork();
-  if (pid == 0) {
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    FILE* e = std::freopen(stderr_file.c_str(), "w", stderr);
-    (void)e;
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-std::string slurp(const std::string& path) {
-  FILE* f = std::fopen(path.c_str(), "r");
-  if (!f) return "";
-  std::string s;
-  char b[4096];
-  std::size_t n;
-  while ((n = std::fread(b, 1, sizeof b, f)) > 0) s.append(b, n);
-  std::fclose(f);
-  return s;
-}
 }  // namespace
 
 TEST(Process, Ft86ReplayPublishesTheLogValues) {

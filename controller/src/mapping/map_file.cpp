@@ -81,10 +81,10 @@ constexpr Conversion kConversions[] = {
 void set_output_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
   auto w = words(value);
   if (key == "source") {
-    if (w.empty()) c.fail("source: expected Message.Signal or modbus.NAME (comma separated for several)");
+    if (w.empty()) c.fail("source: expected Message.Signal, INPUT.Message.Signal or modbus.NAME (comma separated for several)");
     for (auto& s : w)
       if (s.find('.') == std::string::npos || s.front() == '.' || s.back() == '.')
-        c.fail("source: expected Message.Signal or modbus.NAME, got '" + s + "'");
+        c.fail("source: expected Message.Signal, INPUT.Message.Signal or modbus.NAME, got '" + s + "'");
     o.sources = w;
   } else if (key == "combine") {
     std::string v(trim(value));

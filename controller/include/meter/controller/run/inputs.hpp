@@ -56,7 +56,8 @@ class InputSet : public Input {
   InputSet(const InputSet&) = delete;
   InputSet& operator=(const InputSet&) = delete;
 
-  // False once every input has ended (live inputs never end).
+  // False once the time base (the first input) has ended: a replayed log among live inputs ends
+  // the run; live inputs never end.
   bool poll(InputSink& sink, std::chrono::milliseconds timeout) override;
   std::int64_t now_ns() const override { return members_.front().input->now_ns(); }
   std::string describe() const override;
