@@ -86,16 +86,14 @@ bool InputSet::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   } else if (timeout.count() > 0) {
     std::this_thread::sleep_for(timeout);
   }
-  bool more = false;
   for (std::size_t i = 0; i < members_.size(); ++i) {
     if (ended_[i]) continue;
     Input& in = *members_[i].input;
     const std::int64_t offset = i == 0 ? 0 : now_ns() - in.now_ns();
     OntoTimeBase onto(sink, members_[i].tag, offset);
     ended_[i] = !in.poll(onto, std::chrono::milliseconds(0));
-    more = more || !ended_[i];
   }
-  return more;
+  return !ended_.front();
 }
 
 std::string InputSet::describe() const {
