@@ -1,9 +1,12 @@
 // Starting meter-controller as a process in tests, and reading what it wrote.
 #pragma once
 
+#include <signal.h>
 #include <sys/types.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -36,4 +39,20 @@ inline std::string slurp(const std::string& path) {
   std::fclose(f);
   return s;
 }
+
+// Calls each() (which should wait a little, e.g. a Subscriber poll) until the child exits or limit
+// has passed; a child still running then is killed. Returns whether it exited by itself; status
+// gets its wait status.
+template <class Each>
+bool watch_until_exit(pid_t pid, std::chrono::seconds limit, Each each, int& status) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < until) {
+    each();
+    if (::waitpid(pid, &status, WNOHANG) == pid) return true;
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return false;
+}
+
 }  // namespace meter::controller::testing

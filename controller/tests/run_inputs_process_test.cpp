@@ -52,28 +52,18 @@ TEST(ProcessInputs, CanLogAndModbusPeerInOneController) {
                     (dir / "stderr.txt").string());
   ASSERT_GT(pid, 0);
   protocol::Subscriber sub(protocol::Endpoint::parse("unix:" + sock));
-  bool all_three = false, exited = false;
+  bool all_three = false;
   int status = -1;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (std::chrono::steady_clock::now() < until) {
+  const bool exited = watch_until_exit(pid, std::chrono::seconds(20), [&] {
     sub.poll(std::chrono::milliseconds(20));
-    if (sub.link_up()) {
-      const auto speed = sub.get(sig::kSpeed), rpm = sub.get(sig::kEngineSpeed), ect = sub.get(sig::kCoolantTemp);
-      // All three valid in one state: the bus value and both register values fresh at one time
-      // (1e-6: the same arithmetic as the controller's, any rounding on the way stays far below).
-      all_three |= speed.status == protocol::SignalStatus::Valid && std::abs(speed.value - 4660 * 0.01 * 3.6) < 1e-6 &&
-                   rpm.status == protocol::SignalStatus::Valid && rpm.value == 1234 &&
-                   ect.status == protocol::SignalStatus::Valid && ect.value == -5;
-    }
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-  }
-  if (!exited) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+    if (!sub.link_up()) return;
+    const auto speed = sub.get(sig::kSpeed), rpm = sub.get(sig::kEngineSpeed), ect = sub.get(sig::kCoolantTemp);
+    // All three valid in one state: the bus value and both register values fresh at one time
+    // (1e-6: the same arithmetic as the controller's, any rounding on the way stays far below).
+    all_three |= speed.status == protocol::SignalStatus::Valid && std::abs(speed.value - 4660 * 0.01 * 3.6) < 1e-6 &&
+                 rpm.status == protocol::SignalStatus::Valid && rpm.value == 1234 &&
+                 ect.status == protocol::SignalStatus::Valid && ect.value == -5;
+  }, status);
   const std::string err = slurp((dir / "stderr.txt").string());
   ASSERT_TRUE(exited) << err;
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << err;

@@ -21,6 +21,7 @@ namespace sig = meter::protocol::sig;
 
 using meter::controller::testing::slurp;
 using meter::controller::testing::spawn;
+using meter::controller::testing::watch_until_exit;
 
 namespace {
 const std::string kBin = std::string(METER_BINARY_DIR) + "/bin/meter-controller";
@@ -43,11 +44,9 @@ TEST(Process, Ft86ReplayPublishesTheLogValues) {
   std::set<int> gears;
   double max_rpm = 0, max_speed = 0;
   bool saw_bulb = false;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   int status = -1;
-  bool exited = false;
   protocol::SignalState rpm, speed, gear, coolant, fuel, odo;
-  while (std::chrono::steady_clock::now() < until) {
+  const bool exited = watch_until_exit(pid, std::chrono::seconds(20), [&] {
     sub.poll(std::chrono::milliseconds(20));
     if (sub.link_up()) {
       rpm = sub.get(sig::kEngineSpeed);
@@ -61,15 +60,7 @@ TEST(Process, Ft86ReplayPublishesTheLogValues) {
       if (speed.status == protocol::SignalStatus::Valid) max_speed = std::max(max_speed, speed.value);
       saw_bulb |= sub.get(sig::kParkingBrake).value == 1.0 && sub.get(sig::kFuelLow).value == 1.0;
     }
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-  }
-  if (!exited) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  }, status);
   const std::string err = slurp((dir / "stderr.txt").string());
   ASSERT_TRUE(exited) << "controller did not finish the log in time; stderr:\n" << err;
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << err;
