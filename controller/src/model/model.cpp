@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "meter/controller/mapping/signal_period.hpp"
+
 namespace meter::controller {
 
 using protocol::SignalKind;
@@ -64,7 +66,10 @@ void Model::build_outputs() {
     const OutputMapping& m = mapping_.outputs[i];
     std::vector<int> sources = sources_.add(m);
     std::vector<std::optional<int>> cycles;
-    for (int s : sources) cycles.push_back(sources_[s].cycle_ms);
+    for (int s : sources) {  // each source's own arrival period (a multiplexed page: its page's)
+      const Source& src = sources_[s];
+      cycles.push_back(src.dbc.message ? signal_period_ms(*src.dbc.message, src.dbc.signal) : src.cycle_ms);
+    }
     const SourceTimeouts timeouts = derive_timeouts(m, cycles, mapping_.file);
     if (m.id == protocol::sig::kSpeed && speed_out_ < 0) speed_out_ = static_cast<int>(outs_.size());
     outs_.push_back(Out{i, outputs_.size(), std::move(sources), timeouts,
