@@ -94,6 +94,11 @@ std::optional<double> Model::true_speed() const {
   return o.truth_valid ? std::optional(o.truth) : std::nullopt;
 }
 
+std::optional<double> Model::speed_estimate() const {
+  if (speed_out_ < 0) return std::nullopt;
+  return outs_[static_cast<std::size_t>(speed_out_)].conditioner.speed_estimate();
+}
+
 std::vector<std::pair<std::uint32_t, bool>> Model::used_ids() const { return sources_.used_ids(); }
 
 void Model::start(std::int64_t t) {

@@ -72,6 +72,9 @@ class Model {
   const Odometer& odometer() const { return odo_; }
   // True speed (before damping and the R39 rule), for tests and the odometer.
   std::optional<double> true_speed() const;
+  // The speedometer's estimate of the true speed, which its UN R39 band is held around (nullopt: no
+  // speedometer rule, or no valid speed).
+  std::optional<double> speed_estimate() const;
   // Does this frame carry a message that the mapping uses? (SocketCAN kernel filters use the ids.)
   std::vector<std::pair<std::uint32_t, bool>> used_ids() const;
 
