@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
       ->default_val("realtime");
   r->add_option("--link", run.link, "Where views connect: unix:/path or tcp:HOST:PORT (default: $XDG_RUNTIME_DIR/meter.sock)");
   r->add_option("--state-dir", run.state_dir, "Directory for the persisted odometer (atomic writes); none = not persisted");
-  r->add_flag("--exit-at-end", run.exit_at_end, "Exit when the log ends (default: keep serving the final state)");
+  r->add_flag("--exit-at-end", run.exit_at_end, "Exit when the log ends (default: keep running on a silent bus: the values time out)");
   r->add_option("--linger", run.linger_s, "With --exit-at-end: keep serving the final state this many seconds first")
       ->check(CLI::NonNegativeNumber);
   r->add_flag("-v,--verbose", run.verbose, "Print what is connected to what");
