@@ -1,6 +1,7 @@
 // meter-controller: the vehicle-control process. A thin CLI11 front end over the library.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <optional>
 
 #include "meter/controller/run/commands.hpp"
 
@@ -46,8 +47,18 @@ int main(int argc, char** argv) {
   auto* c = app.add_subcommand("check-dbc", "Parse a DBC, summarise what it contains and list problems (file:line).");
   c->add_option("DBC", check, "DBC file")->required()->check(CLI::ExistingFile);
 
+  std::string reset_dir;
+  std::optional<double> reset_km;
+  auto* o = app.add_subcommand("odometer-reset",
+                               "Accept the odometer state again after the controller refused it (both copies damaged, or a "
+                               "copy put back from an older state): rewrites both copies (docs/controller.md).");
+  o->add_option("--state-dir", reset_dir, "The controller's --state-dir")->required();
+  o->add_option("--km", reset_km, "The distance to store; default: the largest one a valid copy holds")
+      ->check(CLI::NonNegativeNumber);
+
   CLI11_PARSE(app, argc, argv);
   if (*r) return run_command(run, std::cout, std::cerr);
   if (*d) return decode_command(dbc, log, map, std::cout, std::cerr);
+  if (*o) return odometer_reset_command(reset_dir, reset_km, std::cout, std::cerr);
   return check_dbc_command(check, std::cout, std::cerr);
 }

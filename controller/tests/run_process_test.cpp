@@ -13,9 +13,13 @@
 #include <sstream>
 
 #include "meter/controller/input/socketcan.hpp"
+#include "meter/controller/persistence/odometer_store.hpp"
 #include "meter/protocol/link.hpp"
 
 using namespace meter;
+using meter::controller::OdometerLoad;
+using meter::controller::OdometerState;
+using meter::controller::OdometerStore;
 namespace sig = meter::protocol::sig;
 
 namespace {
@@ -108,7 +112,7 @@ TEST(Process, Ft86ReplayPublishesTheLogValues) {
   // ~90 s averaging ~70 km/h: the odometer must hold the distance the log drove (0.1 km steps).
   EXPECT_GT(odo.value, 0.5);
   EXPECT_LT(odo.value, 3.0);
-  EXPECT_TRUE(std::filesystem::exists(dir / "state" / "odometer.state"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "state" / "odometer.a"));  // the first of the two copies
   std::filesystem::remove_all(dir);
 }
 
@@ -308,5 +312,14 @@ TEST(Process, DamagedOdometerStateKeepsTheControllerRunning) {
   EXPECT_EQ(odo.status, protocol::SignalStatus::Invalid) << err;
   EXPECT_NE(err.find("odometer"), std::string::npos) << err;
   EXPECT_NE(err.find("CRC"), std::string::npos) << err;
+  EXPECT_NE(slurp((dir / "stderr.txt").string()).find("odometer-reset"), std::string::npos) << err;
+  // The explicit reset accepts a distance again; the next start restores it.
+  pid_t reset = spawn({kBin, "odometer-reset", "--state-dir", (dir / "state").string(), "--km", "1234.5"},
+                      (dir / "reset.txt").string());
+  ::waitpid(reset, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp((dir / "reset.txt").string());
+  const OdometerLoad after = OdometerStore((dir / "state").string()).load();
+  ASSERT_EQ(after.state, OdometerState::Restored);
+  EXPECT_EQ(after.record->odo_um, 1234500000000LL);
   std::filesystem::remove_all(dir);
 }

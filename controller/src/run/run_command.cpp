@@ -50,7 +50,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     std::optional<Database> db;
     if (!o.dbc.empty()) db = load_dbc(o.dbc);
     Mapping map = load_mapping(o.map);
-    Model model(db ? &*db : nullptr, map, ModelOptions{o.state_dir});
+    Model model(db ? &*db : nullptr, map,
+                ModelOptions{o.state_dir, [&err](const std::string& line) { err << "meter-controller: " << line << "\n"; }});
 
     std::unique_ptr<Input> input;
     try {
@@ -119,7 +120,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     out << "meter-controller: " << st.frames << " frames (" << st.frames_mapped << " mapped, " << st.frames_unknown
         << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
         << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
-        << fmt_double(model.odometer().total_km()) << " km\n";
+        << fmt_double(model.odometer().total_km()) << " km" << (st.odometer_refused ? " (invalid: stored state refused)" : "")
+        << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors\n";
     return 0;
   } catch (const std::exception& e) {
     err << "meter-controller: " << e.what() << "\n";
