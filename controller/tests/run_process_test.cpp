@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -51,6 +52,21 @@ std::string slurp(const std::string& path) {
   std::fclose(f);
   return s;
 }
+
+// Polls the subscriber (calling on_link_up while the link is up) until the controller exits or
+// 'limit' passes; a controller still running then is killed. Returns whether it exited by itself.
+bool watch_until_exit(pid_t pid, protocol::Subscriber& sub, std::chrono::seconds limit,
+                      const std::function<void()>& on_link_up, int& status) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < until) {
+    sub.poll(std::chrono::milliseconds(20));
+    if (sub.link_up()) on_link_up();
+    if (::waitpid(pid, &status, WNOHANG) == pid) return true;
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return false;
+}
 }  // namespace
 
 TEST(Process, Ft86ReplayPublishesTheLogValues) {
@@ -67,33 +83,20 @@ TEST(Process, Ft86ReplayPublishesTheLogValues) {
   std::set<int> gears;
   double max_rpm = 0, max_speed = 0;
   bool saw_bulb = false;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   int status = -1;
-  bool exited = false;
   protocol::SignalState rpm, speed, gear, coolant, fuel, odo;
-  while (std::chrono::steady_clock::now() < until) {
-    sub.poll(std::chrono::milliseconds(20));
-    if (sub.link_up()) {
-      rpm = sub.get(sig::kEngineSpeed);
-      speed = sub.get(sig::kSpeed);
-      gear = sub.get(sig::kCurrentGear);
-      coolant = sub.get(sig::kCoolantTemp);
-      fuel = sub.get(sig::kFuelLevel);
-      odo = sub.get(sig::kOdometer);
-      if (gear.status == protocol::SignalStatus::Valid) gears.insert(static_cast<int>(gear.value));
-      if (rpm.status == protocol::SignalStatus::Valid) max_rpm = std::max(max_rpm, rpm.value);
-      if (speed.status == protocol::SignalStatus::Valid) max_speed = std::max(max_speed, speed.value);
-      saw_bulb |= sub.get(sig::kParkingBrake).value == 1.0 && sub.get(sig::kFuelLow).value == 1.0;
-    }
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-  }
-  if (!exited) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  const bool exited = watch_until_exit(pid, sub, std::chrono::seconds(20), [&] {
+    rpm = sub.get(sig::kEngineSpeed);
+    speed = sub.get(sig::kSpeed);
+    gear = sub.get(sig::kCurrentGear);
+    coolant = sub.get(sig::kCoolantTemp);
+    fuel = sub.get(sig::kFuelLevel);
+    odo = sub.get(sig::kOdometer);
+    if (gear.status == protocol::SignalStatus::Valid) gears.insert(static_cast<int>(gear.value));
+    if (rpm.status == protocol::SignalStatus::Valid) max_rpm = std::max(max_rpm, rpm.value);
+    if (speed.status == protocol::SignalStatus::Valid) max_speed = std::max(max_speed, speed.value);
+    saw_bulb |= sub.get(sig::kParkingBrake).value == 1.0 && sub.get(sig::kFuelLow).value == 1.0;
+  }, status);
   const std::string err = slurp((dir / "stderr.txt").string());
   ASSERT_TRUE(exited) << "controller did not finish the log in time; stderr:\n" << err;
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << err;
@@ -288,23 +291,10 @@ TEST(Process, DamagedOdometerStateKeepsTheControllerRunning) {
   protocol::SignalState odo;
   bool saw_speed = false;
   int status = -1;
-  bool exited = false;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (std::chrono::steady_clock::now() < until) {
-    sub.poll(std::chrono::milliseconds(20));
-    if (sub.link_up()) {
-      odo = sub.get(sig::kOdometer);
-      saw_speed |= sub.get(sig::kSpeed).status == protocol::SignalStatus::Valid;
-    }
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-  }
-  if (!exited) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  const bool exited = watch_until_exit(pid, sub, std::chrono::seconds(10), [&] {
+    odo = sub.get(sig::kOdometer);
+    saw_speed |= sub.get(sig::kSpeed).status == protocol::SignalStatus::Valid;
+  }, status);
   const std::string err = slurp((dir / "stderr.txt").string());
   ASSERT_TRUE(exited && WIFEXITED(status)) << err;
   EXPECT_EQ(WEXITSTATUS(status), 0) << err;
