@@ -1,6 +1,7 @@
 // meter-controller: the vehicle-control process. A thin CLI11 front end over the library.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <optional>
 
 #include "meter/controller/run/commands.hpp"
 
@@ -28,7 +29,7 @@ int main(int argc, char** argv) {
       ->default_val("realtime");
   r->add_option("--link", run.link, "Where views connect: unix:/path or tcp:HOST:PORT (default: $XDG_RUNTIME_DIR/meter.sock)");
   r->add_option("--state-dir", run.state_dir, "Directory for the persisted odometer (atomic writes); none = not persisted");
-  r->add_flag("--exit-at-end", run.exit_at_end, "Exit when the log ends (default: keep serving the final state)");
+  r->add_flag("--exit-at-end", run.exit_at_end, "Exit when the log ends (default: keep running on a silent bus: the values time out)");
   r->add_option("--linger", run.linger_s, "With --exit-at-end: keep serving the final state this many seconds first")
       ->check(CLI::NonNegativeNumber);
   r->add_flag("-v,--verbose", run.verbose, "Print what is connected to what");
@@ -50,8 +51,18 @@ int main(int argc, char** argv) {
   auto* c = app.add_subcommand("check-dbc", "Parse a DBC, summarise what it contains and list problems (file:line).");
   c->add_option("DBC", check, "DBC file")->required()->check(CLI::ExistingFile);
 
+  std::string reset_dir;
+  std::optional<double> reset_km;
+  auto* o = app.add_subcommand("odometer-reset",
+                               "Accept the odometer state again after the controller refused it (both copies damaged, or a "
+                               "copy put back from an older state): rewrites both copies (docs/controller.md).");
+  o->add_option("--state-dir", reset_dir, "The controller's --state-dir")->required();
+  o->add_option("--km", reset_km, "The distance to store; default: the largest one a valid copy holds")
+      ->check(CLI::NonNegativeNumber);
+
   CLI11_PARSE(app, argc, argv);
   if (*r) return run_command(run, std::cout, std::cerr);
   if (*d) return decode_command(dbc, log, map, std::cout, std::cerr);
+  if (*o) return odometer_reset_command(reset_dir, reset_km, std::cout, std::cerr);
   return check_dbc_command(check, std::cout, std::cerr);
 }

@@ -171,6 +171,29 @@ TEST(Replay, ScaledReplayKeepsTheRecordedTiming) {
   EXPECT_LT(wall, 0.6);  // generous: the machine is shared
 }
 
+// After the last frame a replay is a silent bus: poll() keeps reporting the end without delivering
+// anything, waits its timeout instead of returning at once (a loop polling it must not spin), and
+// the clock runs on, so the model's timeouts expire.
+TEST(Replay, AfterTheEndTheClockRunsOnAndPollWaits) {
+  for (const char* mode : {"fast", "scale:4"}) {
+    LogReplay r(parse_candump_log(log_text(5, 10)), parse_replay(mode));
+    Collect c;
+    while (r.poll(c, std::chrono::milliseconds(10))) {
+    }
+    ASSERT_EQ(c.ts.size(), 5u) << mode;
+    const std::int64_t at_end = r.now_ns();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < 5; ++i) EXPECT_FALSE(r.poll(c, std::chrono::milliseconds(40))) << mode;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(c.ts.size(), 5u) << mode;
+    // Five polls of 40 ms of input time: 200 ms of wall time in fast mode (its clock runs at wall
+    // rate after the end), 50 ms at scale 4; the clock advanced by at least that input time.
+    const double expected_wall = std::string(mode) == "fast" ? 0.2 : 0.05;
+    EXPECT_GE(wall, expected_wall * 0.95) << mode;
+    EXPECT_GE(r.now_ns() - at_end, 190000000) << mode;
+  }
+}
+
 #include <random>
 
 TEST(Candump, RandomLinesNeverCrashAndRoundTripWhenAccepted) {

@@ -18,16 +18,14 @@ namespace meter::controller::testing {
   try {
     OdometerStore store(dir);
     Odometer odo;
-    std::uint64_t seq = 0;
-    if (auto r = store.load()) {
-      odo.set(r->odo_um, r->trip_um);
-      seq = r->sequence;
-    }
+    const OdometerLoad loaded = store.load();
+    if (loaded.state == OdometerState::Refused) ::_exit(4);  // a refused start: the parent counts it
+    if (loaded.record) odo.set(loaded.record->odo_um, loaded.record->trip_um);
     for (int i = 1;; ++i) {
       odo.add_speed(100.0, 1000000);
       const std::int64_t now = odo.total_um();
       if (::write(announce_fd, &now, sizeof now) != sizeof now) ::_exit(3);
-      if (i % persist_every == 0) store.save({odo.total_um(), odo.trip_um(), ++seq});
+      if (i % persist_every == 0) store.save(odo.total_um(), odo.trip_um());
     }
   } catch (...) {
     ::_exit(2);  // a store error: the parent sees the child die without being killed

@@ -9,14 +9,19 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <sstream>
 
 #include "meter/controller/input/socketcan.hpp"
+#include "meter/controller/persistence/odometer_store.hpp"
 #include "meter/protocol/link.hpp"
 #include "process_util.hpp"
 
 using namespace meter;
+using meter::controller::OdometerLoad;
+using meter::controller::OdometerState;
+using meter::controller::OdometerStore;
 namespace sig = meter::protocol::sig;
 
 using meter::controller::testing::slurp;
@@ -28,6 +33,16 @@ const std::string kBin = std::string(METER_BINARY_DIR) + "/bin/meter-controller"
 const std::string kShared = METER_SHARED_DIR;
 const std::string kSrc = METER_SOURCE_DIR;
 
+// Polls the subscriber (calling on_link_up while the link is up) until the controller exits or
+// 'limit' passes; a controller still running then is killed. Returns whether it exited by itself.
+template <class OnLinkUp>
+bool watch_until_exit(pid_t pid, protocol::Subscriber& sub, std::chrono::seconds limit, OnLinkUp on_link_up,
+                      int& status) {
+  return watch_until_exit(pid, limit, [&] {
+    sub.poll(std::chrono::milliseconds(20));
+    if (sub.link_up()) on_link_up();
+  }, status);
+}
 }  // namespace
 
 TEST(Process, Ft86ReplayPublishesTheLogValues) {
@@ -46,20 +61,17 @@ TEST(Process, Ft86ReplayPublishesTheLogValues) {
   bool saw_bulb = false;
   int status = -1;
   protocol::SignalState rpm, speed, gear, coolant, fuel, odo;
-  const bool exited = watch_until_exit(pid, std::chrono::seconds(20), [&] {
-    sub.poll(std::chrono::milliseconds(20));
-    if (sub.link_up()) {
-      rpm = sub.get(sig::kEngineSpeed);
-      speed = sub.get(sig::kSpeed);
-      gear = sub.get(sig::kCurrentGear);
-      coolant = sub.get(sig::kCoolantTemp);
-      fuel = sub.get(sig::kFuelLevel);
-      odo = sub.get(sig::kOdometer);
-      if (gear.status == protocol::SignalStatus::Valid) gears.insert(static_cast<int>(gear.value));
-      if (rpm.status == protocol::SignalStatus::Valid) max_rpm = std::max(max_rpm, rpm.value);
-      if (speed.status == protocol::SignalStatus::Valid) max_speed = std::max(max_speed, speed.value);
-      saw_bulb |= sub.get(sig::kParkingBrake).value == 1.0 && sub.get(sig::kFuelLow).value == 1.0;
-    }
+  const bool exited = watch_until_exit(pid, sub, std::chrono::seconds(20), [&] {
+    rpm = sub.get(sig::kEngineSpeed);
+    speed = sub.get(sig::kSpeed);
+    gear = sub.get(sig::kCurrentGear);
+    coolant = sub.get(sig::kCoolantTemp);
+    fuel = sub.get(sig::kFuelLevel);
+    odo = sub.get(sig::kOdometer);
+    if (gear.status == protocol::SignalStatus::Valid) gears.insert(static_cast<int>(gear.value));
+    if (rpm.status == protocol::SignalStatus::Valid) max_rpm = std::max(max_rpm, rpm.value);
+    if (speed.status == protocol::SignalStatus::Valid) max_speed = std::max(max_speed, speed.value);
+    saw_bulb |= sub.get(sig::kParkingBrake).value == 1.0 && sub.get(sig::kFuelLow).value == 1.0;
   }, status);
   const std::string err = slurp((dir / "stderr.txt").string());
   ASSERT_TRUE(exited) << "controller did not finish the log in time; stderr:\n" << err;
@@ -79,7 +91,7 @@ TEST(Process, Ft86ReplayPublishesTheLogValues) {
   // ~90 s averaging ~70 km/h: the odometer must hold the distance the log drove (0.1 km steps).
   EXPECT_GT(odo.value, 0.5);
   EXPECT_LT(odo.value, 3.0);
-  EXPECT_TRUE(std::filesystem::exists(dir / "state" / "odometer.state"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "state" / "odometer.a"));  // the first of the two copies
   std::filesystem::remove_all(dir);
 }
 
@@ -177,5 +189,103 @@ TEST(Process, DecodeWithMapWritesOnlyMappedSignals) {
   EXPECT_EQ(csv.find("ThrottlePos"), std::string::npos);    // not used by demo.map
   EXPECT_EQ(csv.find("WheelSpeedFL"), std::string::npos);
   EXPECT_EQ(csv.find(",not_"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+namespace {
+// A one-second candump log of the demo vehicle: engine status every 10 ms (2000 rpm) and wheel
+// speeds every 20 ms (50 km/h), so every mapped value is valid while it plays.
+std::string write_short_demo_log(const std::filesystem::path& dir) {
+  const std::string path = (dir / "short.log").string();
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  for (int i = 0; i < 100; ++i) {
+    std::fprintf(f, "(%d.%06d) vcan0 0C9#401F010000000000\n", 1000, i * 10000);        // 8000 x 0.25 = 2000 rpm
+    if (i % 2 == 0) std::fprintf(f, "(%d.%06d) vcan0 1A0#1388000000000000\n", 1000, i * 10000 + 1);  // 50.00 km/h
+  }
+  std::fclose(f);
+  return path;
+}
+void write_text(const std::filesystem::path& p, const std::string& text) {
+  std::FILE* f = std::fopen(p.c_str(), "w");
+  std::fputs(text.c_str(), f);
+  std::fclose(f);
+}
+}  // namespace
+
+// When a replayed log ends without --exit-at-end, the controller keeps running and the bus is
+// silent: every value must time out as it would on a live bus whose senders stopped.
+TEST(Process, EndOfLogTimesOutLikeASilentBusAndStaysUp) {
+  auto dir = std::filesystem::temp_directory_path() / ("meter-proc-eol-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string sock = (dir / "link.sock").string();
+  pid_t pid = spawn({kBin, "run", "--dbc", kSrc + "/controller/vehicles/demo/demo.dbc", "--map",
+                     kSrc + "/controller/vehicles/demo/demo.map", "--input", "log:" + write_short_demo_log(dir),
+                     "--replay", "realtime", "--link", "unix:" + sock},
+                    (dir / "stderr.txt").string());
+  ASSERT_GT(pid, 0);
+  protocol::Subscriber sub(protocol::Endpoint::parse("unix:" + sock));
+  bool saw_valid = false, timed_out = false;
+  // The log lasts 1 s; the demo speed times out 3 x 20 ms after its last frame. 4 s is ample.
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (std::chrono::steady_clock::now() < until && !timed_out) {
+    sub.poll(std::chrono::milliseconds(20));
+    if (!sub.link_up()) continue;
+    const auto speed = sub.get(sig::kSpeed), rpm = sub.get(sig::kEngineSpeed);
+    saw_valid |= speed.status == protocol::SignalStatus::Valid && rpm.status == protocol::SignalStatus::Valid;
+    timed_out = saw_valid && speed.status == protocol::SignalStatus::TimedOut && rpm.status == protocol::SignalStatus::TimedOut;
+  }
+  const bool still_running = ::waitpid(pid, nullptr, WNOHANG) == 0;
+  ::kill(pid, SIGTERM);
+  int status = -1;
+  ::waitpid(pid, &status, 0);
+  const std::string err = slurp((dir / "stderr.txt").string());
+  EXPECT_TRUE(saw_valid) << err;
+  EXPECT_TRUE(timed_out) << "speed and rpm still " << protocol::to_string(sub.get(sig::kSpeed).status) << " / "
+                         << protocol::to_string(sub.get(sig::kEngineSpeed).status) << " 4 s after the log ended\n" << err;
+  EXPECT_TRUE(still_running) << err;
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << err;
+  std::filesystem::remove_all(dir);
+}
+
+// A damaged odometer state (both copies) must not keep the cluster from starting: the controller
+// runs, publishes the odometer as invalid (the view's failsafe look) and reports the fault.
+TEST(Process, DamagedOdometerStateKeepsTheControllerRunning) {
+  auto dir = std::filesystem::temp_directory_path() / ("meter-proc-odo-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "state");
+  write_text(dir / "odo.map", "[Vehicle.Speed]\nsource = ESP_WheelSpeeds.VehicleSpeed\n[Vehicle.TraveledDistance]\naccumulate = speed\n");
+  const std::string damaged = "meter-odometer 1\nodo_um 1000000000\ntrip_um 0\nseq 3\ncrc 00000000\n";
+  write_text(dir / "state" / "odometer.state", damaged);
+  write_text(dir / "state" / "odometer.a", damaged);
+  write_text(dir / "state" / "odometer.b", damaged);
+  const std::string sock = (dir / "link.sock").string();
+  pid_t pid = spawn({kBin, "run", "--dbc", kSrc + "/controller/vehicles/demo/demo.dbc", "--map", (dir / "odo.map").string(),
+                     "--input", "log:" + write_short_demo_log(dir), "--replay", "realtime", "--link", "unix:" + sock,
+                     "--state-dir", (dir / "state").string(), "--exit-at-end", "--linger", "0.5"},
+                    (dir / "stderr.txt").string());
+  ASSERT_GT(pid, 0);
+  protocol::Subscriber sub(protocol::Endpoint::parse("unix:" + sock));
+  protocol::SignalState odo;
+  bool saw_speed = false;
+  int status = -1;
+  const bool exited = watch_until_exit(pid, sub, std::chrono::seconds(10), [&] {
+    odo = sub.get(sig::kOdometer);
+    saw_speed |= sub.get(sig::kSpeed).status == protocol::SignalStatus::Valid;
+  }, status);
+  const std::string err = slurp((dir / "stderr.txt").string());
+  ASSERT_TRUE(exited && WIFEXITED(status)) << err;
+  EXPECT_EQ(WEXITSTATUS(status), 0) << err;
+  EXPECT_TRUE(saw_speed) << err;
+  EXPECT_EQ(odo.status, protocol::SignalStatus::Invalid) << err;
+  EXPECT_NE(err.find("odometer"), std::string::npos) << err;
+  EXPECT_NE(err.find("CRC"), std::string::npos) << err;
+  EXPECT_NE(slurp((dir / "stderr.txt").string()).find("odometer-reset"), std::string::npos) << err;
+  // The explicit reset accepts a distance again; the next start restores it.
+  pid_t reset = spawn({kBin, "odometer-reset", "--state-dir", (dir / "state").string(), "--km", "1234.5"},
+                      (dir / "reset.txt").string());
+  ::waitpid(reset, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp((dir / "reset.txt").string());
+  const OdometerLoad after = OdometerStore((dir / "state").string()).load();
+  ASSERT_EQ(after.state, OdometerState::Restored);
+  EXPECT_EQ(after.record->odo_um, 1234500000000LL);
   std::filesystem::remove_all(dir);
 }

@@ -46,6 +46,36 @@ double NeedleFilter::step(double target, double dt) {
   return x_;
 }
 
+SpeedEstimate::SpeedEstimate(double level_tau, double trend_tau) : level_tau_(level_tau), trend_tau_(trend_tau) {
+  if (!(level_tau > 0) || !std::isfinite(level_tau) || !(trend_tau > 0) || !std::isfinite(trend_tau))
+    throw std::invalid_argument("speed estimate time constants must be > 0 s");
+}
+
+void SpeedEstimate::reset(double speed) {
+  if (!std::isfinite(speed)) return;
+  level_ = std::max(0.0, speed);
+  trend_ = 0;
+  init_ = true;
+}
+
+double SpeedEstimate::step(double sample, double dt) {
+  if (!std::isfinite(sample)) return level_;
+  if (!init_) {
+    reset(sample);
+    return level_;
+  }
+  if (!(dt > 0) || !std::isfinite(dt)) return level_;
+  // Holt's method with time-continuous weights: predict along the trend, blend in the sample, then
+  // blend the level's change into the trend. After a long stall (dt >> tau) both weights are 1: the
+  // estimate is the sample and the trend the average slope over the stall.
+  const double a = 1.0 - std::exp(-dt / level_tau_), b = 1.0 - std::exp(-dt / trend_tau_);
+  const double predicted = level_ + trend_ * dt;
+  const double level = predicted + a * (sample - predicted);
+  trend_ += b * ((level - level_) / dt - trend_);
+  level_ = std::max(0.0, level);
+  if (!std::isfinite(level_) || !std::isfinite(trend_)) reset(sample);
+  return level_;
+}
 
 double SpeedometerRule::apply(double displayed, double truth) const {
   if (!std::isfinite(truth) || truth < 0) truth = 0;

@@ -18,6 +18,11 @@ OutputValue OutputConditioner::threshold(const std::optional<OutputValue>& watch
   return {0.0, watched ? watched->status : SignalStatus::NotAvailable};
 }
 
+std::optional<double> OutputConditioner::speed_estimate() const {
+  if (!speedometer_ || !was_valid_ || !truth_.initialized()) return std::nullopt;
+  return truth_.value();
+}
+
 OutputValue OutputConditioner::condition(const OutputValue& mapped, std::int64_t t, double dt,
                                          std::optional<double> speed_kmh) {
   const double value = mapped.value;
@@ -40,7 +45,13 @@ OutputValue OutputConditioner::condition(const OutputValue& mapped, std::int64_t
     else needle_->step(value, dt);
     shown = needle_->value();
   }
-  if (speedometer_ && status == SignalStatus::Valid) shown = speedometer_->apply(shown, value);
+  // Damping first, then the legal band on the damped value, against the estimated true speed: a band
+  // around the raw sample would hand its noise to the needle whenever the needle lags.
+  if (speedometer_ && status == SignalStatus::Valid) {
+    if (!was_valid_) truth_.reset(value);
+    else truth_.step(value, dt);
+    shown = speedometer_->apply(shown, truth_.value());
+  }
   if (telltale_) {
     const bool req = status == SignalStatus::Valid && ((value != 0) != invert_);
     if (req && !request_) request_since_ = t;

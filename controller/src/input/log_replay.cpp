@@ -38,6 +38,8 @@ LogReplay::LogReplay(ParsedLog log, ReplayOptions options) : log_(std::move(log)
 }
 
 std::int64_t LogReplay::now_ns() const {
+  // After the end the simulated clock runs on in wall time: a silent bus, on which timeouts expire.
+  if (opt_.mode == ReplayMode::Fast && ended_) return sim_now_ + (monotonic_ns() - end_wall_);
   if (opt_.mode == ReplayMode::Fast || !begun_) return sim_now_;
   return log_start_ + static_cast<std::int64_t>(static_cast<double>(monotonic_ns() - wall_start_) * opt_.scale);
 }
@@ -48,11 +50,17 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     begun_ = true;
     wall_start_ = monotonic_ns();
   }
+  if (ended_) {
+    // The log is over: the bus stays silent. Wait as a live input with nothing to read would.
+    const auto wall = static_cast<std::int64_t>(static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count()) / rate());
+    if (wall > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wall));
+    return false;
+  }
   if (opt_.mode == ReplayMode::Fast) {
     // Simulated clock: advance one step and hand over everything due by then. No sleeping.
     sim_now_ += std::chrono::duration_cast<std::chrono::nanoseconds>(opt_.fast_step).count();
     while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) sink.on_frame(frames[next_++]);
-    return next_ < frames.size();
+    return !mark_end();
   }
   // Realtime / scaled: frames are handed over in batches at the caller's poll cadence (the model
   // ticks at that cadence anyway), so the process wakes ~100 times a second, not once per frame.
@@ -79,7 +87,14 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     ++slips_;
   }
   while (next_ < frames.size() && frames[next_].timestamp_ns <= now) sink.on_frame(frames[next_++]);
-  return next_ < frames.size();
+  return !mark_end();
+}
+
+bool LogReplay::mark_end() {
+  if (next_ < log_.frames.size()) return false;
+  if (!ended_) end_wall_ = monotonic_ns();
+  ended_ = true;
+  return true;
 }
 
 std::string LogReplay::describe() const {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "meter/controller/mapping/signal_period.hpp"
+
 namespace meter::controller {
 
 using protocol::SignalKind;
@@ -53,10 +55,11 @@ Model::Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options
   build_outputs();
   if (!options_.state_dir.empty() && mapping_.find(protocol::sig::kOdometer)) {
     store_ = std::make_unique<OdometerStore>(options_.state_dir);
-    if (auto r = store_->load()) {
-      odo_.set(r->odo_um, r->trip_um);
-      persist_seq_ = r->sequence;
-    }
+    const OdometerLoad loaded = store_->load();
+    for (const std::string& fault : loaded.faults) report("odometer: " + fault);
+    stats_.persist_faults = loaded.faults.size();
+    stats_.odometer_refused = loaded.state == OdometerState::Refused;
+    if (loaded.record) odo_.set(loaded.record->odo_um, loaded.record->trip_um);
   }
 }
 
@@ -67,7 +70,10 @@ void Model::build_outputs() {
     const OutputMapping& m = mapping_.outputs[i];
     std::vector<int> sources = sources_.add(m);
     std::vector<std::optional<int>> cycles;
-    for (int s : sources) cycles.push_back(sources_[s].cycle_ms);
+    for (int s : sources) {  // each source's own arrival period (a multiplexed page: its page's)
+      const Source& src = sources_[s];
+      cycles.push_back(src.dbc.message ? signal_period_ms(*src.dbc.message, src.dbc.signal) : src.cycle_ms);
+    }
     const SourceTimeouts timeouts = derive_timeouts(m, cycles, mapping_.file);
     if (m.id == protocol::sig::kSpeed && speed_out_ < 0) speed_out_ = static_cast<int>(outs_.size());
     outs_.push_back(Out{i, outputs_.size(), std::move(sources), timeouts,
@@ -90,6 +96,11 @@ std::optional<double> Model::true_speed() const {
   if (speed_out_ < 0) return std::nullopt;
   const Out& o = outs_[static_cast<std::size_t>(speed_out_)];
   return o.truth_valid ? std::optional(o.truth) : std::nullopt;
+}
+
+std::optional<double> Model::speed_estimate() const {
+  if (speed_out_ < 0) return std::nullopt;
+  return outs_[static_cast<std::size_t>(speed_out_)].conditioner.speed_estimate();
 }
 
 std::vector<std::pair<std::uint32_t, bool>> Model::used_ids(int input) const { return sources_.used_ids(input); }
@@ -162,12 +173,16 @@ void Model::accumulate_distance(Out& o, std::int64_t dt_ns) {
       o.counter_seen = s.rx_count;
     }
   }
-  outputs_[o.index].value = odometer_display_km(odo_.total_km());
-  outputs_[o.index].status = SignalStatus::Valid;
+  // A refused odometer state (damaged, or put back from an older state) shows the failsafe look
+  // instead of a distance that could be behind the truth.
+  const bool ok = !stats_.odometer_refused;
+  const SignalStatus status = ok ? SignalStatus::Valid : SignalStatus::Invalid;
+  outputs_[o.index].value = ok ? odometer_display_km(odo_.total_km()) : 0.0;
+  outputs_[o.index].status = status;
   for (auto& out : outputs_)
     if (out.id == protocol::sig::kTrip) {
-      out.value = odometer_display_km(odo_.trip_km());
-      out.status = SignalStatus::Valid;
+      out.value = ok ? odometer_display_km(odo_.trip_km()) : 0.0;
+      out.status = status;
     }
 }
 
@@ -210,13 +225,22 @@ void Model::detect_changes() {
 }
 
 void Model::persist_now() {
-  if (!store_) return;
+  if (!store_ || stats_.odometer_refused) return;
   try {
-    store_->save(OdometerRecord{odo_.total_um(), odo_.trip_um(), ++persist_seq_});
+    store_->save(odo_.total_um(), odo_.trip_um());
     ++stats_.persist_saves;
-  } catch (const std::exception&) {
-    ++stats_.persist_errors;  // the next interval retries; the old file stays intact
+    if (persist_failing_) report("odometer: saving works again");
+    persist_failing_ = false;
+  } catch (const std::exception& e) {
+    // The next interval retries; both stored copies stay as they were. Reported once per spell.
+    ++stats_.persist_errors;
+    if (!persist_failing_) report(std::string("odometer: save failed, retrying every interval: ") + e.what());
+    persist_failing_ = true;
   }
+}
+
+void Model::report(const std::string& line) const {
+  if (options_.report) options_.report(line);
 }
 
 }  // namespace meter::controller

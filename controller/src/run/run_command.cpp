@@ -56,7 +56,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       buses.push_back(InputDbc{specs[i].name, dbs[i] ? &*dbs[i] : nullptr});
     }
     Mapping map = load_mapping(o.map);
-    Model model(std::move(buses), map, ModelOptions{o.state_dir});
+    Model model(std::move(buses), map,
+                ModelOptions{o.state_dir, [&err](const std::string& line) { err << "meter-controller: " << line << "\n"; }});
 
     std::unique_ptr<Input> input;
     try {
@@ -87,14 +88,18 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const auto period_ns = static_cast<std::int64_t>(map.update_period_s * 1e9);
     model.start(input->now_ns());
     std::int64_t next_tick = input->now_ns() + period_ns;
-    bool more = true;
-    while (!g_stop && more) {
+    // After the end of a log (without --exit-at-end) the loop runs on: the input is a silent bus and
+    // the model's timeouts expire as on a live one.
+    bool more = true, ended = false;
+    while (!g_stop && !(ended && o.exit_at_end)) {
       const double wait_wall_ns = static_cast<double>(next_tick - input->now_ns()) / input->rate();
       // Rounded up: a 0 ms wait while the tick is still ahead would spin.
       const auto wait = std::chrono::milliseconds(std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil(wait_wall_ns / 1e6)), 1, 100));
       more = input->poll(sink, wait);
+      const bool just_ended = !more && !ended;
+      ended = !more;
       const std::int64_t t = input->now_ns();
-      if (t >= next_tick || !more) {
+      if (t >= next_tick || just_ended) {
         model.update(t);
         publish();
         next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
@@ -103,10 +108,6 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (trace.on()) {
         const auto ls = pub.stats();
         if (ls.bytes_sent != traced_bytes) trace.sent(traced_bytes = ls.bytes_sent, ls.deltas_sent);
-      }
-      if (!more && !o.exit_at_end) {
-        // Log ended: keep serving the final state until told to stop.
-        while (!g_stop) pub.poll(std::chrono::milliseconds(100));
       }
     }
     model.persist_now();
@@ -125,7 +126,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     out << "meter-controller: " << st.frames << " frames (" << st.frames_mapped << " mapped, " << st.frames_unknown
         << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
         << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
-        << fmt_double(model.odometer().total_km()) << " km\n";
+        << fmt_double(model.odometer().total_km()) << " km" << (st.odometer_refused ? " (invalid: stored state refused)" : "")
+        << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors\n";
     return 0;
   } catch (const std::exception& e) {
     err << "meter-controller: " << e.what() << "\n";

@@ -1,4 +1,7 @@
 // Replays a candump -L log as an input: in recorded time, scaled, or on a simulated clock (fast).
+// When the log has ended the input is a silent bus: its clock runs on (in wall time, scaled as
+// before; a fast replay's simulated clock continues at wall rate) and poll() waits its timeout and
+// reports the end, so a controller that stays up sees its values time out.
 #pragma once
 
 #include <chrono>
@@ -41,7 +44,10 @@ class LogReplay : public Input {
   std::int64_t log_start_ = 0;      // first frame's timestamp
   std::int64_t wall_start_ = 0;     // CLOCK_MONOTONIC at the first poll (realtime / scaled)
   bool begun_ = false;
+  bool ended_ = false;              // every frame delivered: from now on a silent bus
+  std::int64_t end_wall_ = 0;       // CLOCK_MONOTONIC when the last frame was delivered
   std::size_t slips_ = 0;
+  bool mark_end();                  // true (and remembers when) once every frame is delivered
 };
 
 }  // namespace meter::controller

@@ -34,9 +34,9 @@ struct SourceTimeouts {
 };
 
 // The timeouts of output m: the mapping's explicit ones, or with 'timeout = auto' derived from the
-// slowest source's cycle time (later = 3 cycles; first = 10 cycles and at least 1 s, for the bus to
-// come up). cycle_ms[i] is the cycle of m.sources[i]: the DBC GenMsgCycleTime or the Modbus poll
-// period. Throws MappingError (file, m.line) when 'timeout = auto' meets a source without a cycle.
+// slowest source's arrival period (later = 3 periods; first = 10 periods and at least 1 s, for the
+// bus to come up). cycle_ms[i] is how often m.sources[i] arrives: the DBC GenMsgCycleTime, for a
+// multiplexed signal its page's period (mapping/signal_period.hpp), or the Modbus poll period. Throws MappingError (file, m.line) when 'timeout = auto' meets a source without a cycle.
 SourceTimeouts derive_timeouts(const OutputMapping& m, std::span<const std::optional<int>> cycle_ms,
                                const std::string& file);
 

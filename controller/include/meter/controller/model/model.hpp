@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,11 +40,16 @@ struct ModelStats {
   std::uint64_t error_frames = 0;
   std::uint64_t values = 0;           // register values offered
   std::uint64_t persist_saves = 0;
-  std::uint64_t persist_errors = 0;
+  std::uint64_t persist_errors = 0;   // failed saves (each retried at the next interval)
+  std::uint64_t persist_faults = 0;   // damaged or contradicting odometer copies found at start
+  bool odometer_refused = false;      // no trustworthy odometer state: shown invalid, not written
 };
 
 struct ModelOptions {
   std::string state_dir;  // empty: odometer not persisted
+  // Where faults are reported (a damaged odometer copy, a failing save and its recovery), one line
+  // each; empty: not reported (the stats still count them).
+  std::function<void(const std::string&)> report = nullptr;
 };
 
 class Model {
@@ -74,6 +80,9 @@ class Model {
   const Odometer& odometer() const { return odo_; }
   // True speed (before damping and the R39 rule), for tests and the odometer.
   std::optional<double> true_speed() const;
+  // The speedometer's estimate of the true speed, which its UN R39 band is held around (nullopt: no
+  // speedometer rule, or no valid speed).
+  std::optional<double> speed_estimate() const;
   // The messages the mapping uses on that input (SocketCAN kernel filters use the ids).
   std::vector<std::pair<std::uint32_t, bool>> used_ids(int input = 0) const;
 
@@ -84,6 +93,7 @@ class Model {
   void accumulate_distance(Out& o, std::int64_t dt_ns);
   void on_ignition(double vss_state, std::int64_t t);
   void detect_changes();
+  void report(const std::string& line) const;
 
   Mapping mapping_;
   ModelOptions options_;
@@ -97,7 +107,7 @@ class Model {
   ModelStats stats_;
   Odometer odo_;
   std::unique_ptr<OdometerStore> store_;
-  std::uint64_t persist_seq_ = 0;
+  bool persist_failing_ = false;  // the last save failed (reported once, and again when it recovers)
   std::int64_t last_persist_ = 0;
   BulbCheck bulb_;
   std::int64_t start_ = 0, last_update_ = 0;
