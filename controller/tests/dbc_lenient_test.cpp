@@ -1,0 +1,139 @@
+// The lenient DBC parser: each quirk real files carry is read with a warning of its kind naming the
+// line and what was assumed; a broken statement is skipped without losing the rest of the file;
+// --strict refuses every one of them.
+#include <gtest/gtest.h>
+
+#include "meter/controller/dbc/database.hpp"
+
+using namespace meter::controller;
+
+namespace {
+
+const DbcWarning* warning(const Database& db, DbcWarningKind kind, int line) {
+  for (const auto& w : db.warnings)
+    if (w.kind == kind && w.line == line) return &w;
+  return nullptr;
+}
+
+void expect_strict_refuses(const std::string& text, int line) {
+  try {
+    parse_dbc(text, "q.dbc", DbcOptions{true});
+    ADD_FAILURE() << "--strict accepted:\n" << text;
+  } catch (const DbcError& e) {
+    EXPECT_NE(std::string(e.what()).find("q.dbc:" + std::to_string(line) + ": ["), std::string::npos) << e.what();
+  }
+}
+
+const char* kTwoMessages =
+    "BO_ 100 A: 8 X\n"
+    " SG_ S : 0|8@1+ (1,0) [0|0] \"\" X\n"
+    "BO_ 200 B: 8 X\n"
+    " SG_ T : 0|8@1+ (1,0) [0|0] \"\" X\n";
+
+}  // namespace
+
+TEST(DbcLenient, MissingSemicolonEndsTheStatementWithItsLine) {
+  std::string t = std::string(kTwoMessages) +
+                  "CM_ \"general comment\"\n"             // line 5
+                  "VAL_ 100 S 1 \"on\" 0 \"off\"\n"         // line 6: the next line is not read into it
+                  "VAL_ 200 T 2 \"two\" ;\n";
+  Database db = parse_dbc(t, "q.dbc");
+  ASSERT_NE(warning(db, DbcWarningKind::MissingSemicolon, 5), nullptr);
+  const DbcWarning* w = warning(db, DbcWarningKind::MissingSemicolon, 6);
+  ASSERT_NE(w, nullptr);
+  EXPECT_NE(w->text.find("assumed to end before line 7"), std::string::npos) << w->text;
+  EXPECT_EQ(db.find("A")->signals[0].choices.size(), 2u);
+  EXPECT_EQ(db.find("B")->signals[0].choices.size(), 1u);
+  expect_strict_refuses(t, 5);
+}
+
+TEST(DbcLenient, MissingSemicolonBeforeAMessage) {
+  // A comment without ';' right before a BO_: the message and its signals are still read.
+  std::string t = "CM_ \"Front target\"\n" + std::string(kTwoMessages);
+  Database db = parse_dbc(t, "q.dbc");
+  ASSERT_EQ(db.messages.size(), 2u);
+  EXPECT_EQ(db.find("A")->signals.size(), 1u);
+  EXPECT_NE(warning(db, DbcWarningKind::MissingSemicolon, 1), nullptr);
+}
+
+TEST(DbcLenient, CommentsNamingNoObjectGoToTheMessage) {
+  std::string t = std::string(kTwoMessages) + "CM_ SG_ 100 \"names no signal\";\nCM_ 200 \"bare id\";\n";
+  Database db = parse_dbc(t, "q.dbc");
+  EXPECT_EQ(db.find("A")->comment, "names no signal");
+  EXPECT_EQ(db.find("B")->comment, "bare id");
+  EXPECT_NE(warning(db, DbcWarningKind::UnnamedComment, 5), nullptr);
+  EXPECT_NE(warning(db, DbcWarningKind::UnnamedComment, 6), nullptr);
+  expect_strict_refuses(t, 5);
+}
+
+TEST(DbcLenient, UnknownObjectsDuplicatesAndIds) {
+  std::string t = std::string(kTwoMessages) +
+                  "BO_ 3000 C: 8 X\n"                                // 5: standard id above 0x7FF
+                  " SG_ U : 0|8@1+ (1,0) [0|0] \"\" X\n"
+                  " SG_ U : 8|8@1+ (1,0) [0|0] \"\" X\n"             // 7: duplicate signal
+                  "BO_ 100 A2: 8 X\n"                                // 8: duplicate id
+                  "VAL_ 999 S 1 \"x\";\n"                            // 9: unknown message
+                  "CM_ SG_ 100 NOPE \"x\";\n"                        // 10: unknown signal
+                  "BA_DEF_ BO_ \"Weird\" BLOB 1 2;\n"                // 11: unknown attribute type
+                  "BA_ \"GenMsgCycleTime\" BO_ 555 10;\n"            // 12: attribute on unknown message
+                  "VAL_ 100 S 1 \"a\";\nVAL_ 100 S 2 \"b\";\n";      // 13, 14: value table given twice
+  Database db = parse_dbc(t, "q.dbc");
+  EXPECT_NE(warning(db, DbcWarningKind::StandardIdAbove7FF, 5), nullptr);
+  EXPECT_TRUE(db.find("C")->extended);
+  EXPECT_NE(warning(db, DbcWarningKind::Duplicate, 7), nullptr);
+  EXPECT_EQ(db.find("C")->signals.size(), 1u);
+  EXPECT_NE(warning(db, DbcWarningKind::Duplicate, 8), nullptr);
+  EXPECT_EQ(db.find(100, false)->name, "A");  // the first wins
+  EXPECT_NE(warning(db, DbcWarningKind::UnknownReference, 9), nullptr);
+  EXPECT_NE(warning(db, DbcWarningKind::UnknownReference, 10), nullptr);
+  EXPECT_NE(warning(db, DbcWarningKind::UnknownAttributeType, 11), nullptr);
+  EXPECT_NE(warning(db, DbcWarningKind::UnknownReference, 12), nullptr);
+  EXPECT_NE(warning(db, DbcWarningKind::Duplicate, 14), nullptr);
+  ASSERT_NE(db.find("A")->signals[0].choice(2), nullptr);  // the last VAL_ wins
+  EXPECT_EQ(db.find("A")->signals[0].choice(1), nullptr);
+  expect_strict_refuses(t, 5);
+}
+
+TEST(DbcLenient, BrokenMessageSkipsItsSignalsNotTheFile) {
+  std::string t = std::string(kTwoMessages) +
+                  "BO_ 300 Broken: eight X\n"                        // 5: no size
+                  " SG_ Orphan : 0|8@1+ (1,0) [0|0] \"\" X\n"        // 6: belongs to Broken
+                  "BO_ 400 D: 8 X\n"
+                  " SG_ V : 0|8@1+ (1,0) [0|0] \"\" X\n"
+                  " SG_ W : 8|8@9+ (1,0) [0|0] \"\" X\n"             // 9: broken signal
+                  " SG_ Z : 16|8@1+ (1,0) [0|0] \"\" X\n";
+  Database db = parse_dbc(t, "q.dbc");
+  ASSERT_EQ(db.messages.size(), 3u);
+  EXPECT_EQ(db.find("B")->signals.size(), 1u);  // Orphan is not attached to the message before
+  EXPECT_EQ(db.find("D")->signals.size(), 2u);  // V and Z; W skipped
+  EXPECT_NE(warning(db, DbcWarningKind::SkippedStatement, 5), nullptr);
+  EXPECT_NE(warning(db, DbcWarningKind::SkippedStatement, 9), nullptr);
+  EXPECT_NE(db.skipped_note("Broken").find("q.dbc:5 was skipped"), std::string::npos) << db.skipped_note("Broken");
+  EXPECT_NE(db.skipped_note("Broken", "Orphan").find("q.dbc:5"), std::string::npos);
+  EXPECT_NE(db.skipped_note("D", "W").find("q.dbc:9 was skipped: "), std::string::npos) << db.skipped_note("D", "W");
+  EXPECT_EQ(db.skipped_note("D", "V"), "");
+  expect_strict_refuses(t, 5);
+}
+
+TEST(DbcLenient, FormatConstructsAreNoQuirks) {
+  // CRLF, node lists over several lines, CAN FD sizes, extended multiplexing, value types, signal
+  // groups and environment variables are part of the format: no warning, and --strict reads them.
+  std::string t =
+      "VERSION \"\"\r\n"
+      "BU_:\r\n\tECU\r\n\tGW\r\n"
+      "BO_ 2147484000 Fd: 64 ECU\r\n"
+      " SG_ Mux M : 0|8@1+ (1,0) [0|0] \"\" GW\r\n"
+      " SG_ F m1 : 8|32@1- (1,0) [0|0] \"\" GW\r\n"
+      " SG_ G m2 : 504|8@1+ (1,0) [0|0] \"\" GW\r\n"
+      "EV_ Env: 0 [0|10] \"\" 0 1 DUMMY_NODE_VECTOR0 Vector__XXX;\r\n"
+      "SIG_GROUP_ 2147484000 Grp 1 : F G;\r\n"
+      "SIG_VALTYPE_ 2147484000 F : 1;\r\n"
+      "SG_MUL_VAL_ 2147484000 G Mux 2-4, 7-7;\r\n";
+  Database db = parse_dbc(t, "q.dbc", DbcOptions{true});
+  EXPECT_EQ(db.nodes, (std::vector<std::string>{"ECU", "GW"}));
+  const DbcMessage* m = db.find("Fd");
+  ASSERT_NE(m, nullptr);
+  EXPECT_EQ(m->size, 64);
+  EXPECT_EQ(m->signals[1].value_type, ValueType::Float32);
+  EXPECT_EQ(m->signals[2].mux_ranges.size(), 2u);
+}
