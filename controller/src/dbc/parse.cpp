@@ -130,6 +130,7 @@ const char* to_string(DbcWarningKind k) {
     case DbcWarningKind::UnknownAttributeType: return "unknown-attribute-type";
     case DbcWarningKind::SignalOutsideMessage: return "signal-outside-message";
     case DbcWarningKind::SkippedStatement: return "skipped-statement";
+    case DbcWarningKind::ReservedIdBits: return "reserved-id-bits";
   }
   return "?";
 }

@@ -25,6 +25,9 @@ void DbcParser::parse_message(int kw_line) {
     return;
   }
   DbcMessage m;
+  if (raw & 0x60000000u)
+    warn(DbcWarningKind::ReservedIdBits, kw_line,
+         "message " + name + ": id " + std::to_string(raw) + " sets bit 29 or 30, which no CAN id has; ignored");
   m.extended = (raw & 0x80000000u) != 0;
   m.id = static_cast<std::uint32_t>(raw & 0x1FFFFFFFu);
   if (!m.extended && m.id > 0x7FF) {

@@ -87,8 +87,9 @@ enum class DbcWarningKind : std::uint8_t {
   UnknownAttributeType,
   SignalOutsideMessage,  // a signal reaching past the message size (never decoded as valid)
   SkippedStatement,   // a statement that could not be understood, skipped (the rest of the file is read)
+  ReservedIdBits,     // BO_ id with bit 29 or 30 set (no part of a CAN id): ignored
 };
-inline constexpr int kDbcWarningKinds = 8;
+inline constexpr int kDbcWarningKinds = 9;
 const char* to_string(DbcWarningKind k);  // "missing-semicolon", "unnamed-comment", ...
 
 struct DbcWarning {
