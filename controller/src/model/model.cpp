@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "meter/controller/mapping/value_names.hpp"
+
 namespace meter::controller {
 
 using protocol::SignalKind;
@@ -47,6 +49,7 @@ constexpr double kIgnitionOn = 4;
 Model::Model(const Database* db, Mapping mapping, ModelOptions options)
     : mapping_(std::move(mapping)), options_(std::move(options)), sources_(db, mapping_),
       bulb_(mapping_.bulb_check_s) {
+  resolve_value_names(mapping_, db);
   build_outputs();
   if (!options_.state_dir.empty() && mapping_.find(protocol::sig::kOdometer)) {
     store_ = std::make_unique<OdometerStore>(options_.state_dir);
