@@ -3,7 +3,14 @@
 // --strict refuses every one of them.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
 #include "meter/controller/dbc/database.hpp"
+#include "meter/controller/mapping/mapping.hpp"
+#include "meter/controller/model/model.hpp"
+#include "meter/controller/run/commands.hpp"
 
 using namespace meter::controller;
 
@@ -139,4 +146,41 @@ TEST(DbcLenient, FormatConstructsAreNoQuirks) {
   EXPECT_EQ(m->size, 64);
   EXPECT_EQ(m->signals[1].value_type, ValueType::Float32);
   EXPECT_EQ(m->signals[2].mux_ranges.size(), 2u);
+}
+
+TEST(DbcLenient, MappingOnASkippedSignalNamesItsDefinition) {
+  std::string t = std::string(kTwoMessages) + " SG_ Broken : 8|8@7+ (1,0) [0|0] \"\" X\n";  // line 5
+  Database db = parse_dbc(t, "q.dbc");
+  try {
+    Model m(&db, parse_mapping("[Vehicle.Speed]\nsource = B.Broken\ntimeout = none\n", "v.map"));
+    FAIL() << "a mapping on a skipped signal was accepted";
+  } catch (const MappingError& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("v.map:1:"), std::string::npos) << w;
+    EXPECT_NE(w.find("its definition at q.dbc:5 was skipped: "), std::string::npos) << w;
+    EXPECT_NE(w.find("byte order"), std::string::npos) << w;
+  }
+}
+
+TEST(DbcLenient, CheckDbcLintReportAndStrictExitCodes) {
+  const std::string path = ::testing::TempDir() + "/meter_lint_quirks.dbc";
+  {
+    std::ofstream f(path);
+    f << kTwoMessages << "CM_ SG_ 100 \"no signal\";\nVAL_ 200 T 1 \"one\"\nVAL_ 100 S 1 \"one\";\n";
+  }
+  std::ostringstream out, err;
+  EXPECT_EQ(check_dbc_command(path, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("lint: 2 message(s), 2 signal(s), 0 multiplexed message(s), 2 warning(s)\n"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("  missing-semicolon: 1\n  unnamed-comment: 1\n"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find(path + ":6: warning [missing-semicolon]: VAL_ has no ';'"), std::string::npos) << out.str();
+  std::ostringstream sout, serr;
+  EXPECT_EQ(check_dbc_command(path, sout, serr, true), 1);
+  EXPECT_NE(serr.str().find(path + ":5: error [unnamed-comment]"), std::string::npos) << serr.str();
+  // decode --strict refuses the file before reading the log (which does not exist).
+  std::ostringstream dout, derr;
+  EXPECT_EQ(decode_command(path, "/nonexistent.log", "", dout, derr, true), 1);
+  EXPECT_NE(derr.str().find("2 problem(s) refused by --strict"), std::string::npos) << derr.str();
+  std::ostringstream mout, merr;
+  EXPECT_EQ(check_dbc_command("/nonexistent/x.dbc", mout, merr), 1);
+  std::remove(path.c_str());
 }
