@@ -80,16 +80,18 @@ void DbcParser::statement(const std::string& kw, int kw_line) {
     parse_mul_val(kw_line);
   } else {
     // Sections meter does not use (VAL_TABLE_, EV_, BO_TX_BU_, SIG_GROUP_, ...): skip to ';'.
-    if (!lex_.skip_statement())
-      warn(DbcWarningKind::MissingSemicolon, kw_line, kw + " has no ';': assumed to end before line " + std::to_string(lex_.line()));
+    if (!lex_.skip_statement()) warn_missing_semicolon(kw, kw_line);
   }
 }
 
 void DbcParser::end_statement(const char* kw, int kw_line) {
   if (lex_.accept(';')) return;
   if (!lex_.at_statement_start()) lex_.error(std::string("expected ';' ending the ") + kw + " statement but found '" + lex_.preview() + "'");
-  warn(DbcWarningKind::MissingSemicolon, kw_line,
-       std::string(kw) + " has no ';': assumed to end before line " + std::to_string(lex_.line()));
+  warn_missing_semicolon(kw, kw_line);
+}
+
+void DbcParser::warn_missing_semicolon(const std::string& kw, int kw_line) {
+  warn(DbcWarningKind::MissingSemicolon, kw_line, kw + " has no ';': assumed to end before line " + std::to_string(lex_.line()));
 }
 
 void DbcParser::skip_broken(const std::string& kw, int kw_line, const DbcError& e) {

@@ -115,8 +115,7 @@ void DbcParser::parse_attr(int kw_line) {
       a.object = 'N';
       lex_.ident();
     } else if (obj == "BU_BO_REL_" || obj == "BU_SG_REL_" || obj == "BU_EV_REL_") {
-      if (!lex_.skip_statement())
-        warn(DbcWarningKind::MissingSemicolon, kw_line, "BA_ has no ';': assumed to end before line " + std::to_string(lex_.line()));
+      if (!lex_.skip_statement()) warn_missing_semicolon("BA_", kw_line);
       return;
     } else {
       lex_.error("BA_ \"" + a.name + "\": expected BU_, BO_, SG_, EV_ or a value but found '" + obj + "'");
@@ -130,8 +129,7 @@ void DbcParser::parse_attr(int kw_line) {
 void DbcParser::parse_val(int kw_line) {
   lex_.skip_ws();
   if (!(lex_.peek() >= '0' && lex_.peek() <= '9')) {  // VAL_ for an environment variable
-    if (!lex_.skip_statement())
-      warn(DbcWarningKind::MissingSemicolon, kw_line, "VAL_ has no ';': assumed to end before line " + std::to_string(lex_.line()));
+    if (!lex_.skip_statement()) warn_missing_semicolon("VAL_", kw_line);
     return;
   }
   PendingRef p{kw_line, message_ref(), lex_.need_ident("a signal name"), {}, -1, "", {}, "", 'V'};

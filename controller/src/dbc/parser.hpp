@@ -59,6 +59,7 @@ class DbcParser {
   void warn(DbcWarningKind kind, int line, std::string text) { db_.warnings.push_back({kind, line, std::move(text)}); }
   // The ';' that ends a statement; a missing one is a warning when the next line starts a statement.
   void end_statement(const char* kw, int kw_line);
+  void warn_missing_semicolon(const std::string& kw, int kw_line);
   // A statement that could not be understood: a warning, and a BO_/SG_ is remembered as skipped.
   void skip_broken(const std::string& kw, int kw_line, const DbcError& e);
   // Messages and signals (parse_messages.cpp).

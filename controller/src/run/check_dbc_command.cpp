@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <ostream>
 
+#include "command_output.hpp"
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/run/commands.hpp"
 
@@ -10,12 +11,7 @@ namespace meter::controller {
 
 int check_dbc_command(const std::string& dbc_path, std::ostream& out, std::ostream& err, bool strict) {
   Database db;
-  try {
-    db = load_dbc(dbc_path);
-  } catch (const DbcError& e) {
-    err << e.what() << "\n";
-    return 1;
-  }
+  if (!load_dbc_reporting(dbc_path, db, err)) return 1;
   std::size_t muxed_messages = 0;
   for (const auto& m : db.messages) {
     bool muxed = false;

@@ -33,4 +33,14 @@ void report_bad_lines(const ParsedLog& log, const std::string& path, std::ostrea
   }
 }
 
+bool load_dbc_reporting(const std::string& path, Database& db, std::ostream& err) {
+  try {
+    db = load_dbc(path);
+    return true;
+  } catch (const DbcError& e) {
+    err << e.what() << "\n";
+    return false;
+  }
+}
+
 }  // namespace meter::controller

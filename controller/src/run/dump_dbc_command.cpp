@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "command_output.hpp"
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/run/commands.hpp"
 
@@ -48,12 +49,7 @@ nlohmann::json signal_json(const DbcMessage& m, const DbcSignal& s) {
 
 int dump_dbc_command(const std::string& dbc_path, std::ostream& out, std::ostream& err) {
   Database db;
-  try {
-    db = load_dbc(dbc_path);
-  } catch (const DbcError& e) {
-    err << e.what() << "\n";
-    return 1;
-  }
+  if (!load_dbc_reporting(dbc_path, db, err)) return 1;
   nlohmann::json messages = nlohmann::json::array();
   for (const auto& m : db.messages) {
     nlohmann::json signals = nlohmann::json::array();
