@@ -180,6 +180,11 @@ TEST(DbcLenient, CheckDbcLintReportAndStrictExitCodes) {
   std::ostringstream dout, derr;
   EXPECT_EQ(decode_command(path, "/nonexistent.log", "", dout, derr, true), 1);
   EXPECT_NE(derr.str().find("2 problem(s) refused by --strict"), std::string::npos) << derr.str();
+  // Lenient decode names the warnings in one line and goes on (to the missing log here).
+  std::ostringstream lout, lerr;
+  EXPECT_EQ(decode_command(path, "/nonexistent.log", "", lout, lerr), 1);
+  EXPECT_NE(lerr.str().find(": 2 DBC warning(s), first " + path + ":5: [unnamed-comment]"), std::string::npos) << lerr.str();
+  EXPECT_NE(lerr.str().find("/nonexistent.log"), std::string::npos) << lerr.str();
   std::ostringstream mout, merr;
   EXPECT_EQ(check_dbc_command("/nonexistent/x.dbc", mout, merr), 1);
   std::remove(path.c_str());

@@ -48,7 +48,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::signal(SIGPIPE, SIG_IGN);
   try {
     std::optional<Database> db;
-    if (!o.dbc.empty()) db = load_dbc(o.dbc, DbcOptions{o.strict});
+    if (!o.dbc.empty()) {
+      db = load_dbc(o.dbc, DbcOptions{o.strict});
+      report_dbc_warnings(*db, err);
+    }
     Mapping map = load_mapping(o.map);
     Model model(db ? &*db : nullptr, map, ModelOptions{o.state_dir});
 
