@@ -84,7 +84,8 @@ TEST(DbcLenient, UnknownObjectsDuplicatesAndIds) {
                   "BA_DEF_ BO_ \"Weird\" BLOB 1 2;\n"                // 11: unknown attribute type
                   "BA_ \"GenMsgCycleTime\" BO_ 555 10;\n"            // 12: attribute on unknown message
                   "VAL_ 100 S 1 \"a\";\nVAL_ 100 S 2 \"b\";\n"       // 13, 14: value table given twice
-                  "BO_ 1073743490 E: 8 X\n";                        // 15: bit 30 set (0x40000682)
+                  "BO_ 1073743490 E: 8 X\n"                         // 15: bit 30 set (0x40000682)
+                  "BA_ \"GenSigStartValue\" SG_ 100 Nope 1;\n";      // 16: attribute on unknown signal
   Database db = parse_dbc(t, "q.dbc");
   EXPECT_NE(warning(db, DbcWarningKind::StandardIdAbove7FF, 5), nullptr);
   EXPECT_TRUE(db.find("C")->extended);
@@ -98,6 +99,7 @@ TEST(DbcLenient, UnknownObjectsDuplicatesAndIds) {
   EXPECT_NE(warning(db, DbcWarningKind::UnknownReference, 12), nullptr);
   EXPECT_NE(warning(db, DbcWarningKind::Duplicate, 14), nullptr);
   EXPECT_NE(warning(db, DbcWarningKind::ReservedIdBits, 15), nullptr);
+  EXPECT_NE(warning(db, DbcWarningKind::UnknownReference, 16), nullptr);
   EXPECT_EQ(db.find(0x682, false)->name, "E");
   ASSERT_NE(db.find("A")->signals[0].choice(2), nullptr);  // the last VAL_ wins
   EXPECT_EQ(db.find("A")->signals[0].choice(1), nullptr);

@@ -122,11 +122,16 @@ void DbcParser::finish() {
     if (!m.extended) m.j1939 = false;
   }
   for (auto& a : attrs_) {
-    if (a.object != 'B') continue;
+    if (a.object != 'B' && a.object != 'S') continue;
     DbcMessage* m = message_by_raw(a.raw_id);
     if (!m) {
       if (!independent(a.raw_id))
         warn(DbcWarningKind::UnknownReference, a.line, "BA_ \"" + a.name + "\" for unknown message id " + std::to_string(a.raw_id) + " ignored");
+      continue;
+    }
+    if (a.object == 'S') {  // signal attributes: none that meter uses, but a wrong name is a quirk
+      if (m->find_signal(a.signal) < 0)
+        warn(DbcWarningKind::UnknownReference, a.line, "BA_ \"" + a.name + "\" for unknown signal " + m->name + "." + a.signal + " ignored");
       continue;
     }
     apply_msg_attr(*m, a.name, a.value);
