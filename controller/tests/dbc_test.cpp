@@ -216,16 +216,20 @@ TEST(Dbc, EveryBundledDbcParses) {
 }
 
 TEST(Dbc, MutatedFilesNeverCrash) {
-  // Truncations and byte flips of a real file: the lenient parse always gives a database (broken
+  // Truncations and byte flips of real files (one with extended multiplexing, one with quirks:
+  // missing ';', comments naming no signal): the lenient parse always gives a database (broken
   // statements become warnings), --strict a database or a DbcError; nothing else (run under
   // ASan/UBSan in CI).
-  std::ifstream in(std::string(METER_SHARED_DIR) + "/data/can/dbc_semantics/cantools_multiplex.dbc", std::ios::binary);
-  std::string base((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_FALSE(base.empty());
+  std::vector<std::string> bases;
+  for (const char* f : {"/data/can/dbc_semantics/cantools_multiplex.dbc", "/data/can/opendbc/chrysler_pacifica_2017_hybrid_generated.dbc"}) {
+    std::ifstream in(std::string(METER_SHARED_DIR) + f, std::ios::binary);
+    bases.emplace_back((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(bases.back().empty()) << f;
+  }
   std::mt19937 rng(99);
   int errors = 0, parsed = 0;
-  for (int i = 0; i < 1500; ++i) {
-    std::string t = base;
+  for (int i = 0; i < 3000; ++i) {
+    std::string t = bases[static_cast<std::size_t>(i) % bases.size()];
     if (i % 3 == 0) t.resize(1 + rng() % (t.size() - 1));
     for (int k = 0; k < 1 + static_cast<int>(rng() % 4); ++k) t[rng() % t.size()] = static_cast<char>(rng());
     Database db = parse_dbc(t, "fuzz.dbc");

@@ -189,16 +189,12 @@ bool is_keyword(std::string_view w) {
       "VERSION", "NS_", "BS_", "BU_", "BO_", "SG_", "CM_", "BA_DEF_", "BA_DEF_DEF_", "BA_", "VAL_",
       "VAL_TABLE_", "SIG_VALTYPE_", "SG_MUL_VAL_", "SIG_GROUP_", "EV_", "ENVVAR_DATA_", "BO_TX_BU_",
       "BA_DEF_REL_", "BA_DEF_DEF_REL_", "BA_REL_", "BA_DEF_SGTYPE_", "SGTYPE_", "SIG_TYPE_REF_",
-      "SIGTYPE_VALTYPE_", "SGTYPE_VAL_", "BA_SGTYPE_", "SIG_TYPE_REF_", "CAT_DEF_", "CAT_", "FILTER",
-      "EV_DATA_", "SIG_VALTYPE_", "BU_SG_REL_", "BU_EV_REL_", "BU_BO_REL_", "NS_DESC_"};
+      "SIGTYPE_VALTYPE_", "SGTYPE_VAL_", "BA_SGTYPE_", "CAT_DEF_", "CAT_", "FILTER", "EV_DATA_",
+      "BU_SG_REL_", "BU_EV_REL_", "BU_BO_REL_", "NS_DESC_"};
   for (auto k : kKeywords)
     if (k == w) return true;
   return false;
 }
 
-void DbcLexer::error_at(int line, const std::string& what) {
-  line_ = line;
-  error(what);
-}
 
 }  // namespace meter::controller::dbc_parse

@@ -19,7 +19,6 @@ class DbcLexer {
   DbcLexer(std::string_view text, std::string file) : s_(text), file_(std::move(file)) {}
 
   [[noreturn]] void error(const std::string& what) const { throw DbcError(file_, line_, what); }
-  [[noreturn]] void error_at(int line, const std::string& what);  // an error about an earlier line
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   bool eof() const { return pos_ >= s_.size(); }
