@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
                 "the longer of the two sides' settings applies)")
       ->check(CLI::Range(30, 60000))
       ->capture_default_str();
+  const char* strict_help = "Refuse every DBC quirk the lenient parser only warns about (docs/dbc.md)";
+  r->add_flag("--strict", run.strict, strict_help);
   r->add_option("--trace", run.trace,
                 "Write a latency trace CSV (frames received, values published, link flushes; CLOCK_REALTIME ns)");
 
@@ -46,10 +48,20 @@ int main(int argc, char** argv) {
   d->add_option("--dbc", dbc, "DBC file")->required()->check(CLI::ExistingFile);
   d->add_option("LOG", log, "candump -L log file")->required()->check(CLI::ExistingFile);
   d->add_option("--map", map, "Only the signals this mapping uses")->check(CLI::ExistingFile);
+  bool decode_strict = false;
+  d->add_flag("--strict", decode_strict, strict_help);
 
   std::string check;
-  auto* c = app.add_subcommand("check-dbc", "Parse a DBC, summarise what it contains and list problems (file:line).");
+  bool check_strict = false;
+  auto* c = app.add_subcommand("check-dbc",
+                               "Parse a DBC, summarise it, print the lint report (counts, warnings by kind) and every "
+                               "problem (file:line). Exit 0 with warnings, 1 with errors.");
   c->add_option("DBC", check, "DBC file")->required()->check(CLI::ExistingFile);
+  c->add_flag("--strict", check_strict, "Every problem is an error (exit 1)");
+
+  std::string dump;
+  auto* u = app.add_subcommand("dump-dbc", "Print the parsed DBC as JSON: every message and signal field, value tables, warnings.");
+  u->add_option("DBC", dump, "DBC file")->required()->check(CLI::ExistingFile);
 
   std::string reset_dir;
   std::optional<double> reset_km;
@@ -62,7 +74,8 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   if (*r) return run_command(run, std::cout, std::cerr);
-  if (*d) return decode_command(dbc, log, map, std::cout, std::cerr);
+  if (*d) return decode_command(dbc, log, map, std::cout, std::cerr, decode_strict);
+  if (*u) return dump_dbc_command(dump, std::cout, std::cerr);
   if (*o) return odometer_reset_command(reset_dir, reset_km, std::cout, std::cerr);
-  return check_dbc_command(check, std::cout, std::cerr);
+  return check_dbc_command(check, std::cout, std::cerr, check_strict);
 }

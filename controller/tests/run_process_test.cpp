@@ -38,7 +38,7 @@ const std::string kSrc = METER_SOURCE_DIR;
 template <class OnLinkUp>
 bool watch_until_exit(pid_t pid, protocol::Subscriber& sub, std::chrono::seconds limit, OnLinkUp on_link_up,
                       int& status) {
-  return watch_until_exit(pid, limit, [&] {
+  return meter::controller::testing::watch_until_exit(pid, limit, [&] {
     sub.poll(std::chrono::milliseconds(20));
     if (sub.link_up()) on_link_up();
   }, status);

@@ -36,7 +36,7 @@ void Database::build_index() {
     const auto& m = messages[i];
     std::uint64_t key = m.id | (m.extended ? (1ull << 32) : 0);
     if (!by_id_.emplace(key, i).second)
-      warnings.push_back({m.line, "message " + m.name + ": id already used by " + messages[by_id_[key]].name + "; the first wins"});
+      warnings.push_back({DbcWarningKind::Duplicate, m.line, "message " + m.name + ": id already used by " + messages[by_id_[key]].name + "; the first wins"});
     if (m.j1939) by_pgn_.emplace(j1939_pgn(m.id), i);
   }
 }
@@ -49,6 +49,13 @@ const DbcMessage* Database::find(std::uint32_t id, bool extended) const {
     if (p != by_pgn_.end()) return &messages[p->second];
   }
   return nullptr;
+}
+
+std::string Database::skipped_note(std::string_view message, std::string_view signal) const {
+  for (const auto& s : skipped)
+    if (s.message == message && (s.signal == signal || s.signal.empty()))
+      return "; its definition at " + file + ":" + std::to_string(s.line) + " was skipped: " + s.reason;
+  return {};
 }
 
 const DbcMessage* Database::find(std::string_view name) const {

@@ -140,24 +140,61 @@ std::string DbcLexer::string_lit() {
   return out;
 }
 
-void DbcLexer::skip_statement(const std::string& kw, int kw_line) {
+bool DbcLexer::skip_statement() {
   while (!eof()) {
     char c = s_[pos_];
     if (c == '"') {
       string_lit();
       continue;
     }
-    if (c == '\n') newline();
+    if (c == '\n') {
+      newline();
+      ++pos_;
+      if (at_statement_start()) return false;
+      continue;
+    }
     ++pos_;
-    if (c == ';') return;
+    if (c == ';') return true;
   }
-  line_ = kw_line;
-  error("expected ';' ending the " + kw + " statement started here");
+  return false;
 }
 
-void DbcLexer::error_at(int line, const std::string& what) {
-  line_ = line;
-  error(what);
+bool DbcLexer::token_starts_line() const {
+  for (std::size_t i = line_start_; i < pos_; ++i)
+    if (s_[i] != ' ' && s_[i] != '\t' && s_[i] != '\r') return false;
+  return true;
 }
+
+bool DbcLexer::at_statement_start() {
+  skip_ws();
+  if (eof()) return true;
+  if (!token_starts_line()) return false;
+  std::size_t e = pos_;
+  while (e < s_.size() && ((s_[e] >= 'A' && s_[e] <= 'Z') || s_[e] == '_')) ++e;
+  return is_keyword(s_.substr(pos_, e - pos_));
+}
+
+void DbcLexer::resync() {
+  for (;;) {
+    skip_line();
+    if (eof()) return;
+    newline();
+    ++pos_;
+    if (at_statement_start()) return;
+  }
+}
+
+bool is_keyword(std::string_view w) {
+  static constexpr std::string_view kKeywords[] = {
+      "VERSION", "NS_", "BS_", "BU_", "BO_", "SG_", "CM_", "BA_DEF_", "BA_DEF_DEF_", "BA_", "VAL_",
+      "VAL_TABLE_", "SIG_VALTYPE_", "SG_MUL_VAL_", "SIG_GROUP_", "EV_", "ENVVAR_DATA_", "BO_TX_BU_",
+      "BA_DEF_REL_", "BA_DEF_DEF_REL_", "BA_REL_", "BA_DEF_SGTYPE_", "SGTYPE_", "SIG_TYPE_REF_",
+      "SIGTYPE_VALTYPE_", "SGTYPE_VAL_", "BA_SGTYPE_", "CAT_DEF_", "CAT_", "FILTER", "EV_DATA_",
+      "BU_SG_REL_", "BU_EV_REL_", "BU_BO_REL_", "NS_DESC_"};
+  for (auto k : kKeywords)
+    if (k == w) return true;
+  return false;
+}
+
 
 }  // namespace meter::controller::dbc_parse

@@ -12,12 +12,13 @@
 
 namespace meter::controller::dbc_parse {
 
+bool is_keyword(std::string_view word);  // a statement keyword of the DBC grammar
+
 class DbcLexer {
  public:
   DbcLexer(std::string_view text, std::string file) : s_(text), file_(std::move(file)) {}
 
   [[noreturn]] void error(const std::string& what) const { throw DbcError(file_, line_, what); }
-  [[noreturn]] void error_at(int line, const std::string& what);  // an error about an earlier line
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   bool eof() const { return pos_ >= s_.size(); }
@@ -37,11 +38,19 @@ class DbcLexer {
   double number(const char* what);
   std::uint64_t uint_lit(const char* what);
   std::string string_lit();
-  // Skips a statement meter does not use, up to its ';' (strings may hold ';').
-  void skip_statement(const std::string& kw, int kw_line);
+  // Skips a statement meter does not use, up to its ';' (strings may hold ';'). Returns false when
+  // a line starting with a keyword came first (the ';' is missing; the lexer stops before it).
+  bool skip_statement();
+  // True when the next token (after blanks) is the first on its line and is a DBC keyword
+  // (BO_, SG_, CM_, VAL_, ...) or the end of the file: where a statement without ';' ends.
+  bool at_statement_start();
+  // After a statement that could not be understood: moves to the next line that starts with a
+  // keyword (SG_ lines included).
+  void resync();
 
  private:
   void newline();
+  bool token_starts_line() const;
 
   std::string_view s_;
   std::string file_;

@@ -23,14 +23,22 @@ AttrValue DbcParser::value_lit() {
   return v;
 }
 
-void DbcParser::parse_comment() {
+void DbcParser::parse_comment(int kw_line) {
   lex_.skip_ws();
   if (lex_.peek() == '"') {
     lex_.string_lit();
-    lex_.expect(';');
+    end_statement("CM_", kw_line);
     return;
   }
   int l = lex_.line();
+  if (lex_.peek() >= '0' && lex_.peek() <= '9') {
+    std::uint32_t id = message_ref();
+    std::string text = lex_.string_lit();
+    warn(DbcWarningKind::UnnamedComment, l, "CM_ " + std::to_string(id) + " names no object (BO_, SG_, ...): taken as a comment on message " + std::to_string(id));
+    pending_.push_back({l, id, "", {}, -1, "", {}, text, 'c'});
+    end_statement("CM_", kw_line);
+    return;
+  }
   std::string obj = lex_.ident();
   if (obj == "BO_") {
     std::uint32_t id = message_ref();
@@ -38,23 +46,33 @@ void DbcParser::parse_comment() {
     pending_.push_back({l, id, "", {}, -1, "", {}, text, 'c'});
   } else if (obj == "SG_") {
     std::uint32_t id = message_ref();
-    std::string sig = lex_.need_ident("a signal name");
-    std::string text = lex_.string_lit();
-    pending_.push_back({l, id, sig, {}, -1, "", {}, text, 'C'});
+    lex_.skip_ws();
+    if (lex_.peek() == '"') {
+      std::string text = lex_.string_lit();
+      warn(DbcWarningKind::UnnamedComment, l, "CM_ SG_ " + std::to_string(id) + " names no signal: taken as a comment on message " + std::to_string(id));
+      pending_.push_back({l, id, "", {}, -1, "", {}, text, 'c'});
+    } else {
+      std::string sig = lex_.need_ident("a signal name");
+      std::string text = lex_.string_lit();
+      pending_.push_back({l, id, sig, {}, -1, "", {}, text, 'C'});
+    }
   } else if (obj == "BU_" || obj == "EV_") {
-    lex_.ident();
+    lex_.need_ident(obj == "BU_" ? "a node name" : "an environment variable name");
     lex_.string_lit();
   } else {
     lex_.error("CM_: expected BU_, BO_, SG_, EV_ or a string but found '" + obj + lex_.preview() + "'");
   }
-  lex_.expect(';');
+  end_statement("CM_", kw_line);
 }
 
-void DbcParser::parse_attr_def() {
+void DbcParser::parse_attr_def(int kw_line) {
   lex_.skip_ws();
   if (lex_.peek() != '"') lex_.ident();  // object type (BU_, BO_, SG_, EV_)
   std::string name = lex_.string_lit();
   std::string type = lex_.need_ident("an attribute type (INT, HEX, FLOAT, STRING, ENUM)");
+  if (enum_defs_.count(name) || declared_attrs_.count(name))
+    warn(DbcWarningKind::Duplicate, kw_line, "BA_DEF_ \"" + name + "\" defined again: the last definition wins");
+  declared_attrs_.insert(name);
   if (type == "ENUM") {
     std::vector<std::string> values;
     lex_.skip_ws();
@@ -65,12 +83,16 @@ void DbcParser::parse_attr_def() {
     }
     enum_defs_[name] = values;
   } else {
-    while (lex_.skip_ws(), !lex_.eof() && lex_.peek() != ';') {
+    enum_defs_.erase(name);
+    if (type != "INT" && type != "HEX" && type != "FLOAT" && type != "STRING")
+      warn(DbcWarningKind::UnknownAttributeType, kw_line,
+           "BA_DEF_ \"" + name + "\": unknown type " + type + " (expected INT, HEX, FLOAT, STRING or ENUM); its values are read as given");
+    while (!lex_.at_statement_start() && lex_.peek() != ';') {
       if (lex_.peek() == '"') lex_.string_lit();
       else lex_.number("attribute limit");
     }
   }
-  lex_.expect(';');
+  end_statement("BA_DEF_", kw_line);
 }
 
 void DbcParser::parse_attr(int kw_line) {
@@ -93,31 +115,31 @@ void DbcParser::parse_attr(int kw_line) {
       a.object = 'N';
       lex_.ident();
     } else if (obj == "BU_BO_REL_" || obj == "BU_SG_REL_" || obj == "BU_EV_REL_") {
-      lex_.skip_statement("BA_", kw_line);
+      if (!lex_.skip_statement()) warn_missing_semicolon("BA_", kw_line);
       return;
     } else {
       lex_.error("BA_ \"" + a.name + "\": expected BU_, BO_, SG_, EV_ or a value but found '" + obj + "'");
     }
   }
   a.value = value_lit();
-  lex_.expect(';');
+  end_statement("BA_", kw_line);
   attrs_.push_back(std::move(a));
 }
 
 void DbcParser::parse_val(int kw_line) {
   lex_.skip_ws();
   if (!(lex_.peek() >= '0' && lex_.peek() <= '9')) {  // VAL_ for an environment variable
-    lex_.skip_statement("VAL_", kw_line);
+    if (!lex_.skip_statement()) warn_missing_semicolon("VAL_", kw_line);
     return;
   }
   PendingRef p{kw_line, message_ref(), lex_.need_ident("a signal name"), {}, -1, "", {}, "", 'V'};
-  while (lex_.skip_ws(), !lex_.eof() && lex_.peek() != ';') {
+  while (!lex_.at_statement_start() && lex_.peek() != ';') {
     double raw = lex_.number("value table entry");
     if (!(raw >= -9.2e18 && raw <= 9.2e18)) lex_.error("VAL_: value " + std::to_string(raw) + " does not fit 64 bits");
     auto v = static_cast<std::int64_t>(raw);
     p.choices.emplace_back(v, lex_.string_lit());
   }
-  lex_.expect(';');
+  end_statement("VAL_", kw_line);
   pending_.push_back(std::move(p));
 }
 
@@ -127,14 +149,14 @@ void DbcParser::parse_valtype(int kw_line) {
   std::uint64_t t = lex_.uint_lit("SIG_VALTYPE_ (0 integer, 1 float, 2 double)");
   if (t > 2) lex_.error("SIG_VALTYPE_: expected 0, 1 or 2 but found " + std::to_string(t));
   p.valtype = static_cast<int>(t);
-  lex_.expect(';');
+  end_statement("SIG_VALTYPE_", kw_line);
   pending_.push_back(std::move(p));
 }
 
 void DbcParser::parse_mul_val(int kw_line) {
   PendingRef p{kw_line, message_ref(), lex_.need_ident("a signal name"), {}, -1, "", {}, "", 'M'};
   p.switch_name = lex_.need_ident("the multiplexor signal name");
-  while (lex_.skip_ws(), !lex_.eof() && lex_.peek() != ';') {
+  while (!lex_.at_statement_start() && lex_.peek() != ';') {
     std::uint64_t lo = lex_.uint_lit("multiplexor range start");
     lex_.expect('-');
     std::uint64_t hi = lex_.uint_lit("multiplexor range end");
@@ -142,7 +164,7 @@ void DbcParser::parse_mul_val(int kw_line) {
     p.ranges.push_back({lo, hi});
     if (!lex_.accept(',')) break;
   }
-  lex_.expect(';');
+  end_statement("SG_MUL_VAL_", kw_line);
   pending_.push_back(std::move(p));
 }
 

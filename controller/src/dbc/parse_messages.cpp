@@ -8,23 +8,31 @@ void DbcParser::parse_message(int kw_line) {
   std::uint64_t raw = lex_.uint_lit("message id");
   if (raw > 0xFFFFFFFFull) lex_.error("message id does not fit 32 bits");
   std::string name = lex_.need_ident("a message name");
+  defining_name_ = name;
   lex_.expect(':');
   std::uint64_t size = lex_.uint_lit("message size");
   if (size > 64) lex_.error("message size " + std::to_string(size) + " is above 64 bytes");
   lex_.skip_inline_ws();
   std::string tx = lex_.eol() ? std::string() : lex_.ident();
-  if (raw == kIndependentSignalsId) {
+  defining_name_.clear();
+  skipped_message_.clear();
+  // The pseudo message of signals without a frame, by its id or (some tools write other ids) its name.
+  if (raw == kIndependentSignalsId || name == "VECTOR__INDEPENDENT_SIG_MSG") {
     // Signals without a message: no frame ever carries them.
+    independent_raw_ = static_cast<std::uint32_t>(raw);
     current_ = -1;
     current_skipped_ = true;
     return;
   }
   DbcMessage m;
+  if (raw & 0x60000000u)
+    warn(DbcWarningKind::ReservedIdBits, kw_line,
+         "message " + name + ": id " + std::to_string(raw) + " sets bit 29 or 30, which no CAN id has; ignored");
   m.extended = (raw & 0x80000000u) != 0;
   m.id = static_cast<std::uint32_t>(raw & 0x1FFFFFFFu);
   if (!m.extended && m.id > 0x7FF) {
-    db_.warnings.push_back({kw_line, "message " + name + ": standard id " + std::to_string(m.id) +
-                                         " above 0x7FF; treated as extended"});
+    warn(DbcWarningKind::StandardIdAbove7FF, kw_line,
+         "message " + name + ": standard id " + std::to_string(m.id) + " above 0x7FF; treated as extended");
     m.extended = true;
   }
   m.name = name;
@@ -40,6 +48,7 @@ void DbcParser::parse_signal(int kw_line) {
   DbcSignal sig;
   sig.line = kw_line;
   sig.name = lex_.need_ident("a signal name");
+  defining_name_ = sig.name;
   lex_.skip_ws();
   int mux_value = -1;
   if (lex_.peek() != ':') {
@@ -100,11 +109,17 @@ void DbcParser::parse_signal(int kw_line) {
   sig.length = static_cast<std::uint16_t>(len);
   sig.little_endian = order == '1';
   sig.is_signed = sign == '-';
-  if (current_skipped_) return;
-  if (current_ < 0) lex_.error("SG_ " + sig.name + " before any BO_ (a signal must follow its message)");
+  if (current_ < 0 && !current_skipped_) lex_.error("SG_ " + sig.name + " before any BO_ (a signal must follow its message)");
+  defining_name_.clear();
+  if (current_skipped_) {
+    if (!skipped_message_.empty())
+      db_.skipped.push_back({skipped_message_, sig.name, kw_line,
+                             "its message's BO_ at line " + std::to_string(skipped_message_line_) + " was skipped"});
+    return;
+  }
   DbcMessage& cur = db_.messages[static_cast<std::size_t>(current_)];
   if (cur.find_signal(sig.name) >= 0) {
-    db_.warnings.push_back({kw_line, "message " + cur.name + ": duplicate signal " + sig.name + " ignored"});
+    warn(DbcWarningKind::Duplicate, kw_line, "message " + cur.name + ": duplicate signal " + sig.name + " ignored (the first wins)");
     return;
   }
   if (mux_value >= 0) sig.mux_switch = -2;  // resolved in finish()

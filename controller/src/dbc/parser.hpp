@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,14 +55,21 @@ class DbcParser {
   Database run();
 
  private:
+  void statement(const std::string& kw, int kw_line);
+  void warn(DbcWarningKind kind, int line, std::string text) { db_.warnings.push_back({kind, line, std::move(text)}); }
+  // The ';' that ends a statement; a missing one is a warning when the next line starts a statement.
+  void end_statement(const char* kw, int kw_line);
+  void warn_missing_semicolon(const std::string& kw, int kw_line);
+  // A statement that could not be understood: a warning, and a BO_/SG_ is remembered as skipped.
+  void skip_broken(const std::string& kw, int kw_line, const DbcError& e);
   // Messages and signals (parse_messages.cpp).
   void parse_message(int kw_line);
   void parse_signal(int kw_line);
   // Comments, attributes, value tables, value types, extended multiplexing (parse_attributes.cpp).
   std::uint32_t message_ref();
   AttrValue value_lit();
-  void parse_comment();
-  void parse_attr_def();
+  void parse_comment(int kw_line);
+  void parse_attr_def(int kw_line);
   void parse_attr(int kw_line);
   void parse_val(int kw_line);
   void parse_valtype(int kw_line);
@@ -70,13 +78,19 @@ class DbcParser {
   DbcMessage* message_by_raw(std::uint32_t raw);
   std::optional<std::string> enum_text(const std::string& name, const AttrValue& v);
   void finish();
+  bool independent(std::uint32_t raw) const { return raw == kIndependentSignalsId || raw == independent_raw_; }
 
   DbcLexer lex_;
   Database db_;
   std::ptrdiff_t current_ = -1;  // index: the vector grows
   bool current_skipped_ = false;
+  std::uint32_t independent_raw_ = kIndependentSignalsId;  // the id the pseudo message was given
+  std::string skipped_message_;  // name of the BO_ being skipped (its SG_ lines are skipped too)
+  int skipped_message_line_ = 0;
+  std::string defining_name_;    // the BO_ or SG_ being parsed, for the skip record
   std::map<std::string, std::vector<std::string>> enum_defs_;
   std::map<std::string, AttrValue> attr_defaults_;
+  std::set<std::string> declared_attrs_;
   std::vector<PendingAttr> attrs_;
   std::vector<PendingRef> pending_;
 };

@@ -2,6 +2,8 @@
 // value types and extended multiplexing onto their signals (unknown references become warnings),
 // simple multiplexing onto the message's 'M' switch, layout checks against the message size, and
 // the attributes (GenMsgCycleTime, VFrameFormat incl. CAN FD and J1939PG, ProtocolType J1939).
+#include <set>
+
 #include "parser.hpp"
 
 namespace meter::controller::dbc_parse {
@@ -25,11 +27,12 @@ std::optional<std::string> DbcParser::enum_text(const std::string& name, const A
 
 void DbcParser::finish() {
   // Value tables, value types, comments, extended multiplexing.
+  std::set<std::pair<const DbcSignal*, char>> seen;  // a second VAL_ / SIG_VALTYPE_ for a signal
   for (auto& p : pending_) {
     DbcMessage* m = message_by_raw(p.raw_id);
     if (!m) {
-      if ((p.raw_id & 0xFFFFFFFFu) != kIndependentSignalsId)
-        db_.warnings.push_back({p.line, "reference to unknown message id " + std::to_string(p.raw_id) + " ignored"});
+      if (!independent(p.raw_id))
+        warn(DbcWarningKind::UnknownReference, p.line, "reference to unknown message id " + std::to_string(p.raw_id) + " ignored");
       continue;
     }
     if (p.kind == 'c') {
@@ -38,26 +41,31 @@ void DbcParser::finish() {
     }
     int si = m->find_signal(p.signal);
     if (si < 0) {
-      db_.warnings.push_back({p.line, "reference to unknown signal " + m->name + "." + p.signal + " ignored"});
+      warn(DbcWarningKind::UnknownReference, p.line, "reference to unknown signal " + m->name + "." + p.signal + " ignored");
       continue;
     }
     DbcSignal& s = m->signals[static_cast<std::size_t>(si)];
+    if ((p.kind == 'V' || p.kind == 'T' || p.kind == 'M') && !seen.insert({&s, p.kind}).second)
+      warn(DbcWarningKind::Duplicate, p.line, std::string(p.kind == 'V' ? "VAL_" : p.kind == 'T' ? "SIG_VALTYPE_" : "SG_MUL_VAL_") +
+                                                  " for " + m->name + "." + s.name + " given again: the last wins");
     switch (p.kind) {
       case 'C': s.comment = p.comment; break;
       case 'V': s.choices = p.choices; break;
       case 'T':
-        if (p.valtype == 1 && s.length != 32) {
-          lex_.error_at(p.line, "SIG_VALTYPE_ " + m->name + "." + s.name + ": IEEE float needs a 32-bit signal, it has " + std::to_string(s.length));
-        }
-        if (p.valtype == 2 && s.length != 64) {
-          lex_.error_at(p.line, "SIG_VALTYPE_ " + m->name + "." + s.name + ": IEEE double needs a 64-bit signal, it has " + std::to_string(s.length));
+        if ((p.valtype == 1 && s.length != 32) || (p.valtype == 2 && s.length != 64)) {
+          warn(DbcWarningKind::SkippedStatement, p.line,
+               "SIG_VALTYPE_ skipped: " + m->name + "." + s.name + ": IEEE " + (p.valtype == 1 ? "float needs a 32" : "double needs a 64") +
+                   "-bit signal, it has " + std::to_string(s.length) + " bits; decoded as an integer");
+          break;
         }
         s.value_type = p.valtype == 1 ? ValueType::Float32 : p.valtype == 2 ? ValueType::Float64 : ValueType::Integer;
         break;
       case 'M': {
         int sw = m->find_signal(p.switch_name);
         if (sw < 0 || !m->signals[static_cast<std::size_t>(sw)].is_multiplexor) {
-          lex_.error_at(p.line, "SG_MUL_VAL_ " + m->name + "." + s.name + ": expected a multiplexor signal, '" + p.switch_name + "' is not one");
+          warn(DbcWarningKind::SkippedStatement, p.line,
+               "SG_MUL_VAL_ skipped: " + m->name + "." + s.name + ": expected a multiplexor signal, '" + p.switch_name + "' is not one");
+          break;
         }
         s.mux_switch = sw;
         s.mux_ranges = p.ranges;
@@ -71,18 +79,26 @@ void DbcParser::finish() {
     int plain = -1;
     for (std::size_t i = 0; i < m.signals.size(); ++i)
       if (m.signals[i].is_multiplexor && m.signals[i].mux_ranges.empty()) plain = static_cast<int>(i);
-    for (auto& s : m.signals) {
-      if (s.mux_switch != -2) continue;
-      if (plain < 0) {
-        lex_.error_at(s.line, "signal " + m.name + "." + s.name + " is multiplexed (m<N>) but the message has no multiplexor 'M' signal");
+    for (std::size_t i = 0; i < m.signals.size();) {
+      auto& s = m.signals[i];
+      if (s.mux_switch == -2 && plain < 0) {
+        std::string why = "multiplexed (m<N>) but the message has no multiplexor 'M' signal";
+        warn(DbcWarningKind::SkippedStatement, s.line, "SG_ skipped: signal " + m.name + "." + s.name + " is " + why);
+        db_.skipped.push_back({m.name, s.name, s.line, "it is " + why});
+        m.signals.erase(m.signals.begin() + static_cast<std::ptrdiff_t>(i));
+        for (auto& other : m.signals)  // switches named by index move down with the erase
+          if (other.mux_switch > static_cast<int>(i)) --other.mux_switch;
+        continue;
       }
-      s.mux_switch = plain;
+      if (s.mux_switch == -2) s.mux_switch = plain;
+      ++i;
     }
     for (std::size_t i = 0; i < m.signals.size(); ++i) {
       const auto& s = m.signals[i];
       if (s.bytes_needed() > m.size)
-        db_.warnings.push_back({s.line, "signal " + m.name + "." + s.name + " reaches byte " +
-                                            std::to_string(s.bytes_needed()) + " of a " + std::to_string(m.size) + "-byte message"});
+        warn(DbcWarningKind::SignalOutsideMessage, s.line,
+             "signal " + m.name + "." + s.name + " reaches byte " + std::to_string(s.bytes_needed()) + " of a " +
+                 std::to_string(m.size) + "-byte message");
     }
   }
   // Attributes: defaults first, then per-object values.
@@ -106,11 +122,16 @@ void DbcParser::finish() {
     if (!m.extended) m.j1939 = false;
   }
   for (auto& a : attrs_) {
-    if (a.object != 'B') continue;
+    if (a.object != 'B' && a.object != 'S') continue;
     DbcMessage* m = message_by_raw(a.raw_id);
     if (!m) {
-      if (a.raw_id != kIndependentSignalsId)
-        db_.warnings.push_back({a.line, "BA_ \"" + a.name + "\" for unknown message id " + std::to_string(a.raw_id) + " ignored"});
+      if (!independent(a.raw_id))
+        warn(DbcWarningKind::UnknownReference, a.line, "BA_ \"" + a.name + "\" for unknown message id " + std::to_string(a.raw_id) + " ignored");
+      continue;
+    }
+    if (a.object == 'S') {  // signal attributes: none that meter uses, but a wrong name is a quirk
+      if (m->find_signal(a.signal) < 0)
+        warn(DbcWarningKind::UnknownReference, a.line, "BA_ \"" + a.name + "\" for unknown signal " + m->name + "." + a.signal + " ignored");
       continue;
     }
     apply_msg_attr(*m, a.name, a.value);

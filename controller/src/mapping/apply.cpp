@@ -65,7 +65,7 @@ double convert_value(const OutputMapping& m, double source) {
   double value = source * m.scale + m.offset;
   for (const auto& [from, to] : m.remap)
     if (std::fabs(value - from) < 1e-9) return to;
-  return value;
+  return m.remap_default.value_or(value);
 }
 
 OutputValue mapped_value(const OutputMapping& m, const CombinedSources& sources) {

@@ -3,6 +3,7 @@
 #include "meter/controller/mapping/mapping.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <numbers>
@@ -78,6 +79,72 @@ constexpr Conversion kConversions[] = {
     {"ratio->percent", 100.0, 0.0},   {"permille->percent", 0.1, 0.0},
 };
 
+// Items of a value list, comma separated; an item is a number or a DBC value name, which may hold
+// blanks ("clutch released") or be quoted ("\"P\"" keeps a name that looks like a number a name).
+struct ValueItem {
+  std::string text;
+  bool quoted;
+};
+std::vector<ValueItem> value_list(std::string_view value, const Ctx& c) {
+  std::vector<ValueItem> out;
+  std::string cur;
+  bool quoted = false, in_quotes = false;
+  auto flush = [&] {
+    std::string t(trim(cur));
+    if (t.empty() && !quoted) c.fail("expected a value or a DBC value name between the commas");
+    out.push_back({t, quoted});
+    cur.clear();
+    quoted = false;
+  };
+  for (char ch : value) {
+    if (ch == '"') {
+      in_quotes = !in_quotes;
+      quoted = true;
+    } else if (ch == ',' && !in_quotes) {
+      flush();
+    } else {
+      cur += ch;
+    }
+  }
+  if (in_quotes) c.fail("expected '\"' closing the value name");
+  flush();
+  return out;
+}
+
+// map items: "from:to", the last ':' splits (names may hold one). Items without a comma between
+// them are split at blanks when every word is a pair ("14:-1 15:126", as before value names).
+std::vector<std::pair<ValueItem, std::string>> value_pairs(std::string_view value, const Ctx& c) {
+  std::vector<std::pair<ValueItem, std::string>> out;
+  for (const auto& item : value_list(value, c)) {
+    auto parts = words(item.text);
+    bool all_pairs = !item.quoted && parts.size() > 1;
+    for (const auto& p : parts) all_pairs = all_pairs && p.find(':') != std::string::npos;
+    if (!all_pairs) parts = {item.text};
+    for (const auto& p : parts) {
+      auto colon = p.rfind(':');
+      if (colon == std::string::npos) c.fail("map: expected 'from:to' pairs, got '" + p + "'");
+      out.push_back({ValueItem{std::string(trim(std::string_view(p).substr(0, colon))), item.quoted}, p.substr(colon + 1)});
+    }
+  }
+  return out;
+}
+
+// A number is a source value; anything else (or a quoted text) a DBC value name.
+void add_value(OutputMapping& o, const ValueItem& from, double to, const Ctx& c) {
+  if (from.text.empty()) c.fail("map: expected a value or a DBC value name before ':'");
+  // An enum's catalog range is the set of states the view knows: a state outside it is a typo.
+  const protocol::SignalInfo* info = protocol::find_signal(o.id);
+  if (info->kind == protocol::SignalKind::Enum && (to < info->min || to > info->max)) {
+    char range[96];
+    std::snprintf(range, sizeof range, "%g is outside the catalog range %g..%g", to, info->min, info->max);
+    c.fail("map: " + from.text + ":" + range + " of " + o.name);
+  }
+  char* end = nullptr;
+  double v = std::strtod(from.text.c_str(), &end);
+  if (!from.quoted && end == from.text.c_str() + from.text.size() && std::isfinite(v)) o.remap.emplace_back(v, to);
+  else o.remap_names.push_back({from.text, to, c.line});
+}
+
 void set_output_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
   auto w = words(value);
   if (key == "source") {
@@ -113,11 +180,17 @@ void set_output_key(OutputMapping& o, const std::string& key, std::string_view v
     o.offset = c.number(value, key);
   } else if (key == "map") {
     o.remap.clear();
-    for (auto& item : w) {
-      auto colon = item.find(':');
-      if (colon == std::string::npos) c.fail("map: expected 'from:to' pairs, got '" + item + "'");
-      o.remap.emplace_back(c.number(item.substr(0, colon), key), c.number(item.substr(colon + 1), key));
-    }
+    o.remap_names.clear();
+    for (const auto& [from, to] : value_pairs(value, c))
+      add_value(o, from, c.number(to, key), c);
+  } else if (key == "lit_when") {
+    // Telltales: lit while the source is one of these values or DBC value names, dark otherwise.
+    if (protocol::find_signal(o.id)->kind != protocol::SignalKind::Telltale)
+      c.fail("lit_when: only for telltales (Cluster.Telltale.*); use map for " + o.name);
+    o.remap.clear();
+    o.remap_names.clear();
+    for (const auto& item : value_list(value, c)) add_value(o, item, 1.0, c);
+    o.remap_default = 0.0;
   } else if (key == "out_of_range") {
     std::string v(trim(value));
     if (v == "invalid") o.out_of_range = RangeAction::Invalid;
@@ -203,7 +276,7 @@ void set_output_key(OutputMapping& o, const std::string& key, std::string_view v
       c.fail("accumulate: expected 'speed' or 'counter <Message.Signal> <bits> <micrometres per count>'");
     }
   } else {
-    c.fail("unknown key '" + key + "'; expected source, combine, convert, scale, offset, map, out_of_range, timeout, "
+    c.fail("unknown key '" + key + "'; expected source, combine, convert, scale, offset, map, lit_when, out_of_range, timeout, "
            "first_timeout, on_timeout, needle, speedometer, fuel, blink, invert, rule, first_level, accumulate");
   }
 }

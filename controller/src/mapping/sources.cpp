@@ -14,9 +14,9 @@ DbcSource resolve_in(const Database* db, const std::string& key, const std::stri
   std::string msg = message_signal.substr(0, dot), sig = message_signal.substr(dot + 1);
   if (!db) throw MappingError(file, line, "source " + key + " needs a DBC (--dbc)");
   const DbcMessage* m = db->find(msg);
-  if (!m) throw MappingError(file, line, "source " + key + ": the DBC " + db->file + " has no message '" + msg + "'");
+  if (!m) throw MappingError(file, line, "source " + key + ": the DBC " + db->file + " has no message '" + msg + "'" + db->skipped_note(msg));
   int si = m->find_signal(sig);
-  if (si < 0) throw MappingError(file, line, "source " + key + ": message " + msg + " has no signal '" + sig + "'");
+  if (si < 0) throw MappingError(file, line, "source " + key + ": message " + msg + " has no signal '" + sig + "'" + db->skipped_note(msg, sig));
   return DbcSource{m, si};
 }
 }  // namespace

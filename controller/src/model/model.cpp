@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "meter/controller/mapping/signal_period.hpp"
+#include "meter/controller/mapping/value_names.hpp"
 
 namespace meter::controller {
 
@@ -52,6 +53,7 @@ Model::Model(const Database* db, Mapping mapping, ModelOptions options)
 Model::Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options)
     : mapping_(std::move(mapping)), options_(std::move(options)), sources_(std::move(inputs), mapping_),
       bulb_(mapping_.bulb_check_s) {
+  resolve_value_names(mapping_, sources_.inputs());
   build_outputs();
   if (!options_.state_dir.empty() && mapping_.find(protocol::sig::kOdometer)) {
     store_ = std::make_unique<OdometerStore>(options_.state_dir);

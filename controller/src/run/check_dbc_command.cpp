@@ -1,19 +1,22 @@
-// check-dbc: a DBC's summary (messages, signal kinds, cycle times) and the problems the parser tolerated.
+// check-dbc: a DBC's summary (messages, signal kinds, cycle times), the lint report (counts, the
+// tolerated problems by kind) and each problem with its file:line. --strict refuses any problem.
 #include <cstdio>
 #include <ostream>
 
+#include "command_output.hpp"
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/run/commands.hpp"
 
 namespace meter::controller {
 
-int check_dbc_command(const std::string& dbc_path, std::ostream& out, std::ostream& err) {
+int check_dbc_command(const std::string& dbc_path, std::ostream& out, std::ostream& err, bool strict) {
   Database db;
-  try {
-    db = load_dbc(dbc_path);
-  } catch (const DbcError& e) {
-    err << e.what() << "\n";
-    return 1;
+  if (!load_dbc_reporting(dbc_path, db, err)) return 1;
+  std::size_t muxed_messages = 0;
+  for (const auto& m : db.messages) {
+    bool muxed = false;
+    for (const auto& s : m.signals) muxed |= s.is_multiplexor;
+    muxed_messages += muxed;
   }
   std::size_t signals = 0, mux = 0, floats = 0, with_cycle = 0, j1939 = 0, ext = 0, motorola = 0, intel = 0, tables = 0;
   for (const auto& m : db.messages) {
@@ -40,13 +43,18 @@ int check_dbc_command(const std::string& dbc_path, std::ostream& out, std::ostre
         << (m.cycle_time_ms ? std::to_string(*m.cycle_time_ms) + " ms" : std::string("no cycle time")) << ", "
         << m.signals.size() << " signal(s)\n";
   }
-  if (db.warnings.empty()) {
-    out << "  no problems found\n";
-  } else {
-    out << "  " << db.warnings.size() << " problem(s):\n";
-    for (const auto& w : db.warnings) out << "    " << dbc_path << ":" << w.line << ": " << w.text << "\n";
-  }
-  return 0;
+  std::size_t by_kind[kDbcWarningKinds] = {};
+  for (const auto& w : db.warnings) ++by_kind[static_cast<int>(w.kind)];
+  out << "lint: " << db.messages.size() << " message(s), " << signals << " signal(s), " << muxed_messages
+      << " multiplexed message(s), " << db.warnings.size() << " warning(s)" << (strict && !db.warnings.empty() ? " refused by --strict" : "")
+      << "\n";
+  for (int k = 0; k < kDbcWarningKinds; ++k)
+    if (by_kind[k]) out << "  " << to_string(static_cast<DbcWarningKind>(k)) << ": " << by_kind[k] << "\n";
+  std::ostream& list = strict ? err : out;
+  const char* level = strict ? "error" : "warning";
+  for (const auto& w : db.warnings)
+    list << dbc_path << ":" << w.line << ": " << level << " [" << to_string(w.kind) << "]: " << w.text << "\n";
+  return strict && !db.warnings.empty() ? 1 : 0;
 }
 
 }  // namespace meter::controller

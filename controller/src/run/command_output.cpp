@@ -33,4 +33,22 @@ void report_bad_lines(const ParsedLog& log, const std::string& path, std::ostrea
   }
 }
 
+void report_dbc_warnings(const Database& db, std::ostream& err) {
+  if (db.warnings.empty()) return;
+  const DbcWarning& w = db.warnings.front();
+  err << db.file << ": " << db.warnings.size() << " DBC warning(s), first " << db.file << ":" << w.line << ": ["
+      << to_string(w.kind) << "] " << w.text << "; 'meter-controller check-dbc " << db.file
+      << "' lists them all, --strict refuses them\n";
+}
+
+bool load_dbc_reporting(const std::string& path, Database& db, std::ostream& err) {
+  try {
+    db = load_dbc(path);
+    return true;
+  } catch (const DbcError& e) {
+    err << e.what() << "\n";
+    return false;
+  }
+}
+
 }  // namespace meter::controller

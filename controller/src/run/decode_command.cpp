@@ -15,9 +15,10 @@
 namespace meter::controller {
 
 int decode_command(const std::string& dbc_path, const std::string& log_path, const std::string& map_path,
-                   std::ostream& out, std::ostream& err) {
+                   std::ostream& out, std::ostream& err, bool strict) {
   try {
-    Database db = load_dbc(dbc_path);
+    Database db = load_dbc(dbc_path, DbcOptions{strict});
+    report_dbc_warnings(db, err);
     std::set<std::pair<const DbcMessage*, int>> wanted;
     if (!map_path.empty()) {
       Mapping map = load_mapping(map_path);

@@ -52,7 +52,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     std::vector<std::optional<Database>> dbs(specs.size());
     std::vector<InputDbc> buses;
     for (std::size_t i = 0; i < specs.size(); ++i) {
-      if (!specs[i].dbc.empty()) dbs[i] = load_dbc(specs[i].dbc);
+      if (!specs[i].dbc.empty()) {
+        dbs[i] = load_dbc(specs[i].dbc, DbcOptions{o.strict});
+        report_dbc_warnings(*dbs[i], err);
+      }
       buses.push_back(InputDbc{specs[i].name, dbs[i] ? &*dbs[i] : nullptr});
     }
     Mapping map = load_mapping(o.map);

@@ -18,8 +18,8 @@ constexpr std::array kCatalog{
     SignalInfo{sig::kEngineSpeed, "Vehicle.Powertrain.CombustionEngine.Speed", "rpm", 0.0, 10000.0, K::Gauge},
     SignalInfo{sig::kFuelLevel, "Vehicle.Powertrain.FuelSystem.RelativeLevel", "percent", 0.0, 100.0, K::Gauge},
     SignalInfo{sig::kCoolantTemp, "Vehicle.Powertrain.CombustionEngine.ECT", "celsius", -40.0, 150.0, K::Gauge},
-    // VSS CurrentGear: -1 reverse, 0 neutral, 1..8 forward; 126 park (as VSS SelectedGear).
-    SignalInfo{sig::kCurrentGear, "Vehicle.Powertrain.Transmission.CurrentGear", "", -1.0, 126.0, K::Enum},
+    // VSS CurrentGear: -1 reverse, 0 neutral, 1..8 forward; 126 park, 127 drive (as VSS SelectedGear).
+    SignalInfo{sig::kCurrentGear, "Vehicle.Powertrain.Transmission.CurrentGear", "", -1.0, 127.0, K::Enum},
     SignalInfo{sig::kOdometer, "Vehicle.TraveledDistance", "km", 0.0, 9999999.0, K::Counter},
     SignalInfo{sig::kTrip, "Vehicle.TripMeterReading", "km", 0.0, 99999.9, K::Counter},
     SignalInfo{sig::kOutsideTemp, "Vehicle.Exterior.AirTemperature", "celsius", -40.0, 85.0, K::Gauge},

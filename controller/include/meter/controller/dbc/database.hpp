@@ -77,9 +77,34 @@ struct DbcMessage {
 // J1939 parameter group number of a 29-bit id (PDU1: destination byte cleared).
 std::uint32_t j1939_pgn(std::uint32_t id29);
 
+// What a tolerated problem was: the lint report counts warnings by kind, --strict refuses them all.
+enum class DbcWarningKind : std::uint8_t {
+  MissingSemicolon,   // a statement without its ';': assumed to end with its line
+  UnnamedComment,     // CM_ SG_ <id> "text" (no signal) or CM_ <id> "text" (no object keyword)
+  UnknownReference,   // a comment, value table, attribute or value type for an undefined object
+  StandardIdAbove7FF, // BO_ id above 0x7FF without the extended flag: taken as extended
+  Duplicate,          // a message id, signal, value table or attribute defined twice
+  UnknownAttributeType,
+  SignalOutsideMessage,  // a signal reaching past the message size (never decoded as valid)
+  SkippedStatement,   // a statement that could not be understood, skipped (the rest of the file is read)
+  ReservedIdBits,     // BO_ id with bit 29 or 30 set (no part of a CAN id): ignored
+};
+inline constexpr int kDbcWarningKinds = 9;
+const char* to_string(DbcWarningKind k);  // "missing-semicolon", "unnamed-comment", ...
+
 struct DbcWarning {
+  DbcWarningKind kind;
   int line;
   std::string text;
+};
+
+// A BO_ or SG_ definition the parser skipped (it could not be understood): a mapping that uses it
+// gets an error naming the definition and why, not "no such signal".
+struct SkippedDefinition {
+  std::string message;  // the message name (or id when the name could not be read)
+  std::string signal;   // empty for a skipped BO_ (its SG_ lines are skipped with it)
+  int line;
+  std::string reason;
 };
 
 class Database {
@@ -89,20 +114,31 @@ class Database {
   std::vector<std::string> nodes;
   std::vector<DbcMessage> messages;
   std::vector<DbcWarning> warnings;  // tolerated problems (unknown references, duplicates...)
+  std::vector<SkippedDefinition> skipped;
   std::string protocol_type;         // BA_ "ProtocolType" (e.g. "J1939")
 
   // Message for a received frame: exact id first, then (29-bit frames only) J1939 PGN match.
   const DbcMessage* find(std::uint32_t id, bool extended) const;
   const DbcMessage* find(std::string_view name) const;
   void build_index();  // called by the parser; call again after editing messages by hand
+  // "; its definition at FILE:LINE was skipped: REASON" when message (and signal, if given) was
+  // skipped by the parser, else empty: appended to "no such message/signal" errors.
+  std::string skipped_note(std::string_view message, std::string_view signal = {}) const;
 
  private:
   std::unordered_map<std::uint64_t, std::size_t> by_id_;
   std::unordered_map<std::uint32_t, std::size_t> by_pgn_;
 };
 
-// Parses DBC text (UTF-8, or cp1252 which is converted to UTF-8). Throws DbcError.
-Database parse_dbc(std::string_view text, const std::string& file = "<dbc>");
-Database load_dbc(const std::string& path);  // throws DbcError (also for unreadable files)
+struct DbcOptions {
+  // Refuse every quirk: the first warning the lenient parse gives becomes a DbcError that lists
+  // them all (file:line each). Without it, quirks are warnings and unreadable statements are skipped.
+  bool strict = false;
+};
+
+// Parses DBC text (UTF-8, or cp1252 which is converted to UTF-8). Lenient: every tolerated problem
+// is a warning in Database::warnings and never throws. With options.strict any warning throws.
+Database parse_dbc(std::string_view text, const std::string& file = "<dbc>", const DbcOptions& options = {});
+Database load_dbc(const std::string& path, const DbcOptions& options = {});  // DbcError also for unreadable files
 
 }  // namespace meter::controller

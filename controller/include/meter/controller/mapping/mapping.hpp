@@ -42,6 +42,15 @@ struct OutputMapping {
   Combine combine = Combine::First;
   double scale = 1.0, offset = 0.0;  // catalog value = source * scale + offset
   std::vector<std::pair<double, double>> remap;  // exact source value -> catalog value (enums)
+  // DBC value names (VAL_) in `map` and `lit_when`: name -> catalog value, turned into remap
+  // entries against the DBC at start-up (mapping/value_names.hpp).
+  struct NamedValue {
+    std::string name;
+    double to;
+    int line;
+  };
+  std::vector<NamedValue> remap_names;
+  std::optional<double> remap_default;  // the catalog value of a source no remap entry matches
   RangeAction out_of_range = RangeAction::Invalid;
   bool timeout_auto = true;                        // derive from the DBC cycle time
   std::optional<double> timeout_s, first_timeout_s;

@@ -71,6 +71,7 @@ class SourceTable {
   SourceTable(const Database* db, const Mapping& mapping) : SourceTable(std::vector<InputDbc>{{"", db}}, mapping) {}
   // Several inputs (buses), each with its own DBC (or none); frames say which one they came from.
   SourceTable(std::vector<InputDbc> inputs, const Mapping& mapping) : inputs_(std::move(inputs)), mapping_(mapping) {}
+  std::span<const InputDbc> inputs() const { return inputs_; }
 
   // The indices of output m's sources in the order it names them, adding those not seen before.
   // Throws MappingError when a DBC source does not resolve.

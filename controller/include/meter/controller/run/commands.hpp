@@ -28,6 +28,7 @@ struct RunOptions {
   // Latency trace (CSV): every received CAN frame, every published value change and every
   // flush to the link, on CLOCK_REALTIME (bench/latency reads it). Empty = off.
   std::string trace;
+  bool strict = false;  // refuse every DBC quirk the lenient parser would only warn about
 };
 
 // Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;
@@ -36,11 +37,17 @@ int run_command(const RunOptions& options, std::ostream& out, std::ostream& err)
 
 // decode: a candump log + DBC -> CSV rows "timestamp,message,signal,raw,physical,unit,status".
 // With a mapping, only the signals the mapping uses are written.
+// strict: refuse every DBC quirk (docs/dbc.md).
 int decode_command(const std::string& dbc, const std::string& log, const std::string& map, std::ostream& out,
-                   std::ostream& err);
+                   std::ostream& err, bool strict = false);
 
-// check-dbc: parse a DBC, summarise it and list the problems found.
-int check_dbc_command(const std::string& dbc, std::ostream& out, std::ostream& err);
+// check-dbc: parse a DBC, summarise it, print the lint report (counts, warnings by kind) and every
+// problem with its file:line. 0 with warnings, 1 when it cannot be read or (strict) has any problem.
+int check_dbc_command(const std::string& dbc, std::ostream& out, std::ostream& err, bool strict = false);
+
+// dump-dbc: the parsed database as JSON (messages, signals with every field, value tables,
+// warnings), for tools and the cross-check against other DBC parsers.
+int dump_dbc_command(const std::string& dbc, std::ostream& out, std::ostream& err);
 
 // odometer-reset: the explicit acceptance of a refused odometer state (both copies damaged, or a
 // copy put back from an older state). Rewrites both copies in state_dir with km (whole kilometres
