@@ -51,7 +51,7 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   if (opt_.mode == ReplayMode::Fast) {
     // Simulated clock: advance one step and hand over everything due by then. No sleeping.
     sim_now_ += std::chrono::duration_cast<std::chrono::nanoseconds>(opt_.fast_step).count();
-    while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) sink.on_frame(frames[next_++]);
+    while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) deliver(sink);
     return next_ < frames.size();
   }
   // Realtime / scaled: frames are handed over in batches at the caller's poll cadence (the model
@@ -78,8 +78,20 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     now -= behind;
     ++slips_;
   }
-  while (next_ < frames.size() && frames[next_].timestamp_ns <= now) sink.on_frame(frames[next_++]);
+  while (next_ < frames.size() && frames[next_].timestamp_ns <= now) deliver(sink);
   return next_ < frames.size();
+}
+
+void LogReplay::deliver(InputSink& sink) {
+  const CanFrame& f = log_.frames[next_++];
+  note_frame(bus_, f);
+  sink.on_frame(f);
+}
+
+BusHealth LogReplay::health() const {
+  BusHealth h = bus_;
+  h.replay_slips = slips_;
+  return h;
 }
 
 std::string LogReplay::describe() const {

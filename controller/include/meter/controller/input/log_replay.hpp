@@ -31,6 +31,7 @@ class LogReplay : public Input {
   const ParsedLog& log() const { return log_; }
   std::size_t delivered() const { return next_; }
   std::size_t slips() const { return slips_; }  // times the replay clock slipped (we fell behind)
+  BusHealth health() const override;  // error frames in the log, and the slips
   static constexpr std::int64_t kMaxLagNs = 20000000;  // 20 ms of log time
 
  private:
@@ -42,6 +43,8 @@ class LogReplay : public Input {
   std::int64_t wall_start_ = 0;     // CLOCK_MONOTONIC at the first poll (realtime / scaled)
   bool begun_ = false;
   std::size_t slips_ = 0;
+  BusHealth bus_;
+  void deliver(InputSink& sink);
 };
 
 }  // namespace meter::controller
