@@ -247,3 +247,46 @@ TEST(EndToEnd, LiveViewDumpsAtGivenTimesAndOnRequest) {
   EXPECT_EQ(*bad_rc, 1);
   EXPECT_NE(bad.log().find("--dump-at: unknown unit \"x\""), std::string::npos) << bad.log();
 }
+
+// Health both ways: a fault of the view travels in its STATUS frames to the controller, which
+// logs it and counts it in its stats line. The fault is real: the file for one dumped frame
+// cannot be created (a directory holds its name), so that PNG dump fails. The view draws on.
+TEST(EndToEnd, AViewFaultReachesTheController) {
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "e2e" / "view_fault";
+  fs::remove_all(dir);
+  // Frame 30 is 3 s into the view at 10 fps: the controller, started after the first dump, is
+  // connected by then (its replay lasts 4 s, plus 3 s of linger).
+  fs::create_directories(dir / "frames" / "frame_000030.png");
+  const fs::path log = dir / "speed.log";
+  write_speed_log(log);
+  convert_gauge(dir);
+  if (HasFatalFailure()) return;
+  const std::string link = "unix:" + (dir / "link.sock").string();
+  ChildProcess view({built_executable("meter-view"), "--scene", (dir / "gauge.msp").string(), "--backend", "egl",
+                     "--link", link, "--fps", "10", "--dump-every", "1", "--duration", "8", "--out",
+                     (dir / "frames").string()},
+                    (dir / "view.log").string());
+  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  if (HasFatalFailure()) return;
+  ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
+                           kSource + "/controller/vehicles/demo/demo.dbc", "--map",
+                           kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + log.string(),
+                           "--replay", "realtime", "--link", link, "--exit-at-end", "--linger", "3"},
+                          (dir / "controller.log").string());
+  auto crc = controller.wait_for(std::chrono::seconds(40));
+  ASSERT_TRUE(crc.has_value()) << "meter-controller did not finish:\n" << controller.log();
+  EXPECT_EQ(*crc, 0) << controller.log();
+  auto vrc = view.wait_for(std::chrono::seconds(40));
+  ASSERT_TRUE(vrc.has_value()) << "meter-view did not finish:\n" << view.log();
+  // The view went on drawing after the failed dump, and its exit status still tells of it.
+  EXPECT_NE(*vrc, 0) << view.log();
+  EXPECT_NE(view.log().find("frame_000030.png"), std::string::npos) << view.log();
+  EXPECT_TRUE(fs::exists(dir / "frames" / "frame_000040.png")) << "the view stopped dumping after the failure";
+
+  const std::string clog = controller.log();
+  EXPECT_NE(clog.find("view reports a fault: dump-failed"), std::string::npos) << clog;
+  const auto stats = clog.find("view faults: ");
+  ASSERT_NE(stats, std::string::npos) << "no view faults in the stats line:\n" << clog;
+  const std::string line = clog.substr(stats, clog.find('\n', stats) - stats);
+  EXPECT_NE(line.find("dump-failed 1"), std::string::npos) << line;
+}

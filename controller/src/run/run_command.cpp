@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "command_output.hpp"
+#include "health_report.hpp"
 #include "latency_trace.hpp"
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/input/input.hpp"
@@ -76,6 +77,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     };
 
     ModelSink sink(model, trace);
+    HealthReport health(input->describe());
     std::uint64_t traced_bytes = 0;
     // The model ticks every update period of input time; inputs are polled until the next tick.
     const auto period_ns = static_cast<std::int64_t>(map.update_period_s * 1e9);
@@ -91,6 +93,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (t >= next_tick || !more) {
         model.update(t);
         publish();
+        health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
         next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
       }
       pub.poll(std::chrono::milliseconds(0));  // never waits for a view
@@ -100,7 +103,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
       if (!more && !o.exit_at_end) {
         // Log ended: keep serving the final state until told to stop.
-        while (!g_stop) pub.poll(std::chrono::milliseconds(100));
+        while (!g_stop) {
+          pub.poll(std::chrono::milliseconds(100));
+          health.update(input->health(), view_fault_flags(pub.peer_status()), input->now_ns(), err, trace);
+        }
       }
     }
     model.persist_now();
@@ -112,14 +118,17 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     if (!g_stop && o.linger_s > 0) {
       const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.linger_s);
-      while (!g_stop && std::chrono::steady_clock::now() < until) pub.poll(std::chrono::milliseconds(20));
+      while (!g_stop && std::chrono::steady_clock::now() < until) {
+        pub.poll(std::chrono::milliseconds(20));
+        health.update(input->health(), view_fault_flags(pub.peer_status()), input->now_ns(), err, trace);
+      }
     }
     const auto& st = model.stats();
     auto ls = pub.stats();
     out << "meter-controller: " << st.frames << " frames (" << st.frames_mapped << " mapped, " << st.frames_unknown
         << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
         << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
-        << fmt_double(model.odometer().total_km()) << " km\n";
+        << fmt_double(model.odometer().total_km()) << " km, " << health.stats_text() << "\n";
     return 0;
   } catch (const std::exception& e) {
     err << "meter-controller: " << e.what() << "\n";

@@ -85,9 +85,20 @@ struct Heartbeat {
 struct Status {
   std::uint64_t frames_rendered = 0;
   std::uint64_t last_sequence_applied = 0;
-  std::uint32_t fault_flags = 0;
+  std::uint32_t fault_flags = 0;  // kViewFault* bits
   bool operator==(const Status&) const = default;
 };
+
+// STATUS fault flags: the view's own faults. A bit stays set for kViewFaultHoldMs after the fault
+// last happened, so a STATUS lost to latest-wins coalescing cannot hide it, and clears after.
+// Bits 0-15 are the view's, 16-31 are reserved; receivers accept bits they do not know (they name
+// them "bit N"), so a newer view can report faults an older controller has no name for.
+inline constexpr std::uint32_t kViewFaultFrameDeadline = 1U << 0;  // a frame ended after the next one was due
+inline constexpr std::uint32_t kViewFaultDumpFailed = 1U << 1;     // a requested PNG dump could not be written
+inline constexpr std::uint32_t kViewFaultIntegrity = 1U << 2;      // the rendered-image integrity monitor (reserved)
+inline constexpr int kViewFaultHoldMs = 1000;
+// "frame-deadline", "dump-failed", "integrity", "bit N", joined with ", "; "none" for 0.
+std::string describe_view_faults(std::uint32_t flags);
 
 enum class CloseReason : std::uint8_t {
   Normal = 0,
