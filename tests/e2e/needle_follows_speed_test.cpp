@@ -130,6 +130,28 @@ void wait_for_first_dump(const fs::path& frames_csv, ChildProcess& view) {
   }
 }
 
+// meter-controller on the demo vehicle replays `log` in real time to `link` and lingers 3 s (so
+// the view shows the last state); expects exit 0, then waits for the view to end: its exit status
+// goes to view_rc. Returns the controller's output.
+std::string replay_to_view(const fs::path& dir, const fs::path& log, const std::string& link, ChildProcess& view,
+                           int& view_rc) {
+  ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
+                           kSource + "/controller/vehicles/demo/demo.dbc", "--map",
+                           kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + log.string(),
+                           "--replay", "realtime", "--link", link, "--state-dir", (dir / "state").string(),
+                           "--exit-at-end", "--linger", "3"},
+                          (dir / "controller.log").string());
+  auto crc = controller.wait_for(std::chrono::seconds(40));
+  EXPECT_TRUE(crc.has_value()) << "meter-controller did not finish:\n" << controller.log();
+  if (crc) {
+    EXPECT_EQ(*crc, 0) << controller.log();
+  }
+  auto vrc = view.wait_for(std::chrono::seconds(40));
+  EXPECT_TRUE(vrc.has_value()) << "meter-view did not finish:\n" << view.log();
+  view_rc = vrc.value_or(-1);
+  return controller.log();
+}
+
 }  // namespace
 
 TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
@@ -152,19 +174,10 @@ TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
                     (dir / "view.log").string());
   wait_for_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
-  ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
-                           kSource + "/controller/vehicles/demo/demo.dbc", "--map",
-                           kSource + "/controller/vehicles/demo/demo.map", "--input",
-                           "log:" + log.string(), "--replay", "realtime", "--link", link,
-                           "--state-dir", (dir / "state").string(), "--exit-at-end", "--linger",
-                           "3"},
-                          (dir / "controller.log").string());
-  auto crc = controller.wait_for(std::chrono::seconds(40));
-  ASSERT_TRUE(crc.has_value()) << "meter-controller did not finish:\n" << controller.log();
-  EXPECT_EQ(*crc, 0) << controller.log();
-  auto vrc = view.wait_for(std::chrono::seconds(40));
-  ASSERT_TRUE(vrc.has_value()) << "meter-view did not finish:\n" << view.log();
-  ASSERT_EQ(*vrc, 0) << view.log();
+  int view_rc = -1;
+  replay_to_view(dir, log, link, view, view_rc);
+  if (HasFailure()) return;
+  ASSERT_EQ(view_rc, 0) << view.log();
 
   const auto rows = read_frames_csv(dir / "frames" / "frames.csv");
   ASSERT_GT(rows.size(), 40u) << "9 s at 10 fps should dump ~90 frames";
@@ -268,22 +281,14 @@ TEST(EndToEnd, AViewFaultReachesTheController) {
                     (dir / "view.log").string());
   wait_for_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
-  ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
-                           kSource + "/controller/vehicles/demo/demo.dbc", "--map",
-                           kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + log.string(),
-                           "--replay", "realtime", "--link", link, "--exit-at-end", "--linger", "3"},
-                          (dir / "controller.log").string());
-  auto crc = controller.wait_for(std::chrono::seconds(40));
-  ASSERT_TRUE(crc.has_value()) << "meter-controller did not finish:\n" << controller.log();
-  EXPECT_EQ(*crc, 0) << controller.log();
-  auto vrc = view.wait_for(std::chrono::seconds(40));
-  ASSERT_TRUE(vrc.has_value()) << "meter-view did not finish:\n" << view.log();
+  int view_rc = -1;
+  const std::string clog = replay_to_view(dir, log, link, view, view_rc);
+  if (HasFailure()) return;
   // The view went on drawing after the failed dump, and its exit status still tells of it.
-  EXPECT_NE(*vrc, 0) << view.log();
+  EXPECT_NE(view_rc, 0) << view.log();
   EXPECT_NE(view.log().find("frame_000030.png"), std::string::npos) << view.log();
   EXPECT_TRUE(fs::exists(dir / "frames" / "frame_000040.png")) << "the view stopped dumping after the failure";
 
-  const std::string clog = controller.log();
   EXPECT_NE(clog.find("view reports a fault: dump-failed"), std::string::npos) << clog;
   const auto stats = clog.find("view faults: ");
   ASSERT_NE(stats, std::string::npos) << "no view faults in the stats line:\n" << clog;

@@ -78,6 +78,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
 
     ModelSink sink(model, trace);
     HealthReport health(input->describe());
+    auto report_health = [&](std::int64_t t) {
+      health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
+    };
     std::uint64_t traced_bytes = 0;
     // The model ticks every update period of input time; inputs are polled until the next tick.
     const auto period_ns = static_cast<std::int64_t>(map.update_period_s * 1e9);
@@ -93,7 +96,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (t >= next_tick || !more) {
         model.update(t);
         publish();
-        health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
+        report_health(t);
         next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
       }
       pub.poll(std::chrono::milliseconds(0));  // never waits for a view
@@ -105,7 +108,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         // Log ended: keep serving the final state until told to stop.
         while (!g_stop) {
           pub.poll(std::chrono::milliseconds(100));
-          health.update(input->health(), view_fault_flags(pub.peer_status()), input->now_ns(), err, trace);
+          report_health(input->now_ns());
         }
       }
     }
@@ -120,7 +123,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.linger_s);
       while (!g_stop && std::chrono::steady_clock::now() < until) {
         pub.poll(std::chrono::milliseconds(20));
-        health.update(input->health(), view_fault_flags(pub.peer_status()), input->now_ns(), err, trace);
+        report_health(input->now_ns());
       }
     }
     const auto& st = model.stats();
