@@ -66,19 +66,30 @@ TEST(HealthReport, ChangesBecomeLogLinesTraceRowsAndTheStatsLine) {
     b.kernel_drops = 25;
     b.replay_slips = 0;
     r.update(b, 0, 1'500'000'000, err, trace);  // within the second: no new loss line
+    EXPECT_EQ(r.controller_faults(), protocol::kControllerFaultBusPassive | protocol::kControllerFaultFramesLost);
     b.kernel_drops = 30;
     r.update(b, protocol::kViewFaultDumpFailed, 2'200'000'000, err, trace);
     r.update(b, 0, 2'300'000'000, err, trace);
     r.update(b, protocol::kViewFaultDumpFailed | protocol::kViewFaultFrameDeadline, 2'400'000'000, err, trace);
+    EXPECT_EQ(r.controller_faults(), protocol::kControllerFaultBusPassive | protocol::kControllerFaultFramesLost)
+        << "0.2 s after the last drop";
+    b.state = BusState::BusOff;
+    b.replay_slips = 1;
+    r.update(b, 0, 3'300'000'000, err, trace);
+    EXPECT_EQ(r.controller_faults(), protocol::kControllerFaultBusOff | protocol::kControllerFaultReplaySlip)
+        << "1.1 s after the last drop the frames-lost flag is down; the slip raises its own";
     EXPECT_EQ(r.view_fault_count(protocol::kViewFaultDumpFailed), 2U);
     EXPECT_EQ(r.view_fault_count(protocol::kViewFaultFrameDeadline), 1U);
     const std::string stats = r.stats_text();
-    EXPECT_NE(stats.find("bus error-passive, 1 error frames"), std::string::npos) << stats;
+    EXPECT_NE(stats.find("bus bus-off, 1 error frames"), std::string::npos) << stats;
     EXPECT_NE(stats.find("30 kernel drops"), std::string::npos) << stats;
     EXPECT_NE(stats.find("view faults: frame-deadline 1, dump-failed 2"), std::string::npos) << stats;
   }
   const std::string log = err.str();
   EXPECT_NE(log.find("SocketCAN vcan0: bus error-passive"), std::string::npos) << log;
+  EXPECT_NE(log.find("SocketCAN vcan0: bus bus-off"), std::string::npos) << log;
+  EXPECT_NE(log.find("0 dropped by the kernel (receive queue full), 1 replay slips; totals 30 drops, 1 slips"),
+            std::string::npos) << log;
   EXPECT_NE(log.find("frames lost: 10 dropped by the kernel"), std::string::npos) << log;
   EXPECT_NE(log.find("frames lost: 20 dropped by the kernel (receive queue full), 0 replay slips; totals 30 drops"),
             std::string::npos)

@@ -264,7 +264,8 @@ TEST(EndToEnd, LiveViewDumpsAtGivenTimesAndOnRequest) {
 // Health both ways: a fault of the view travels in its STATUS frames to the controller, which
 // logs it and counts it in its stats line. The fault is real: the file for one dumped frame
 // cannot be created (a directory holds its name), so that PNG dump fails. The view draws on.
-TEST(EndToEnd, AViewFaultReachesTheController) {
+// The other way, the log ends with a bus-off error frame: the controller's STATUS tells the view.
+TEST(EndToEnd, FaultsReachTheOtherProcessBothWays) {
   const fs::path dir = fs::path(METER_BINARY_DIR) / "e2e" / "view_fault";
   fs::remove_all(dir);
   // Frame 30 is 3 s into the view at 10 fps: the controller, started after the first dump, is
@@ -272,6 +273,14 @@ TEST(EndToEnd, AViewFaultReachesTheController) {
   fs::create_directories(dir / "frames" / "frame_000030.png");
   const fs::path log = dir / "speed.log";
   write_speed_log(log);
+  {
+    meter::controller::CanFrame bus_off;  // CAN_ERR_BUSOFF, just after the last speed frame
+    bus_off.timestamp_ns = 1'700'000'000'000'000'000LL + static_cast<std::int64_t>((kLogSeconds + 0.01) * 1e9);
+    bus_off.error = true;
+    bus_off.id = 0x40;
+    bus_off.len = 8;
+    std::ofstream(log, std::ios::app) << meter::controller::format_candump_line(bus_off, "can0") << "\n";
+  }
   convert_gauge(dir);
   if (HasFatalFailure()) return;
   const std::string link = "unix:" + (dir / "link.sock").string();
@@ -288,6 +297,7 @@ TEST(EndToEnd, AViewFaultReachesTheController) {
   EXPECT_NE(view_rc, 0) << view.log();
   EXPECT_NE(view.log().find("frame_000030.png"), std::string::npos) << view.log();
   EXPECT_TRUE(fs::exists(dir / "frames" / "frame_000040.png")) << "the view stopped dumping after the failure";
+  EXPECT_NE(view.log().find("meter-view: controller reports: bus-off"), std::string::npos) << view.log();
 
   EXPECT_NE(clog.find("view reports a fault: dump-failed"), std::string::npos) << clog;
   const auto stats = clog.find("view faults: ");

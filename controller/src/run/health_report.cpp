@@ -46,12 +46,22 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
     for (int b = 0; b < 32; ++b)
       if (raised & (1U << b)) ++fault_counts_[b];
     if (raised)
-      err << "meter-controller: view reports a fault: " << protocol::describe_view_faults(raised)
+      err << "meter-controller: view reports a fault: " << protocol::describe_fault_flags(raised)
           << " (STATUS fault flags " << hex(faults) << ")\n";
-    if (cleared) err << "meter-controller: view fault cleared: " << protocol::describe_view_faults(cleared) << "\n";
+    if (cleared) err << "meter-controller: view fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
     trace.health("view_faults", faults);
     view_faults_ = faults;
   }
+  if (bus.kernel_drops != old.kernel_drops) drop_at_ns_ = t;
+  if (bus.replay_slips != old.replay_slips) slip_at_ns_ = t;
+  std::uint32_t cf = 0;
+  if (bus.state == BusState::ErrorWarning) cf |= protocol::kControllerFaultBusWarning;
+  if (bus.state == BusState::ErrorPassive) cf |= protocol::kControllerFaultBusPassive;
+  if (bus.state == BusState::BusOff) cf |= protocol::kControllerFaultBusOff;
+  const std::int64_t hold = std::int64_t{protocol::kViewFaultHoldMs} * 1000000;
+  if (drop_at_ns_ != 0 && t - drop_at_ns_ < hold) cf |= protocol::kControllerFaultFramesLost;
+  if (slip_at_ns_ != 0 && t - slip_at_ns_ < hold) cf |= protocol::kControllerFaultReplaySlip;
+  controller_faults_ = cf;
   first_ = false;
 }
 
@@ -67,7 +77,7 @@ std::string HealthReport::stats_text() const {
   for (int b = 0; b < 32; ++b) {
     if (!fault_counts_[b]) continue;
     if (!seen.empty()) seen += ", ";
-    seen += protocol::describe_view_faults(1U << b) + " " + std::to_string(fault_counts_[b]);
+    seen += protocol::describe_fault_flags(1U << b) + " " + std::to_string(fault_counts_[b]);
   }
   return s + (seen.empty() ? "none" : seen);
 }

@@ -27,6 +27,9 @@ class HealthReport {
   // "bus error-active, 0 error frames (...), 0 kernel drops, ..., view faults: dump-failed 1"
   std::string stats_text() const;
   const BusHealth& bus() const { return bus_; }
+  // The controller's faults for its STATUS to the views (protocol kControllerFault*): the bus
+  // state, and frames lost / a replay slip within the last second of input time.
+  std::uint32_t controller_faults() const { return controller_faults_; }
   // Times each view fault bit was raised (its rising edges in the STATUS flags).
   std::uint64_t view_fault_count(std::uint32_t fault) const;
 
@@ -37,6 +40,8 @@ class HealthReport {
   std::uint64_t logged_drops_ = 0, logged_slips_ = 0;
   std::int64_t last_loss_line_ns_ = 0;
   std::uint32_t view_faults_ = 0;
+  std::uint32_t controller_faults_ = 0;
+  std::int64_t drop_at_ns_ = 0, slip_at_ns_ = 0;  // input time of the last loss, 0 = none
   std::uint64_t fault_counts_[32] = {};
 };
 

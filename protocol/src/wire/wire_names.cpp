@@ -6,7 +6,7 @@
 
 namespace meter::protocol {
 
-std::string describe_view_faults(std::uint32_t flags) {
+std::string describe_fault_flags(std::uint32_t flags) {
   if (flags == 0) return "none";
   std::string out;
   for (int bit = 0; bit < 32; ++bit) {
@@ -16,6 +16,11 @@ std::string describe_view_faults(std::uint32_t flags) {
     if (b == kViewFaultFrameDeadline) out += "frame-deadline";
     else if (b == kViewFaultDumpFailed) out += "dump-failed";
     else if (b == kViewFaultIntegrity) out += "integrity";
+    else if (b == kControllerFaultBusWarning) out += "bus-warning";
+    else if (b == kControllerFaultBusPassive) out += "bus-passive";
+    else if (b == kControllerFaultBusOff) out += "bus-off";
+    else if (b == kControllerFaultFramesLost) out += "frames-lost";
+    else if (b == kControllerFaultReplaySlip) out += "replay-slip";
     else out += "bit " + std::to_string(bit);
   }
   return out;

@@ -65,6 +65,18 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     if (dump_failures_seen == 0) log << "meter-view: a PNG dump failed (the view draws on): " << png_writer.first_error() << "\n";
     for (; dump_failures_seen < failures; ++dump_failures_seen) health.report(protocol::kViewFaultDumpFailed, now);
   };
+  // The controller's faults (bus state, lost frames) from its STATUS, logged as they rise and clear.
+  std::uint32_t controller_faults = 0;
+  auto note_controller_faults = [&] {
+    const auto st = sub.publisher_status();
+    const std::uint32_t now_flags = st ? st->fault_flags : 0;
+    if (now_flags == controller_faults) return;
+    if (const std::uint32_t raised = now_flags & ~controller_faults)
+      log << "meter-view: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
+    if (const std::uint32_t cleared = controller_faults & ~now_flags)
+      log << "meter-view: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+    controller_faults = now_flags;
+  };
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
     const std::string name = png_name(n);
     // The row is the state this image was rendered with; the file follows from the writer.
@@ -93,6 +105,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     const auto ended = Clock::now();
     if (pacer.end_frame(ended)) health.report(protocol::kViewFaultFrameDeadline, ended);
     note_dump_failures(ended);
+    note_controller_faults();
     sub.send_status(ctx.renderer.stats().drawn, health.flags(ended));
   }
   if (policy.dump_on_exit(frame)) {

@@ -34,10 +34,10 @@ TEST(ViewHealth, AFaultIsHeldForTheHoldTimeThenClears) {
 }
 
 TEST(ViewHealth, FaultNamesForTheLog) {
-  EXPECT_EQ(protocol::describe_view_faults(0), "none");
-  EXPECT_EQ(protocol::describe_view_faults(kViewFaultFrameDeadline | kViewFaultDumpFailed | (1U << 9)),
+  EXPECT_EQ(protocol::describe_fault_flags(0), "none");
+  EXPECT_EQ(protocol::describe_fault_flags(kViewFaultFrameDeadline | kViewFaultDumpFailed | (1U << 9)),
             "frame-deadline, dump-failed, bit 9");
-  EXPECT_EQ(protocol::describe_view_faults(protocol::kViewFaultIntegrity), "integrity");
+  EXPECT_EQ(protocol::describe_fault_flags(protocol::kViewFaultIntegrity), "integrity");
 }
 
 }  // namespace
