@@ -231,6 +231,10 @@ TEST(Link, StatusFromThePublisherReachesEveryView) {
   ASSERT_TRUE(pump(pub, a, [&] { return a.publisher_status()->fault_flags == 0; }));
   EXPECT_EQ(a.stats().bad_frames.malformed, 0U) << "a publisher's STATUS is not a protocol error";
   EXPECT_EQ(a.stats().status_received, 2U);
+  // New counts only: they go in place of the next heartbeat, so they arrive within its period.
+  pub.send_status(1300, 7, 0);
+  ASSERT_TRUE(pump(pub, a, [&] { return a.publisher_status()->frames_rendered == 1300; }));
+  EXPECT_EQ(a.stats().status_received, 3U);
 }
 
 TEST(Link, NonFiniteValuesNeverReachTheWire) {

@@ -111,7 +111,9 @@ class Publisher {
   };
   std::vector<PeerStatus> peer_status() const;  // one per handshaken view, last STATUS received
   // The controller's own health for every view: frames received, frames lost, kControllerFault*
-  // flags. Sent to each view when it changed (and to a view that connects, after its SNAPSHOT).
+  // flags. Sent to each view at once when the flags changed (and to a view that connects, after
+  // its SNAPSHOT); new counts alone go in place of the next heartbeat, so a count that changes
+  // every tick costs no extra frames.
   void send_status(std::uint64_t frames_received, std::uint64_t frames_lost, std::uint32_t fault_flags);
 
  private:
