@@ -206,6 +206,37 @@ TEST(Link, StatusFromTheViewReachesThePublisher) {
   EXPECT_GT(ps.last_sequence_applied, 0U);
 }
 
+TEST(Link, StatusFromThePublisherReachesEveryView) {
+  // The controller's own health (frames received, frames lost, bus faults) goes to each view,
+  // to a view that connects later too, and only when it changed.
+  LogCapture log;
+  TempDir dir;
+  Publisher pub(dir.unix_endpoint(), fast_options());
+  Subscriber a(dir.unix_endpoint(), fast_options());
+  ASSERT_TRUE(pump(pub, a, [&] { return a.link_up(); }));
+  EXPECT_FALSE(a.publisher_status().has_value()) << "nothing sent yet";
+  pub.send_status(1000, 7, kControllerFaultBusOff | kControllerFaultFramesLost);
+  ASSERT_TRUE(pump(pub, a, [&] { return a.publisher_status().has_value(); }));
+  EXPECT_EQ(a.publisher_status()->frames_rendered, 1000U) << "frames received by the controller";
+  EXPECT_EQ(a.publisher_status()->last_sequence_applied, 7U) << "frames lost by the controller";
+  EXPECT_EQ(a.publisher_status()->fault_flags, kControllerFaultBusOff | kControllerFaultFramesLost);
+  const auto sent = pub.stats().status_sent;
+  pub.send_status(1000, 7, kControllerFaultBusOff | kControllerFaultFramesLost);
+  pub.poll(std::chrono::milliseconds(20));
+  EXPECT_EQ(pub.stats().status_sent, sent) << "an unchanged status is not sent again";
+  Subscriber b(dir.unix_endpoint(), fast_options());
+  ASSERT_TRUE(pump(pub, b, [&] { return b.publisher_status().has_value(); })) << "a late view gets it too";
+  EXPECT_EQ(b.publisher_status()->fault_flags, kControllerFaultBusOff | kControllerFaultFramesLost);
+  pub.send_status(1200, 7, 0);
+  ASSERT_TRUE(pump(pub, a, [&] { return a.publisher_status()->fault_flags == 0; }));
+  EXPECT_EQ(a.stats().bad_frames.malformed, 0U) << "a publisher's STATUS is not a protocol error";
+  EXPECT_EQ(a.stats().status_received, 2U);
+  // New counts only: they go in place of the next heartbeat, so they arrive within its period.
+  pub.send_status(1300, 7, 0);
+  ASSERT_TRUE(pump(pub, a, [&] { return a.publisher_status()->frames_rendered == 1300; }));
+  EXPECT_EQ(a.stats().status_received, 3U);
+}
+
 TEST(Link, NonFiniteValuesNeverReachTheWire) {
   LogCapture log;
   TempDir dir;

@@ -130,6 +130,28 @@ void wait_for_first_dump(const fs::path& frames_csv, ChildProcess& view) {
   }
 }
 
+// meter-controller on the demo vehicle replays `log` in real time to `link` and lingers 3 s (so
+// the view shows the last state); expects exit 0, then waits for the view to end: its exit status
+// goes to view_rc. Returns the controller's output.
+std::string replay_to_view(const fs::path& dir, const fs::path& log, const std::string& link, ChildProcess& view,
+                           int& view_rc) {
+  ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
+                           kSource + "/controller/vehicles/demo/demo.dbc", "--map",
+                           kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + log.string(),
+                           "--replay", "realtime", "--link", link, "--state-dir", (dir / "state").string(),
+                           "--exit-at-end", "--linger", "3"},
+                          (dir / "controller.log").string());
+  auto crc = controller.wait_for(std::chrono::seconds(40));
+  EXPECT_TRUE(crc.has_value()) << "meter-controller did not finish:\n" << controller.log();
+  if (crc) {
+    EXPECT_EQ(*crc, 0) << controller.log();
+  }
+  auto vrc = view.wait_for(std::chrono::seconds(40));
+  EXPECT_TRUE(vrc.has_value()) << "meter-view did not finish:\n" << view.log();
+  view_rc = vrc.value_or(-1);
+  return controller.log();
+}
+
 }  // namespace
 
 TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
@@ -152,19 +174,10 @@ TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
                     (dir / "view.log").string());
   wait_for_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
-  ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
-                           kSource + "/controller/vehicles/demo/demo.dbc", "--map",
-                           kSource + "/controller/vehicles/demo/demo.map", "--input",
-                           "log:" + log.string(), "--replay", "realtime", "--link", link,
-                           "--state-dir", (dir / "state").string(), "--exit-at-end", "--linger",
-                           "3"},
-                          (dir / "controller.log").string());
-  auto crc = controller.wait_for(std::chrono::seconds(40));
-  ASSERT_TRUE(crc.has_value()) << "meter-controller did not finish:\n" << controller.log();
-  EXPECT_EQ(*crc, 0) << controller.log();
-  auto vrc = view.wait_for(std::chrono::seconds(40));
-  ASSERT_TRUE(vrc.has_value()) << "meter-view did not finish:\n" << view.log();
-  ASSERT_EQ(*vrc, 0) << view.log();
+  int view_rc = -1;
+  replay_to_view(dir, log, link, view, view_rc);
+  if (HasFailure()) return;
+  ASSERT_EQ(view_rc, 0) << view.log();
 
   const auto rows = read_frames_csv(dir / "frames" / "frames.csv");
   ASSERT_GT(rows.size(), 40u) << "9 s at 10 fps should dump ~90 frames";
@@ -246,4 +259,49 @@ TEST(EndToEnd, LiveViewDumpsAtGivenTimesAndOnRequest) {
   ASSERT_TRUE(bad_rc.has_value());
   EXPECT_EQ(*bad_rc, 1);
   EXPECT_NE(bad.log().find("--dump-at: unknown unit \"x\""), std::string::npos) << bad.log();
+}
+
+// Health both ways: a fault of the view travels in its STATUS frames to the controller, which
+// logs it and counts it in its stats line. The fault is real: the file for one dumped frame
+// cannot be created (a directory holds its name), so that PNG dump fails. The view draws on.
+// The other way, the log ends with a bus-off error frame: the controller's STATUS tells the view.
+TEST(EndToEnd, FaultsReachTheOtherProcessBothWays) {
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "e2e" / "view_fault";
+  fs::remove_all(dir);
+  // Frame 30 is 3 s into the view at 10 fps: the controller, started after the first dump, is
+  // connected by then (its replay lasts 4 s, plus 3 s of linger).
+  fs::create_directories(dir / "frames" / "frame_000030.png");
+  const fs::path log = dir / "speed.log";
+  write_speed_log(log);
+  {
+    meter::controller::CanFrame bus_off;  // CAN_ERR_BUSOFF, just after the last speed frame
+    bus_off.timestamp_ns = 1'700'000'000'000'000'000LL + static_cast<std::int64_t>((kLogSeconds + 0.01) * 1e9);
+    bus_off.error = true;
+    bus_off.id = 0x40;
+    bus_off.len = 8;
+    std::ofstream(log, std::ios::app) << meter::controller::format_candump_line(bus_off, "can0") << "\n";
+  }
+  convert_gauge(dir);
+  if (HasFatalFailure()) return;
+  const std::string link = "unix:" + (dir / "link.sock").string();
+  ChildProcess view({built_executable("meter-view"), "--scene", (dir / "gauge.msp").string(), "--backend", "egl",
+                     "--link", link, "--fps", "10", "--dump-every", "1", "--duration", "8", "--out",
+                     (dir / "frames").string()},
+                    (dir / "view.log").string());
+  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  if (HasFatalFailure()) return;
+  int view_rc = -1;
+  const std::string clog = replay_to_view(dir, log, link, view, view_rc);
+  if (HasFailure()) return;
+  // The view went on drawing after the failed dump, and its exit status still tells of it.
+  EXPECT_NE(view_rc, 0) << view.log();
+  EXPECT_NE(view.log().find("frame_000030.png"), std::string::npos) << view.log();
+  EXPECT_TRUE(fs::exists(dir / "frames" / "frame_000040.png")) << "the view stopped dumping after the failure";
+  EXPECT_NE(view.log().find("meter-view: controller reports: bus-off"), std::string::npos) << view.log();
+
+  EXPECT_NE(clog.find("view reports a fault: dump-failed"), std::string::npos) << clog;
+  const auto stats = clog.find("view faults: ");
+  ASSERT_NE(stats, std::string::npos) << "no view faults in the stats line:\n" << clog;
+  const std::string line = clog.substr(stats, clog.find('\n', stats) - stats);
+  EXPECT_NE(line.find("dump-failed 1"), std::string::npos) << line;
 }

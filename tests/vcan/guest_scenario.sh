@@ -12,7 +12,7 @@
 #   sleep:SEC             bus silence / waiting
 #   kill-controller       SIGKILL the controller (a crashed vehicle-control MCU)
 #   start-controller      start it again (same state dir: odometer persisted)
-#   flood:SEC             cangen at full rate (-g 0) for SEC s on an id the gauges do not use
+#   flood:SEC             cangen at full rate (-g 0) for SEC s on a mapped id (0x154, a telltale's)
 #   rss:LABEL             record the controller's VmRSS (kB) under LABEL
 set -uo pipefail
 out=$1 bin=$2 port=$3 go_port=$4 dbc=$5 map=$6 log=$7; shift 7
@@ -51,6 +51,8 @@ if [[ ${METER_VCAN_MODE:-} == vm ]]; then
   echo "4096 16384 16384" >/proc/sys/net/ipv4/tcp_wmem || fail "cannot set tcp_wmem"
 fi
 start_controller
+# Every frame on vcan0 from here on (the replays' and the floods'): the flood test's ground truth.
+read -r tx </sys/class/net/vcan0/statistics/tx_packets; event "tx start $tx"
 # The host starts meter-view only now: during the boot it would only take CPU from the guest.
 touch "$out/ready"
 for phase in "$@"; do
@@ -83,11 +85,13 @@ for phase in "$@"; do
     kill-controller) kill -KILL "$ctrl"; wait "$ctrl" 2>/dev/null; ctrl="" ;;
     start-controller) start_controller ;;
     flood:*)
-      # 0x0D0 is ID_D0 (steering/yaw/accelerations) in the ft86 DBC: decoded by the controller,
-      # drawn by no gauge. Random payloads, no gap: as fast as the kernel takes them (-i: keep going
-      # on ENOBUFS; no -x, since on vcan a frame without local loopback reaches no reader at all).
+      # 0x154 is ID_154 in the ft86 DBC: the mapping reads its EBRAKE bit (the parking-brake
+      # telltale), so the kernel filter lets the flood in and the controller decodes every frame it
+      # gets; no judged gauge reads it. Random payloads, no gap: as fast as the kernel takes them
+      # (-i: keep going on ENOBUFS; no -x, since on vcan a frame without local loopback reaches no
+      # reader at all).
       read -r tx0 </sys/class/net/vcan0/statistics/tx_packets
-      timeout "${phase#flood:}" cangen vcan0 -g 0 -i -I 0D0 -L 8 -D r 2>>"$out/cangen.log"
+      timeout "${phase#flood:}" cangen vcan0 -g 0 -i -I 154 -L 7 -D r 2>>"$out/cangen.log"
       rc=$?; ((rc == 124)) || fail "cangen exited with $rc before its time was up"
       # How hard the bus was flooded (all frames on vcan0 in the phase, the replay's included).
       read -r tx1 </sys/class/net/vcan0/statistics/tx_packets
@@ -99,6 +103,7 @@ for phase in "$@"; do
   esac
 done
 for p in "${bg[@]}"; do wait "$p" || fail "background replay failed"; done
+read -r tx </sys/class/net/vcan0/statistics/tx_packets; event "tx end $tx"
 [[ -n ${netstat:-} ]] && kill "$netstat"
 
 # The controller must have survived everything after its last (re)start, and stop cleanly.

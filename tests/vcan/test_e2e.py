@@ -3,6 +3,7 @@ VM on this kernel) and meter-view (on the host, over TCP through the VM boundary
 python3-canmatrix decoding the same log; then the faults. Run one class per CTest test."""
 import csv
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -298,14 +299,27 @@ class Faults(E2eBase):
         flooded = next(int(k.split()[-1]) for k in ev if k.startswith("flood frames "))
         print(f"e2e_flood: {flooded} frames on vcan0 in 8 s ({flooded / 8:.0f}/s)")
         self.assertGreater(flooded / 8, 2000, "cangen did not flood the bus")
-        # No gauge-relevant frame lost: the controller's trace holds every frame of the replayed
-        # window on the ids the mapping uses (its kernel filter keeps the flood's id out).
+        # The flood is on a mapped id, so the controller meets it: nothing may be lost silently.
+        # Every frame on a mapped id (the window's and the flood's) is in the controller's trace
+        # or counted in its kernel drops (stats line).
         used = e2e.mapped_ids(v.FT86_DBC, e2e.FT86_MAP)
+        self.assertIn(0x154, used, "the flood's id must be one the mapping reads")
         with open(os.path.join(run.out, "window_30.0_16.log")) as f:
-            sent = sum(1 for line in f if int(line.split()[2].split("#")[0], 16) in used)
+            window = [int(line.split()[2].split("#")[0], 16) for line in f if line.strip()]
+        tx = {k.split()[1]: int(k.split()[2]) for k in ev if k.startswith("tx ")}
+        flood_only = tx["end"] - tx["start"] - len(window)   # every other frame on vcan0 is the flood's
+        sent = sum(1 for i in window if i in used) + flood_only
         with open(os.path.join(run.out, "controller-trace-1.csv")) as f:
             got = [int(line.split(",")[3]) for line in f if line.startswith("f,")]
-        self.assertEqual(len(got), sent, "frames on mapped ids replayed vs received by the controller")
+        with open(os.path.join(run.out, "controller.log")) as f:
+            m = re.search(r", (\d+) kernel drops", f.read())
+        self.assertIsNotNone(m, f"{len(got)} of {sent} frames on mapped ids decoded and the controller's "
+                                "stats line reports no kernel drops: frames lost silently")
+        drops = int(m.group(1))
+        print(f"e2e_flood: {sent} frames on mapped ids ({flood_only} of the flood): {len(got)} decoded, "
+              f"{drops} dropped by the kernel")
+        self.assertEqual(len(got) + drops, sent, "frames on mapped ids sent vs decoded + counted drops")
+        self.assertGreater(got.count(0x154), flooded // 8, "the flood did not reach the controller")
         self.assertFalse(set(got) - used, "the controller received ids its mapping does not use")
         # Keeping up: the gauges keep tracking the log during the flood.
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))

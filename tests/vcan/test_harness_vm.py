@@ -1,7 +1,8 @@
 """The VM harness's contract beyond CAN: a TCP port of the guest reachable from the host
 (--hostfwd, how meter-view on the host talks to meter-controller in the VM), the command's exit
-code propagated, bounded boot with the guest console printed on failure, and the host's /tmp
-visible to the guest (a checkout may live there) without the guest writing to it."""
+code propagated, bounded boot with the guest console printed on failure, the host's /tmp
+visible to the guest (a checkout may live there) without the guest writing to it, and the harness
+run from a git clone under /tmp with its build folder and ../shared."""
 import os
 import shutil
 import socket
@@ -93,6 +94,45 @@ class HarnessVm(unittest.TestCase):
             self.assertFalse(os.path.exists("/tmp/meter-guest-scratch"))
         finally:
             shutil.rmtree(host, ignore_errors=True)
+
+
+class HarnessFromClone(unittest.TestCase):
+    def test_harness_from_a_clone_under_tmp(self):
+        # The whole chain from a checkout under /tmp: a git clone of this tree with ../shared beside
+        # it (a symlink, as a checkout next to the data would have) and a build folder inside it.
+        # The clone's own with-vcan boots the VM, which runs the clone's setup-vcan and guest script,
+        # the clone's build of meter-controller reading the clone's vehicle files, and reads
+        # ../shared through the clone: nothing of it may be hidden in the guest.
+        clone_root = tempfile.mkdtemp(prefix="meter-clone-", dir="/tmp")
+        try:
+            clone = os.path.join(clone_root, "meter")
+            subprocess.run(["git", "clone", "-q", v.SOURCE_DIR, clone], check=True, timeout=60)
+            os.symlink(os.path.realpath(v.SHARED_DIR), os.path.join(clone_root, "shared"))
+            os.makedirs(os.path.join(clone, "build", "bin"))
+            shutil.copy2(os.path.join(v.BINARY_DIR, "bin", "meter-controller"), os.path.join(clone, "build", "bin"))
+            out = os.path.join(clone, "build", "vcan-out")   # the writable share lives under /tmp too
+            os.makedirs(out)
+            subprocess.run(f"head -n 2500 {clone}/vcan/logs/demo-drive.log > {out}/head.log", shell=True, check=True)
+            shared_log = os.path.join(clone, "..", "shared", "data", "can", "ft86_motec", "can_sample.log")
+            guest = (f"head -n 3 {shared_log} > {out}/shared.txt && "
+                     f"exec /bin/sh {clone}/controller/tests/socketcan_guest.sh")
+            env = dict(os.environ, METER_VM_CACHE=os.environ.get("METER_VM_CACHE", os.path.join(
+                v.SOURCE_DIR, "build", "vcan-vm-cache")))
+            p = subprocess.run([os.path.join(clone, "vcan", "with-vcan"), "--share-out", out, "--timeout", "110",
+                                "--env", f"METER_BIN={clone}/build/bin/meter-controller", "--env",
+                                f"METER_SRC={clone}", "--env", f"OUT={out}", "--", "bash", "-c", guest],
+                               capture_output=True, text=True, timeout=170, env=env, cwd=clone)
+            self.assertEqual(p.returncode, 0, p.stderr[-3000:])
+            with open(shared_log) as f:
+                first = [next(f) for _ in range(3)]
+            with open(os.path.join(out, "shared.txt")) as f:
+                self.assertEqual(f.readlines(), first, "../shared of the clone, read in the guest")
+            with open(os.path.join(out, "ctl.out")) as f:
+                self.assertIn(" 2500 frames (2500 mapped, 0 unknown id", f.read())
+            with open(os.path.join(out, "ctl.err")) as f:
+                self.assertIn("exit=0", f.read())
+        finally:
+            shutil.rmtree(clone_root, ignore_errors=True)
 
 
 if __name__ == "__main__":

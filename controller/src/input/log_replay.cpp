@@ -59,7 +59,7 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   if (opt_.mode == ReplayMode::Fast) {
     // Simulated clock: advance one step and hand over everything due by then. No sleeping.
     sim_now_ += std::chrono::duration_cast<std::chrono::nanoseconds>(opt_.fast_step).count();
-    while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) sink.on_frame(frames[next_++]);
+    while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) deliver(sink);
     return !mark_end();
   }
   // Realtime / scaled: frames are handed over in batches at the caller's poll cadence (the model
@@ -86,7 +86,7 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     now -= behind;
     ++slips_;
   }
-  while (next_ < frames.size() && frames[next_].timestamp_ns <= now) sink.on_frame(frames[next_++]);
+  while (next_ < frames.size() && frames[next_].timestamp_ns <= now) deliver(sink);
   return !mark_end();
 }
 
@@ -95,6 +95,18 @@ bool LogReplay::mark_end() {
   if (!ended_) end_wall_ = monotonic_ns();
   ended_ = true;
   return true;
+}
+
+void LogReplay::deliver(InputSink& sink) {
+  const CanFrame& f = log_.frames[next_++];
+  note_frame(bus_, f);
+  sink.on_frame(f);
+}
+
+BusHealth LogReplay::health() const {
+  BusHealth h = bus_;
+  h.replay_slips = slips_;
+  return h;
 }
 
 std::string LogReplay::describe() const {

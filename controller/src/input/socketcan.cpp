@@ -44,16 +44,23 @@ SocketCanInput::SocketCanInput(const std::string& iface, const std::vector<CanId
   int on = 1;
   if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) != 0) fail("enabling CAN FD frames");
   if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) fail("enabling kernel timestamps");
-  ::setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on);  // drop counter: best effort
+  // Without the drop counter a receive-queue overflow would lose frames silently: refuse.
+  if (::setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) != 0) fail("enabling the drop counter (SO_RXQ_OVFL)");
   can_err_mask_t err_mask = CAN_ERR_MASK;
-  ::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask);
-  if (!ids.empty() && ids.size() <= 512) {
+  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask) != 0)
+    fail("enabling error frames (CAN_RAW_ERR_FILTER)");
+  if (ids.size() > CAN_RAW_FILTER_MAX) {
+    errno = EINVAL;
+    fail(std::to_string(ids.size()) + " id filters, the kernel takes at most " + std::to_string(CAN_RAW_FILTER_MAX));
+  }
+  if (!ids.empty()) {
     // Kernel-side filtering: the process never wakes up for frames the mapping does not use.
+    // Remote frames pass too: they are counted (BusHealth), never decoded.
     std::vector<can_filter> f;
-    for (const auto& [id, ext] : ids) {
+    for (const auto& flt : ids) {
       can_filter cf{};
-      cf.can_id = ext ? (id | CAN_EFF_FLAG) : id;
-      cf.can_mask = CAN_EFF_FLAG | CAN_RTR_FLAG | (ext ? CAN_EFF_MASK : CAN_SFF_MASK);
+      cf.can_id = flt.extended ? (flt.id | CAN_EFF_FLAG) : flt.id;
+      cf.can_mask = CAN_EFF_FLAG | effective_mask(flt);
       f.push_back(cf);
     }
     if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, f.data(), static_cast<socklen_t>(f.size() * sizeof(can_filter))) != 0)
@@ -92,8 +99,11 @@ bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   // Drain what is queued, bounded so the model still ticks and publishes under a flood: 256
   // frames is ~9 ms of a full-rate cangen flood in the TCG guest (29 000 frames/s measured), under
   // one 10 ms model tick; 4096 was 140 ms. Frames on ids the mapping does not use never get here
-  // (kernel CAN_RAW_FILTER), so this only matters for a flood on a mapped id.
-  for (int i = 0; i < 256; ++i) {
+  // (kernel CAN_RAW_FILTER), so this only matters for a flood on a mapped id. The cap loses
+  // nothing: what is left stays queued for the next poll; only a full receive queue drops frames,
+  // and the kernel counts those (SO_RXQ_OVFL -> health().kernel_drops).
+  int i = 0;
+  for (; i < kMaxFramesPerPoll; ++i) {
     canfd_frame cf{};
     iovec iov{&cf, sizeof cf};
     alignas(cmsghdr) char ctrl[CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t))];
@@ -114,7 +124,7 @@ bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
       } else if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
         std::uint32_t d;
         std::memcpy(&d, CMSG_DATA(c), sizeof d);
-        dropped_ = d;
+        health_.kernel_drops = d;  // the socket's total since it was opened
       }
     }
     f.extended = (cf.can_id & CAN_EFF_FLAG) != 0;
@@ -125,8 +135,10 @@ bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     if (f.fd) f.fd_flags = cf.flags & (CANFD_BRS | CANFD_ESI);
     f.len = std::min<std::uint8_t>(cf.len, f.fd ? 64 : 8);
     std::memcpy(f.data.data(), cf.data, f.len);
+    note_frame(health_, f);
     sink.on_frame(f);
   }
+  if (i == kMaxFramesPerPoll) ++health_.deferred_polls;
   return true;
 }
 

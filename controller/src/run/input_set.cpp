@@ -96,6 +96,12 @@ bool InputSet::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   return !ended_.front();
 }
 
+BusHealth InputSet::health() const {
+  BusHealth total;
+  for (const Member& m : members_) add_health(total, m.input->health());
+  return total;
+}
+
 std::string InputSet::describe() const {
   std::string d;
   for (const Member& m : members_)

@@ -18,6 +18,9 @@ namespace meter::controller {
 //   p,<t_ns>,<signal id>,<value>                a changed output handed to the publisher
 //   s,<t_ns>,<bytes sent total>,<deltas total>  the link wrote bytes to the socket
 //   c,<t_ns>,<CLOCK_MONOTONIC ns>,              once: maps the link's send stamps onto t_ns
+//   h,<t_ns>,<what>,<value>                     a health counter changed: bus_state (0 error-active,
+//                                               1 warning, 2 passive, 3 bus-off), error_frames,
+//                                               kernel_drops, replay_slips, deferred_polls, view_faults
 // Buffered in memory-sized blocks: the controller's loop must not wait for a disk (or a 9p share).
 class Trace {
  public:
@@ -39,6 +42,9 @@ class Trace {
   }
   void sent(std::uint64_t bytes, std::uint64_t deltas) {
     if (on()) out_ << "s," << realtime_ns() << "," << bytes << "," << deltas << "\n";
+  }
+  void health(const char* what, std::uint64_t value) {
+    if (on()) out_ << "h," << realtime_ns() << "," << what << "," << value << "\n";
   }
   void flush() {
     if (on()) out_.flush();

@@ -11,11 +11,11 @@
 namespace meter::controller {
 
 std::vector<CanIdFilter> can_filters(const std::vector<std::pair<std::uint32_t, bool>>& used_ids, const Database* db) {
-  if (db)
-    for (const auto& m : db->messages)
-      if (m.j1939) return {};
   std::vector<CanIdFilter> filter;
-  for (const auto& [id, extended] : used_ids) filter.push_back(CanIdFilter{id, extended});
+  for (const auto& [id, extended] : used_ids) {
+    const DbcMessage* m = db ? db->find(id, extended) : nullptr;
+    filter.push_back(m && m->j1939 ? j1939_group_filter(id) : CanIdFilter{id, extended});
+  }
   return filter;
 }
 

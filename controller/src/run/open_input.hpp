@@ -20,8 +20,8 @@
 
 namespace meter::controller {
 
-// Kernel filter for the messages the mapping reads; empty (receive everything) when the DBC
-// matches J1939 messages by PGN, since any source address may carry them.
+// Kernel filter for the messages the mapping reads: exact ids, and for a J1939 message its
+// parameter group (any priority and source address), as the DBC matches such messages.
 std::vector<CanIdFilter> can_filters(const std::vector<std::pair<std::uint32_t, bool>>& used_ids, const Database* db);
 
 // Opens every input: one as itself; several candump logs as one replay of the merged logs; logs

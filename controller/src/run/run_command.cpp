@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "command_output.hpp"
+#include "health_report.hpp"
 #include "latency_trace.hpp"
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/input/input.hpp"
@@ -86,6 +87,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     };
 
     ModelSink sink(model, trace);
+    HealthReport health(input->describe());
+    auto report_health = [&](std::int64_t t) {
+      health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
+      pub.send_status(model.stats().frames + model.stats().values, health.bus().kernel_drops, health.controller_faults());
+    };
     std::uint64_t traced_bytes = 0;
     // The model ticks every update period of input time; inputs are polled until the next tick.
     const auto period_ns = static_cast<std::int64_t>(map.update_period_s * 1e9);
@@ -105,6 +111,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       if (t >= next_tick || just_ended) {
         model.update(t);
         publish();
+        report_health(t);
         next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
       }
       pub.poll(std::chrono::milliseconds(0));  // never waits for a view
@@ -122,7 +129,10 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     if (!g_stop && o.linger_s > 0) {
       const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.linger_s);
-      while (!g_stop && std::chrono::steady_clock::now() < until) pub.poll(std::chrono::milliseconds(20));
+      while (!g_stop && std::chrono::steady_clock::now() < until) {
+        pub.poll(std::chrono::milliseconds(20));
+        report_health(input->now_ns());
+      }
     }
     const auto& st = model.stats();
     auto ls = pub.stats();
@@ -130,7 +140,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
         << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
         << fmt_double(model.odometer().total_km()) << " km" << (st.odometer_refused ? " (invalid: stored state refused)" : "")
-        << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors\n";
+        << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors, "
+        << health.stats_text() << "\n";
     return 0;
   } catch (const std::exception& e) {
     err << "meter-controller: " << e.what() << "\n";

@@ -36,6 +36,8 @@ struct Publisher::Impl {
     bool any_dirty = false;
     std::chrono::milliseconds peer_heartbeat{0};
     PeerStatus status{0, 0, 0};
+    bool status_due = false;           // our fault flags changed since this view last got them
+    bool status_stale = false;         // only our counts changed: sent in place of a heartbeat
   };
 
   Endpoint where;
@@ -45,6 +47,7 @@ struct Publisher::Impl {
   detail::Poller poller;
   std::vector<Peer> peers;
   SignalTable table;
+  std::optional<Status> own_status;  // the controller's health, sent to every view
   LinkStats stats;
   std::string last_error;
 
@@ -185,6 +188,7 @@ struct Publisher::Impl {
       peer.live = true;
       ++stats.connects;
       send_snapshot(peer);
+      peer.status_due = own_status.has_value();
       return;
     }
     std::visit(
@@ -308,8 +312,18 @@ struct Publisher::Impl {
         // changes stay dirty and later set() calls overwrite them (latest-value semantics).
         if (!p.channel->has_pending()) {
           if (p.any_dirty) send_delta(p);
+          if (p.status_due && !p.channel->has_pending()) {
+            p.channel->send(*own_status, stats);
+            p.status_due = p.status_stale = false;
+          }
           if (!p.channel->has_pending() && now - p.channel->last_tx >= options.heartbeat_period) {
-            p.channel->send(Heartbeat{}, stats);
+            // New counts ride in place of the heartbeat (any message proves the link alive).
+            if (p.status_stale) {
+              p.channel->send(*own_status, stats);
+              p.status_stale = false;
+            } else {
+              p.channel->send(Heartbeat{}, stats);
+            }
           }
         }
       }
@@ -372,6 +386,18 @@ void Publisher::set(SignalId id, double value, SignalStatus status) {
 void Publisher::set_text(SignalId id, std::string_view text, SignalStatus status) {
   const std::size_t index = index_or_invalid_argument(id, "Publisher::set_text");
   if (impl_->table.set_text(id, detail::sanitize_text(text), status)) impl_->mark_dirty(index);
+}
+
+void Publisher::send_status(std::uint64_t frames_received, std::uint64_t frames_lost, std::uint32_t fault_flags) {
+  const Status s{frames_received, frames_lost, fault_flags};
+  if (impl_->own_status == s) return;
+  const bool flags_changed = !impl_->own_status || impl_->own_status->fault_flags != fault_flags;
+  impl_->own_status = s;
+  for (auto& p : impl_->peers) {
+    if (!p.live) continue;
+    if (flags_changed) p.status_due = true;
+    else p.status_stale = true;
+  }
 }
 
 const SignalState& Publisher::get(SignalId id) const {

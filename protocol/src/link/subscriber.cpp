@@ -42,6 +42,7 @@ struct Subscriber::Impl {
   std::int64_t sender_time_ns = 0;
   std::uint64_t last_applied_seq = 0;
   std::optional<Status> pending_status;
+  std::optional<Status> publisher_status;  // the publisher's last STATUS
   LinkStats stats;
   std::string last_error;
   bool changed = false;  // set by apply(), consumed by poll()
@@ -221,7 +222,11 @@ struct Subscriber::Impl {
       return true;
     }
     if (std::holds_alternative<Heartbeat>(frame.message)) return true;
-    // HELLO twice or STATUS from a publisher: count, log and ignore.
+    if (auto* st = std::get_if<Status>(&frame.message)) {
+      publisher_status = *st;
+      return true;
+    }
+    // HELLO twice: count, log and ignore.
     ++stats.bad_frames.malformed;
     detail::log_limited("unexpected", options.name + ": ignored unexpected " +
                                           std::string(to_string(type_of(frame.message))) + " from the publisher");
@@ -353,6 +358,8 @@ void Subscriber::send_status(std::uint64_t frames_rendered, std::uint32_t fault_
     if (!im.channel->flush(im.stats, error)) im.disconnect(error, true);
   }
 }
+
+std::optional<Status> Subscriber::publisher_status() const { return impl_->publisher_status; }
 
 LinkStats Subscriber::stats() const { return impl_->stats; }
 int Subscriber::wait_fd() const { return impl_->poller.fd(); }

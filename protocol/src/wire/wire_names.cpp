@@ -6,6 +6,26 @@
 
 namespace meter::protocol {
 
+std::string describe_fault_flags(std::uint32_t flags) {
+  if (flags == 0) return "none";
+  std::string out;
+  for (int bit = 0; bit < 32; ++bit) {
+    const std::uint32_t b = 1U << bit;
+    if (!(flags & b)) continue;
+    if (!out.empty()) out += ", ";
+    if (b == kViewFaultFrameDeadline) out += "frame-deadline";
+    else if (b == kViewFaultDumpFailed) out += "dump-failed";
+    else if (b == kViewFaultIntegrity) out += "integrity";
+    else if (b == kControllerFaultBusWarning) out += "bus-warning";
+    else if (b == kControllerFaultBusPassive) out += "bus-passive";
+    else if (b == kControllerFaultBusOff) out += "bus-off";
+    else if (b == kControllerFaultFramesLost) out += "frames-lost";
+    else if (b == kControllerFaultReplaySlip) out += "replay-slip";
+    else out += "bit " + std::to_string(bit);
+  }
+  return out;
+}
+
 std::string_view to_string(MessageType type) {
   switch (type) {
     case MessageType::Hello: return "HELLO";

@@ -22,9 +22,11 @@ FramePacer::FrameTime FramePacer::begin_frame(Clock::time_point now) {
   return ft;
 }
 
-void FramePacer::end_frame(Clock::time_point now) {
+bool FramePacer::end_frame(Clock::time_point now) {
   next_ += period_;
-  if (next_ < now) next_ = now;  // late: do not burst to catch up
+  if (next_ >= now) return false;
+  next_ = now;  // late: do not burst to catch up
+  return true;
 }
 
 void wait_for_frame(const FramePacer& pacer, const std::function<bool()>& stop,

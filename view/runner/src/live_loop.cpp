@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "meter/protocol/link.hpp"
+#include "meter/protocol/wire.hpp"
 
 #include "meter/view/dump_policy.hpp"
 #include "meter/view/frame_pacing.hpp"
@@ -11,6 +12,7 @@
 #include "meter/view/option_units.hpp"
 #include "meter/view/png_writer.hpp"
 #include "meter/view/process_signals.hpp"
+#include "meter/view/view_health.hpp"
 
 namespace meter::view {
 namespace {
@@ -54,6 +56,27 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   FramePacer pacer(options.fps, Clock::now());
   std::uint64_t frame = 0;
   PngWriter png_writer([&trace](std::uint64_t n) { trace.png_written(n); });
+  // The view's faults, reported to the controller in every STATUS (and logged here once each).
+  ViewHealth health;
+  std::uint64_t dump_failures_seen = 0;
+  auto note_dump_failures = [&](Clock::time_point now) {
+    const std::uint64_t failures = png_writer.failures();
+    if (failures == dump_failures_seen) return;
+    if (dump_failures_seen == 0) log << "meter-view: a PNG dump failed (the view draws on): " << png_writer.first_error() << "\n";
+    for (; dump_failures_seen < failures; ++dump_failures_seen) health.report(protocol::kViewFaultDumpFailed, now);
+  };
+  // The controller's faults (bus state, lost frames) from its STATUS, logged as they rise and clear.
+  std::uint32_t controller_faults = 0;
+  auto note_controller_faults = [&] {
+    const auto st = sub.publisher_status();
+    const std::uint32_t now_flags = st ? st->fault_flags : 0;
+    if (now_flags == controller_faults) return;
+    if (const std::uint32_t raised = now_flags & ~controller_faults)
+      log << "meter-view: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
+    if (const std::uint32_t cleared = controller_faults & ~now_flags)
+      log << "meter-view: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+    controller_faults = now_flags;
+  };
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
     const std::string name = png_name(n);
     // The row is the state this image was rendered with; the file follows from the writer.
@@ -78,19 +101,23 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     ctx.timing.row(frame, ft.t, timing);
     trace.frame(frame, t_update, t_rendered);
     if (want) dump(frame, ft.t, timing.drawn);
-    sub.send_status(ctx.renderer.stats().drawn, 0);
     ++frame;
-    pacer.end_frame(Clock::now());
+    const auto ended = Clock::now();
+    if (pacer.end_frame(ended)) health.report(protocol::kViewFaultFrameDeadline, ended);
+    note_dump_failures(ended);
+    note_controller_faults();
+    sub.send_status(ctx.renderer.stats().drawn, health.flags(ended));
   }
   if (policy.dump_on_exit(frame)) {
     ctx.renderer.read();
     dump(frame - 1, pacer.seconds_at(Clock::now()), false);
   }
   png_writer.finish();  // every dumped frame is on disk before the exit status says so
-  png_writer.check();
   const auto& st = ctx.renderer.stats();
   log << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped
-      << " skipped (inputs unchanged)\n";
+      << " skipped (inputs unchanged), " << health.count(protocol::kViewFaultFrameDeadline)
+      << " frame deadlines missed, " << png_writer.failures() << " dumps failed\n";
+  png_writer.check();  // a failed dump makes the exit status say so
 }
 
 }  // namespace meter::view

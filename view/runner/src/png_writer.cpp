@@ -13,7 +13,6 @@ void PngWriter::write(const platform::Image& image, std::filesystem::path file, 
   for (;;) {
     {
       std::lock_guard lock(mutex_);
-      rethrow();
       if (queue_.size() < kMaxPending) {
         queue_.push_back(Job{image, std::move(file), frame});
         break;
@@ -39,6 +38,16 @@ void PngWriter::check() {
   rethrow();
 }
 
+std::uint64_t PngWriter::failures() {
+  std::lock_guard lock(mutex_);
+  return failures_;
+}
+
+std::string PngWriter::first_error() {
+  std::lock_guard lock(mutex_);
+  return error_;
+}
+
 void PngWriter::rethrow() {
   if (!error_.empty()) throw ViewError(error_);
 }
@@ -58,6 +67,7 @@ void PngWriter::run() {
     } catch (const std::exception& e) {
       std::lock_guard lock(mutex_);
       if (error_.empty()) error_ = e.what();
+      ++failures_;
     }
     std::lock_guard lock(mutex_);
     queue_.pop_front();  // only now: the queue bound counts the image being written

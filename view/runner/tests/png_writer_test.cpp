@@ -1,5 +1,5 @@
 // The PNG writer thread: files written with the right pixels, the queue bound, draining on
-// finish, and write errors reported to the render thread.
+// finish, and write errors counted and reported to the render thread without stopping it.
 #include "meter/view/png_writer.hpp"
 
 #include <atomic>
@@ -89,8 +89,21 @@ TEST(PngWriter, AWriteErrorReachesTheRenderThread) {
     EXPECT_THAT(e.what(), HasSubstr(bad.string())) << "the message names the file";
   }
   EXPECT_TRUE(std::filesystem::exists(dir / "after.png")) << "one failed file does not stop the others";
-  EXPECT_THROW(w.write(platform::Image(16, 16), dir / "later.png", 2, [] {}), ViewError)
-      << "the next write reports it too";
+  EXPECT_EQ(w.failures(), 1U);
+  EXPECT_THAT(w.first_error(), HasSubstr(bad.string()));
+}
+
+TEST(PngWriter, AFailedFileIsCountedAndTheNextOnesAreStillWritten) {
+  // A dump that fails must not stop the live view (it keeps drawing and reports the fault).
+  const auto dir = testing::scratch_dir();
+  PngWriter w;
+  w.write(platform::Image(16, 16), dir / "missing" / "a.png", 0, [] {});
+  w.write(platform::Image(16, 16), dir / "missing" / "b.png", 1, [] {});
+  EXPECT_NO_THROW(w.write(platform::Image(16, 16), dir / "later.png", 2, [] {}));
+  w.finish();
+  EXPECT_EQ(w.failures(), 2U);
+  EXPECT_THAT(w.first_error(), HasSubstr("a.png")) << "the first error is kept";
+  EXPECT_TRUE(std::filesystem::exists(dir / "later.png"));
 }
 
 }  // namespace

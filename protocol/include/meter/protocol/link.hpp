@@ -26,6 +26,7 @@
 #include "meter/protocol/endpoint.hpp"
 #include "meter/protocol/link_options.hpp"
 #include "meter/protocol/signal_table.hpp"
+#include "meter/protocol/wire.hpp"
 
 namespace meter::protocol {
 
@@ -109,6 +110,11 @@ class Publisher {
     std::uint32_t fault_flags;
   };
   std::vector<PeerStatus> peer_status() const;  // one per handshaken view, last STATUS received
+  // The controller's own health for every view: frames received, frames lost, kControllerFault*
+  // flags. Sent to each view at once when the flags changed (and to a view that connects, after
+  // its SNAPSHOT); new counts alone go in place of the next heartbeat, so a count that changes
+  // every tick costs no extra frames.
+  void send_status(std::uint64_t frames_received, std::uint64_t frames_lost, std::uint32_t fault_flags);
 
  private:
   struct Impl;
@@ -142,6 +148,9 @@ class Subscriber {
   // Queues a STATUS for the controller (latest wins if the socket is full); sent immediately when
   // the link is up, else at the next handshake.
   void send_status(std::uint64_t frames_rendered, std::uint32_t fault_flags);
+  // The publisher's last STATUS (frames_rendered = frames it received, last_sequence_applied =
+  // frames it lost, kControllerFault* flags); none before the first.
+  std::optional<Status> publisher_status() const;
   LinkStats stats() const;
   int wait_fd() const;  // epoll fd readable when poll() has work
   std::string last_error() const;

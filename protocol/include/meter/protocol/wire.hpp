@@ -82,12 +82,34 @@ struct Heartbeat {
   bool operator==(const Heartbeat&) const = default;
 };
 
+// Health, in both directions. From the view: frames rendered, the sequence of the last SNAPSHOT/
+// DELTA applied, kViewFault* flags. From the controller: frames received, frames lost (kernel
+// drops), kControllerFault* flags.
 struct Status {
-  std::uint64_t frames_rendered = 0;
-  std::uint64_t last_sequence_applied = 0;
+  std::uint64_t frames_rendered = 0;        // the controller's: frames received
+  std::uint64_t last_sequence_applied = 0;  // the controller's: frames lost
   std::uint32_t fault_flags = 0;
   bool operator==(const Status&) const = default;
 };
+
+// STATUS fault flags. A bit stays set for kViewFaultHoldMs after the fault last happened, so a
+// STATUS lost to latest-wins coalescing cannot hide it, and clears after. Bits 0-15 are the view's,
+// 16-31 the controller's; receivers accept bits they do not know (they name them "bit N"), so a
+// newer peer can report faults an older one has no name for.
+// From the view, bits 0-15:
+inline constexpr std::uint32_t kViewFaultFrameDeadline = 1U << 0;  // a frame ended after the next one was due
+inline constexpr std::uint32_t kViewFaultDumpFailed = 1U << 1;     // a requested PNG dump could not be written
+inline constexpr std::uint32_t kViewFaultIntegrity = 1U << 2;      // the rendered-image integrity monitor (reserved)
+inline constexpr int kViewFaultHoldMs = 1000;
+// From the controller, bits 16-31:
+inline constexpr std::uint32_t kControllerFaultBusWarning = 1U << 16;  // error-warning (error counter >= 96)
+inline constexpr std::uint32_t kControllerFaultBusPassive = 1U << 17;  // error-passive (>= 128)
+inline constexpr std::uint32_t kControllerFaultBusOff = 1U << 18;      // bus-off: the CAN controller left the bus
+inline constexpr std::uint32_t kControllerFaultFramesLost = 1U << 19;  // the kernel dropped frames (held 1 s)
+inline constexpr std::uint32_t kControllerFaultReplaySlip = 1U << 20;  // a replay fell behind its log (held 1 s)
+// "frame-deadline", "dump-failed", "integrity", "bus-warning", "bus-passive", "bus-off",
+// "frames-lost", "replay-slip", "bit N", joined with ", "; "none" for 0.
+std::string describe_fault_flags(std::uint32_t flags);
 
 enum class CloseReason : std::uint8_t {
   Normal = 0,

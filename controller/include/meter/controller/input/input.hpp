@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "meter/controller/input/bus_health.hpp"
 #include "meter/controller/input/can_frame.hpp"
 
 namespace meter::controller {
@@ -29,6 +30,9 @@ class Input {
   virtual std::string describe() const = 0;
   // Input-clock seconds per wall second (a scaled replay runs faster; live inputs are 1).
   virtual double rate() const { return 1.0; }
+  // The bus's state as its error frames tell it, and the frames this input could not deliver
+  // (kernel drops, replay slips); inputs without a CAN bus report nothing.
+  virtual BusHealth health() const { return {}; }
 };
 
 }  // namespace meter::controller

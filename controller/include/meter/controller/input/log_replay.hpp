@@ -34,6 +34,7 @@ class LogReplay : public Input {
   const ParsedLog& log() const { return log_; }
   std::size_t delivered() const { return next_; }
   std::size_t slips() const { return slips_; }  // times the replay clock slipped (we fell behind)
+  BusHealth health() const override;  // error frames in the log, and the slips
   static constexpr std::int64_t kMaxLagNs = 20000000;  // 20 ms of log time
 
  private:
@@ -47,6 +48,8 @@ class LogReplay : public Input {
   bool ended_ = false;              // every frame delivered: from now on a silent bus
   std::int64_t end_wall_ = 0;       // CLOCK_MONOTONIC when the last frame was delivered
   std::size_t slips_ = 0;
+  BusHealth bus_;
+  void deliver(InputSink& sink);
   bool mark_end();                  // true (and remembers when) once every frame is delivered
 };
 

@@ -62,6 +62,9 @@ class InputSet : public Input {
   std::int64_t now_ns() const override { return members_.front().input->now_ns(); }
   std::string describe() const override;
   double rate() const override { return members_.front().input->rate(); }
+  // The members' health folded into one: the worst bus state, every count summed (the stats line,
+  // the trace and STATUS carry one health per controller).
+  BusHealth health() const override;
 
  private:
   std::vector<Member> members_;

@@ -26,8 +26,9 @@ class FramePacer {
   // A frame begins at `now`.
   FrameTime begin_frame(Clock::time_point now);
   // The frame is done at `now`: the next one is due a period after the last due time, or at
-  // `now` when that has passed already.
-  void end_frame(Clock::time_point now);
+  // `now` when that has passed already. Returns true when it had passed: this frame missed its
+  // deadline (it ended after the next frame was due).
+  bool end_frame(Clock::time_point now);
 
  private:
   Clock::duration period_;

@@ -4,6 +4,8 @@
 // declared the view lost, and updates waited in the socket) and made the view miss its frame
 // clock. At most kMaxPending images wait (the one being written counts); a caller that finds the
 // queue full waits (every dumped frame is written), servicing whatever `while_full` does meanwhile.
+// A file that cannot be written is counted and its error kept; the writer goes on with the next
+// (a debugging dump must not stop the cluster): failures() tells the live loop, check() the exit.
 #pragma once
 
 #include <condition_variable>
@@ -30,13 +32,16 @@ class PngWriter {
   PngWriter(const PngWriter&) = delete;
   PngWriter& operator=(const PngWriter&) = delete;
 
-  // Queues a copy of `image` for `file`. Throws ViewError with the first write error, if any.
+  // Queues a copy of `image` for `file`.
   void write(const platform::Image& image, std::filesystem::path file, std::uint64_t frame,
              const std::function<void()>& while_full);
   // Writes what is queued and stops the thread. Idempotent.
   void finish();
   // Throws ViewError with the first write error, if any.
   void check();
+  // Files that could not be written so far, and the first one's error ("" if none).
+  std::uint64_t failures();
+  std::string first_error();
 
  private:
   struct Job {
@@ -53,6 +58,7 @@ class PngWriter {
   std::deque<Job> queue_;
   bool done_ = false;
   std::string error_;
+  std::uint64_t failures_ = 0;
   std::thread thread_;  // last: starts once everything it uses exists
 };
 

@@ -1,0 +1,48 @@
+// What a CAN bus says about itself, as plain data: the controller state its error frames report
+// (error-active, warning, error-passive, bus-off), the error classes seen, and the counts an input
+// keeps of frames it could not deliver (kernel receive-queue drops, replay slips). Pure: fold
+// frames in with note_frame(), read the result; no socket, no clock.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "meter/controller/input/can_frame.hpp"
+
+namespace meter::controller {
+
+// ISO 11898-1 fault confinement, as Linux CAN drivers report it in error frames.
+enum class BusState : std::uint8_t { ErrorActive, ErrorWarning, ErrorPassive, BusOff };
+std::string_view to_string(BusState state);  // "error-active", "error-warning", "error-passive", "bus-off"
+
+struct BusHealth {
+  BusState state = BusState::ErrorActive;
+  std::uint64_t error_frames = 0;
+  std::uint64_t remote_frames = 0;       // RTR: carry no data, never decoded
+  std::uint64_t bus_off_events = 0;      // times the controller went bus-off
+  std::uint64_t restarts = 0;            // CAN_ERR_RESTARTED: back from bus-off
+  std::uint64_t protocol_errors = 0;     // CAN_ERR_PROT / CAN_ERR_BUSERROR frames
+  std::uint64_t no_ack = 0;              // CAN_ERR_ACK: nobody acknowledged (alone on the bus)
+  std::uint64_t controller_overflows = 0;  // CAN_ERR_CRTL RX/TX overflow in the CAN controller
+  std::uint8_t tx_errors = 0, rx_errors = 0;  // last error counters reported (CAN_ERR_CNT)
+  // Input-side losses, filled by the input (not by frames): every frame the bus carried on a mapped
+  // id either reached the model or is counted here.
+  std::uint64_t kernel_drops = 0;   // SO_RXQ_OVFL: the socket's receive queue overflowed
+  std::uint64_t replay_slips = 0;   // a replay fell more than its lag bound behind the log clock
+  std::uint64_t deferred_polls = 0;  // polls that stopped at the per-poll cap with frames still queued
+  bool operator==(const BusHealth&) const = default;
+};
+
+// Folds one received frame into health: error frames update the state and the class counts,
+// remote frames are counted; data frames change nothing.
+void note_frame(BusHealth& health, const CanFrame& frame);
+
+// Folds another bus's health into total: the worse of the two states, every count summed, the
+// larger error counters.
+void add_health(BusHealth& total, const BusHealth& other);
+
+// "error-passive, 3 error frames (1 bus-off), tx/rx errors 128/0, 0 kernel drops, 0 replay slips"
+std::string describe(const BusHealth& health);
+
+}  // namespace meter::controller

@@ -1,0 +1,85 @@
+#include "health_report.hpp"
+
+#include <cstdio>
+
+namespace meter::controller {
+
+namespace {
+constexpr std::int64_t kLossLineEveryNs = 1000000000;  // one loss line a second at most
+
+std::string hex(std::uint32_t v) {
+  char b[16];
+  std::snprintf(b, sizeof b, "0x%X", v);
+  return b;
+}
+}  // namespace
+
+std::uint32_t view_fault_flags(const std::vector<protocol::Publisher::PeerStatus>& views) {
+  std::uint32_t f = 0;
+  for (const auto& v : views) f |= v.fault_flags;
+  return f;
+}
+
+void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64_t t, std::ostream& err, Trace& trace) {
+  const BusHealth old = bus_;
+  bus_ = bus;
+  if (bus.state != old.state || (first_ && bus.state != BusState::ErrorActive)) {
+    err << "meter-controller: " << input_ << ": bus " << to_string(bus.state) << " (tx/rx error counters "
+        << unsigned(bus.tx_errors) << "/" << unsigned(bus.rx_errors) << ", " << bus.error_frames << " error frames)\n";
+    trace.health("bus_state", static_cast<std::uint64_t>(bus.state));
+  }
+  if (bus.error_frames != old.error_frames) trace.health("error_frames", bus.error_frames);
+  if (bus.kernel_drops != old.kernel_drops) trace.health("kernel_drops", bus.kernel_drops);
+  if (bus.replay_slips != old.replay_slips) trace.health("replay_slips", bus.replay_slips);
+  if (bus.deferred_polls != old.deferred_polls) trace.health("deferred_polls", bus.deferred_polls);
+  const bool lost = bus.kernel_drops != logged_drops_ || bus.replay_slips != logged_slips_;
+  if (lost && (last_loss_line_ns_ == 0 || t - last_loss_line_ns_ >= kLossLineEveryNs)) {
+    err << "meter-controller: " << input_ << ": frames lost: " << bus.kernel_drops - logged_drops_
+        << " dropped by the kernel (receive queue full), " << bus.replay_slips - logged_slips_
+        << " replay slips; totals " << bus.kernel_drops << " drops, " << bus.replay_slips << " slips\n";
+    logged_drops_ = bus.kernel_drops;
+    logged_slips_ = bus.replay_slips;
+    last_loss_line_ns_ = t;
+  }
+  if (faults != view_faults_) {
+    const std::uint32_t raised = faults & ~view_faults_, cleared = view_faults_ & ~faults;
+    for (int b = 0; b < 32; ++b)
+      if (raised & (1U << b)) ++fault_counts_[b];
+    if (raised)
+      err << "meter-controller: view reports a fault: " << protocol::describe_fault_flags(raised)
+          << " (STATUS fault flags " << hex(faults) << ")\n";
+    if (cleared) err << "meter-controller: view fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+    trace.health("view_faults", faults);
+    view_faults_ = faults;
+  }
+  if (bus.kernel_drops != old.kernel_drops) drop_at_ns_ = t;
+  if (bus.replay_slips != old.replay_slips) slip_at_ns_ = t;
+  std::uint32_t cf = 0;
+  if (bus.state == BusState::ErrorWarning) cf |= protocol::kControllerFaultBusWarning;
+  if (bus.state == BusState::ErrorPassive) cf |= protocol::kControllerFaultBusPassive;
+  if (bus.state == BusState::BusOff) cf |= protocol::kControllerFaultBusOff;
+  const std::int64_t hold = std::int64_t{protocol::kViewFaultHoldMs} * 1000000;
+  if (drop_at_ns_ != 0 && t - drop_at_ns_ < hold) cf |= protocol::kControllerFaultFramesLost;
+  if (slip_at_ns_ != 0 && t - slip_at_ns_ < hold) cf |= protocol::kControllerFaultReplaySlip;
+  controller_faults_ = cf;
+  first_ = false;
+}
+
+std::uint64_t HealthReport::view_fault_count(std::uint32_t fault) const {
+  for (int b = 0; b < 32; ++b)
+    if (fault == (1U << b)) return fault_counts_[b];
+  return 0;
+}
+
+std::string HealthReport::stats_text() const {
+  std::string s = "bus " + describe(bus_) + ", view faults: ";
+  std::string seen;
+  for (int b = 0; b < 32; ++b) {
+    if (!fault_counts_[b]) continue;
+    if (!seen.empty()) seen += ", ";
+    seen += protocol::describe_fault_flags(1U << b) + " " + std::to_string(fault_counts_[b]);
+  }
+  return s + (seen.empty() ? "none" : seen);
+}
+
+}  // namespace meter::controller
