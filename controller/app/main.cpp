@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "meter/controller/run/commands.hpp"
+#include "meter/protocol/catalog.hpp"
 
 int main(int argc, char** argv) {
   using namespace meter::controller;
@@ -33,6 +34,9 @@ int main(int argc, char** argv) {
                 "the longer of the two sides' settings applies)")
       ->check(CLI::Range(30, 60000))
       ->capture_default_str();
+  const char* catalog_help = "Signal catalog, a VSS JSON file (docs/catalog.md); default: the built-in "
+                             "protocol/catalog/signals.vss.json";
+  r->add_option("--catalog", run.catalog, catalog_help)->check(CLI::ExistingFile);
   r->add_option("--trace", run.trace,
                 "Write a latency trace CSV (frames received, values published, link flushes; CLOCK_REALTIME ns)");
 
@@ -41,6 +45,8 @@ int main(int argc, char** argv) {
   d->add_option("--dbc", dbc, "DBC file")->required()->check(CLI::ExistingFile);
   d->add_option("LOG", log, "candump -L log file")->required()->check(CLI::ExistingFile);
   d->add_option("--map", map, "Only the signals this mapping uses")->check(CLI::ExistingFile);
+  std::string decode_catalog;
+  d->add_option("--catalog", decode_catalog, catalog_help)->check(CLI::ExistingFile);
 
   std::string check;
   auto* c = app.add_subcommand("check-dbc", "Parse a DBC, summarise what it contains and list problems (file:line).");
@@ -48,6 +54,14 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   if (*r) return run_command(run, std::cout, std::cerr);
-  if (*d) return decode_command(dbc, log, map, std::cout, std::cerr);
+  if (*d) {
+    try {
+      meter::protocol::use_catalog_option(decode_catalog);
+    } catch (const std::exception& e) {
+      std::cerr << "meter-controller decode: " << e.what() << "\n";
+      return 1;
+    }
+    return decode_command(dbc, log, map, std::cout, std::cerr);
+  }
   return check_dbc_command(check, std::cout, std::cerr);
 }

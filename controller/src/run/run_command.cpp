@@ -47,6 +47,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::signal(SIGTERM, on_signal);
   std::signal(SIGPIPE, SIG_IGN);
   try {
+    protocol::use_catalog_option(o.catalog);  // before the mapping: its sections name catalog signals
     std::optional<Database> db;
     if (!o.dbc.empty()) db = load_dbc(o.dbc);
     Mapping map = load_mapping(o.map);

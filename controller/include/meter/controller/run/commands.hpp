@@ -24,6 +24,8 @@ struct RunOptions {
   // Latency trace (CSV): every received CAN frame, every published value change and every
   // flush to the link, on CLOCK_REALTIME (bench/latency reads it). Empty = off.
   std::string trace;
+  // The signal catalog (VSS JSON, docs/catalog.md); empty: the built-in default.
+  std::string catalog;
 };
 
 // Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;
