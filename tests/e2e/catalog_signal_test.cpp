@@ -221,3 +221,28 @@ TEST(EndToEnd, AViewWithAnotherCatalogIsRefusedNamingBothFiles) {
   // Not one frame was drawn from the controller's values.
   for (const auto& r : read_csv(v.dir / "frames" / "frames.csv")) EXPECT_EQ(r.at("link_up"), "0") << r.at("frame");
 }
+
+TEST(EndToEnd, ABadCatalogFileStopsEachProgramWithTheLoadersMessage) {
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "e2e" / "catalog_bad";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path bad = dir / "bad.vss.json";
+  write(bad, R"({"Vehicle": {"type": "branch", "children": {"Speed": {"type": "sensor", "datatype": "float"}}}})");
+  const std::string expected = bad.string() + ": /Vehicle/children/Speed: expected a \"meter_id\" field";
+  const std::vector<std::vector<std::string>> runs = {
+      {built_executable("meter-controller"), "run", "--catalog", bad.string(), "--map",
+       kSource + "/controller/vehicles/demo/demo.map", "--dbc", kSource + "/controller/vehicles/demo/demo.dbc",
+       "--input", "log:" + kSource + "/vcan/logs/demo-drive.log"},
+      {built_executable("meter-view"), "--scene", (dir / "none.msp").string(), "--catalog", bad.string(), "--set",
+       "Vehicle.Speed=1", "--out", dir.string()},
+      {built_executable("meter-convert"), kSource + "/scenes/minimal-gauge/minimal-gauge.glb", "--config",
+       kSource + "/scenes/minimal-gauge/minimal-gauge.scene.json", "--catalog", bad.string(), "-o",
+       (dir / "x.msp").string()},
+  };
+  int n = 0;
+  for (const auto& argv : runs) {
+    ChildProcess p(argv, (dir / ("run" + std::to_string(n++) + ".log")).string());
+    EXPECT_EQ(p.wait_for(std::chrono::seconds(30)), 1) << argv[0] << ":\n" << p.log();
+    EXPECT_NE(p.log().find(expected), std::string::npos) << argv[0] << ":\n" << p.log();
+  }
+}
