@@ -8,6 +8,9 @@
 // deprecation, default, ...) is accepted and ignored. The full rules: docs/catalog.md.
 #include <cmath>
 #include <map>
+#include <memory>
+#include <optional>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "meter/protocol/catalog.hpp"
@@ -187,6 +190,50 @@ struct Walker {
   }
 };
 
+// JSON leaves a duplicate key's meaning open and the parser keeps the last one, which would drop a
+// signal without a word: the parse callback tracks where it is and records the first duplicate.
+class DuplicateKeyFinder {
+ public:
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start: stack_.push_back({false, {}, {}, 0}); break;
+      case json::parse_event_t::array_start: stack_.push_back({true, {}, {}, 0}); break;
+      case json::parse_event_t::key: {
+        Level& top = stack_.back();
+        top.key = parsed.get<std::string>();
+        if (!top.keys.insert(top.key).second && !first_) first_ = pointer();
+        break;
+      }
+      case json::parse_event_t::value: element_done(); break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        stack_.pop_back();
+        element_done();
+        break;
+    }
+    return true;
+  }
+  const std::optional<std::string>& first() const { return first_; }
+
+ private:
+  struct Level {
+    bool array;
+    std::set<std::string> keys;
+    std::string key;    // object: the key being read
+    std::size_t index;  // array: elements completed so far = the index of the one being read
+  };
+  void element_done() {
+    if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
+  }
+  std::string pointer() const {
+    std::string out;
+    for (const auto& l : stack_) out += l.array ? "/" + std::to_string(l.index) : step(l.key);
+    return out;
+  }
+  std::vector<Level> stack_;
+  std::optional<std::string> first_;
+};
+
 std::string line_and_column(std::string_view text, std::size_t byte) {
   std::size_t line = 1, column = 1;
   for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
@@ -209,14 +256,22 @@ CatalogParseResult parse_catalog(std::string_view text, std::string_view file_na
                          std::to_string(text.size())};
   }
   json root;
+  // Shared: the parser copies its callback, the finder's state must outlive the copy.
+  auto duplicates = std::make_shared<DuplicateKeyFinder>();
   try {
-    root = json::parse(text.begin(), text.end());
+    root = json::parse(text.begin(), text.end(),
+                       [duplicates](int depth, json::parse_event_t event, json& parsed) {
+                         return (*duplicates)(depth, event, parsed);
+                       });
   } catch (const json::parse_error& e) {
     // e.byte is 1-based: the byte at which the parser gave up.
     const std::string what = e.what();
     const auto colon = what.find("parse error");
     return {nullptr, file + ":" + line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) +
                          ": not valid JSON: " + (colon == std::string::npos ? what : what.substr(colon))};
+  }
+  if (const auto& at = duplicates->first()) {
+    return {nullptr, file + ": " + *at + ": the key appears twice (a JSON object's keys must be unique)"};
   }
   try {
     Walker w{file, {}, {}};
