@@ -209,6 +209,12 @@ TEST(CatalogErrors, NameTheFileTheJsonPathAndWhatWasExpected) {
        "c.json: /Vehicle/children/Speed/allowed: expected a non-empty array, got 3"},
       {"allowed outside the range", leaf(ok + R"(, "allowed": [0, 400])"),
        "c.json: /Vehicle/children/Speed/allowed/1: expected a value within min..max, got 400"},
+      {"allowed an object", leaf(ok + R"(, "allowed": {"a": [[[1]]]})"),
+       "c.json: /Vehicle/children/Speed/allowed: expected a non-empty array, got an object"},
+      {"allowed empty", leaf(ok + R"(, "allowed": [])"),
+       "c.json: /Vehicle/children/Speed/allowed: expected a non-empty array, got []"},
+      {"meter_id an array", leaf(R"("datatype": "float", "min": 0, "max": 1, "meter_id": [[1]])"),
+       "c.json: /Vehicle/children/Speed/meter_id: expected an integer 1..65535, got an array"},
       {"allowed of objects", leaf(ok + R"(, "allowed": [{}])"),
        "c.json: /Vehicle/children/Speed/allowed/0: expected a number or a string, got object"},
       {"description not text", leaf(ok + R"(, "description": ["a"])"),
@@ -229,6 +235,14 @@ TEST(CatalogErrors, DeepNestingIsAnErrorNotAStackOverflow) {
   const auto r = parse_catalog(text, "deep.json");
   EXPECT_FALSE(r.catalog);
   EXPECT_NE(r.error.find("expected at most 16 levels of branches"), std::string::npos) << r.error;
+}
+
+TEST(CatalogErrors, ADeeplyNestedValueIsReportedByTypeNotDumped) {
+  // 200000 levels: a recursive walk or dump of this value would exhaust the stack.
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  const auto r = parse_catalog(leaf(R"("datatype": "float", "min": 0, "max": 1, "meter_id": )" + deep), "deep.json");
+  EXPECT_FALSE(r.catalog);
+  EXPECT_EQ(r.error, "deep.json: /Vehicle/children/Speed/meter_id: expected an integer 1..65535, got an array");
 }
 
 TEST(CatalogErrors, EveryTruncationOfTheShippedFileIsAnErrorNotACrash) {

@@ -69,6 +69,12 @@ struct Walker {
   }
 
   static std::string type_name(const json& j) { return j.type_name(); }
+  // A value for a message: scalars as written, containers by type only (never a recursive dump
+  // of a hostile, deeply nested value).
+  static std::string brief(const json& j) {
+    if (j.is_structured()) return j.empty() ? (j.is_array() ? "[]" : "{}") : "an " + type_name(j);
+    return j.dump();
+  }
 
   const std::string& string_field(const json& node, const std::string& pointer, const char* key, bool required) const {
     static const std::string kEmpty;
@@ -130,7 +136,7 @@ struct Walker {
     auto id = j.find("meter_id");
     if (id == j.end()) fail(pointer, "expected a \"meter_id\" field (the signal's wire id, 1..65535)");
     if (!id->is_number_integer() || id->get<long long>() < 1 || id->get<long long>() > 65535) {
-      fail(pointer + "/meter_id", "expected an integer 1..65535, got " + id->dump());
+      fail(pointer + "/meter_id", "expected an integer 1..65535, got " + brief(*id));
     }
     s.id = static_cast<SignalId>(id->get<long long>());
     if (auto [it, fresh] = id_owner.emplace(s.id, name); !fresh) {
@@ -173,7 +179,7 @@ struct Walker {
 
     if (auto allowed = j.find("allowed"); allowed != j.end()) {
       if (!allowed->is_array() || allowed->empty()) {
-        fail(pointer + "/allowed", "expected a non-empty array, got " + allowed->dump());
+        fail(pointer + "/allowed", "expected a non-empty array, got " + brief(*allowed));
       }
       for (std::size_t i = 0; i < allowed->size(); ++i) {
         const json& a = (*allowed)[i];
