@@ -212,6 +212,17 @@ TEST(EndToEnd, AViewWithAnotherCatalogIsRefusedNamingBothFiles) {
                      (v.dir / "frames").string()},
                     (v.dir / "view.log").string());
   ASSERT_EQ(view.wait_for(std::chrono::seconds(60)), 0) << view.log();
+  // The same view told to take the controller's catalog instead links up (the log runs 8 s).
+  ChildProcess taking({built_executable("meter-view"), "--scene", (v.dir / "gauge.msp").string(), "--backend", "egl",
+                       "--catalog", view_catalog, "--catalog-from-controller", "--link", link, "--fps", "10",
+                       "--dump-every", "1", "--duration", "2", "--out", (v.dir / "taking").string()},
+                      (v.dir / "taking.log").string());
+  ASSERT_EQ(taking.wait_for(std::chrono::seconds(60)), 0) << taking.log();
+  int live = 0;
+  for (const auto& r : read_csv(v.dir / "taking" / "frames.csv")) live += r.at("link_up") == "1" ? 1 : 0;
+  EXPECT_GT(live, 0) << taking.log();
+  EXPECT_NE(taking.log().find("using catalog sent by meter-controller (" + v.catalog.string() + ")"), std::string::npos)
+      << taking.log();
   controller.wait_for(std::chrono::seconds(60));
   for (const std::string& side : {view.log(), controller.log()}) {
     EXPECT_NE(side.find("signal catalog mismatch: controller " + v.catalog.string() + " (hash 0x"), std::string::npos)
