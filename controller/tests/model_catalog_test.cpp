@@ -26,9 +26,9 @@ class ModelCatalog : public ::testing::Test {
   }
 };
 
-std::string leaf(const std::string& name, int id, const std::string& extra) {
-  return "\"" + name + "\": {\"type\": \"sensor\", \"datatype\": \"float\", \"meter_id\": " + std::to_string(id) +
-         ", " + extra + "}";
+std::string leaf(const std::string& name, int id, const std::string& extra, const std::string& datatype = "float") {
+  return "\"" + name + "\": {\"type\": \"sensor\", \"datatype\": \"" + datatype + "\", \"meter_id\": " +
+         std::to_string(id) + ", " + extra + "}";
 }
 
 // Speed, odometer, trip and ignition under ids the shipped catalog does not use (it has 1..36).
@@ -37,7 +37,7 @@ std::string renumbered(bool with_trip) {
          leaf("TraveledDistance", 501, "\"min\": 0, \"max\": 9999999, \"meter_kind\": \"counter\"") + ", " +
          (with_trip ? leaf("TripMeterReading", 502, "\"min\": 0, \"max\": 99999.9, \"meter_kind\": \"counter\"") + ", "
                     : std::string()) +
-         leaf("LowVoltageSystemState", 503, "\"datatype\": \"uint8\", \"min\": 0, \"max\": 5, \"meter_kind\": \"enum\"") +
+         leaf("LowVoltageSystemState", 503, "\"min\": 0, \"max\": 5, \"meter_kind\": \"enum\"", "uint8") +
          "}}}";
 }
 
