@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "meter/controller/run/commands.hpp"
+#include "meter/protocol/catalog.hpp"
 
 int main(int argc, char** argv) {
   using namespace meter::controller;
@@ -40,6 +41,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   const char* strict_help = "Refuse every DBC quirk the lenient parser only warns about (docs/dbc.md)";
   r->add_flag("--strict", run.strict, strict_help);
+  const char* catalog_help = "Signal catalog, a VSS JSON file (docs/catalog.md); default: the built-in "
+                             "protocol/catalog/signals.vss.json";
+  r->add_option("--catalog", run.catalog, catalog_help)->check(CLI::ExistingFile);
   r->add_option("--trace", run.trace,
                 "Write a latency trace CSV (frames received, values published, link flushes; CLOCK_REALTIME ns)");
 
@@ -50,6 +54,8 @@ int main(int argc, char** argv) {
   d->add_option("--map", map, "Only the signals this mapping uses")->check(CLI::ExistingFile);
   bool decode_strict = false;
   d->add_flag("--strict", decode_strict, strict_help);
+  std::string decode_catalog;
+  d->add_option("--catalog", decode_catalog, catalog_help)->check(CLI::ExistingFile);
 
   std::string check;
   bool check_strict = false;
@@ -74,7 +80,15 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   if (*r) return run_command(run, std::cout, std::cerr);
-  if (*d) return decode_command(dbc, log, map, std::cout, std::cerr, decode_strict);
+  if (*d) {
+    try {
+      meter::protocol::use_catalog_option(decode_catalog);
+    } catch (const std::exception& e) {
+      std::cerr << "meter-controller decode: " << e.what() << "\n";
+      return 1;
+    }
+    return decode_command(dbc, log, map, std::cout, std::cerr, decode_strict);
+  }
   if (*u) return dump_dbc_command(dump, std::cout, std::cerr);
   if (*o) return odometer_reset_command(reset_dir, reset_km, std::cout, std::cerr);
   return check_dbc_command(check, std::cout, std::cerr, check_strict);

@@ -23,7 +23,7 @@ TEST(Mapping, ErrorsNameLineAndExpectation) {
       EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
     }
   };
-  expect_error("[Vehicle.Nope]\n", 1, "catalog signal name");
+  expect_error("[Vehicle.Nope]\n", 1, "expected a signal of the catalog protocol/catalog/signals.vss.json (built in)");
   expect_error("[Vehicle.Speed]\nsource = A\n", 2, "Message.Signal");
   expect_error("[Vehicle.Speed]\nsource = A.B\nneedle = fast\n", 3, "number");
   expect_error("[Vehicle.Speed]\nsource = A.B\nspeedometer = 1.5 0\n", 3, "R39");
@@ -32,7 +32,7 @@ TEST(Mapping, ErrorsNameLineAndExpectation) {
   expect_error("[Vehicle.Speed]\n", 1, "source");
   expect_error("source = A.B\n", 1, "outside any");
   expect_error("[Vehicle.Speed]\nsource = modbus.x\n", 1, "modbus.register");
-  expect_error("[Cluster.Telltale.FuelLow]\nrule = below Vehicle.Foo 10 12\n", 2, "not a catalog signal");
+  expect_error("[Cluster.Telltale.FuelLow]\nrule = below Vehicle.Foo 10 12\n", 2, "is not a signal of the catalog protocol/catalog/signals.vss.json");
   expect_error("[Cluster.Telltale.SeatBelt]\nsource = A.B\nrule = seatbelt\nfirst_level = 3\n", 4, "4..8");
   expect_error("[Vehicle.Speed]\nsource = A.B\nconvert = furlong->km/h\n", 3, "m/s->km/h");
   Database db = parse_dbc(kDbc, "t.dbc");

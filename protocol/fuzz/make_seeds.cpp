@@ -22,8 +22,8 @@ int main(int argc, char** argv) {
       std::exit(1);
     }
   };
-  write("hello", encode(Frame{1, 1000, Hello{Role::Publisher, kProtocolVersion, catalog_hash(), 26, 100, "meter-controller"}}));
-  write("hello-view", encode(Frame{1, 1000, Hello{Role::Subscriber, kProtocolVersion, catalog_hash(), 26, 100, "meter-view"}}));
+  write("hello", encode(Frame{1, 1000, Hello{Role::Publisher, kProtocolVersion, catalog_hash(), 26, 100, "meter-controller", "protocol/catalog/signals.vss.json", 0}}));
+  write("hello-view", encode(Frame{1, 1000, Hello{Role::Subscriber, kProtocolVersion, catalog_hash(), 26, 100, "meter-view", "my.vss.json", kHelloTakesCatalog}}));
   Snapshot snap;
   for (const auto& s : catalog()) snap.signals.push_back({s.id, SignalStatus::Valid, s.max, false, ""});
   snap.signals[4].has_text = true;
@@ -33,17 +33,19 @@ int main(int argc, char** argv) {
   write("delta", encode(Frame{3, 3000, Delta{{{sig::kSpeed, SignalStatus::Valid, 88.5, false, ""},
                                               {sig::kTurnLeft, SignalStatus::Valid, 1, false, ""}}}}));
   write("delta-text", encode(Frame{4, 3000, Delta{{{sig::kTrip, SignalStatus::Invalid, -1.5, true, "trip A"}}}}));
+  write("catalog", encode(Frame{2, 1500, CatalogChunk{catalog_hash(), 0, 1,
+      R"({"Vehicle": {"type": "branch", "children": {"Speed": {"type": "sensor", "datatype": "float", "min": 0, "max": 300, "meter_id": 1}}}})"}}));
   write("heartbeat", encode(Frame{5, 4000, Heartbeat{}}));
   write("status", encode(Frame{6, 5000, Status{600, 5, 1}}));
   write("close", encode(Frame{7, 6000, Close{CloseReason::CatalogMismatch, "catalog hash differs"}}));
   // Several frames back to back: exercises the stream path.
   std::vector<std::uint8_t> stream;
-  encode(Frame{1, 1, Hello{Role::Publisher, kProtocolVersion, catalog_hash(), 26, 100, "c"}}, stream);
+  encode(Frame{1, 1, Hello{Role::Publisher, kProtocolVersion, catalog_hash(), 26, 100, "c", "", 0}}, stream);
   encode(Frame{2, 2, Delta{{{sig::kSpeed, SignalStatus::Valid, 1, false, ""}}}}, stream);
   encode(Frame{3, 3, Heartbeat{}}, stream);
   write("stream", stream);
   auto bad = encode(Frame{1, 1, Heartbeat{}});
-  bad[4] = 2;
+  bad[4] = kProtocolVersion + 1;
   write("bad-version", bad);
   return 0;
 }

@@ -354,7 +354,7 @@ TEST(Link, CatalogHashMismatchIsRefusedOnBothSides) {
   EXPECT_NE(sub.last_error().find("signal catalog mismatch"), std::string::npos) << sub.last_error();
   EXPECT_NE(pub.last_error().find("signal catalog mismatch"), std::string::npos) << pub.last_error();
   EXPECT_EQ(sub.stats().snapshots_received, 0U);  // not one value crossed a mismatched link
-  EXPECT_TRUE(log.contains("rebuild controller and view from the same protocol/ catalog"));
+  EXPECT_TRUE(log.contains("give both the same --catalog"));
 }
 
 TEST(Link, UidNotInTheAllowListIsRejected) {
@@ -628,7 +628,7 @@ TEST(Link, WrongVersionClosesWithAReason) {
   RawUnixClient raw(dir.unix_endpoint().path);
   ASSERT_TRUE(raw.connected());
   auto v2 = encode(Frame{1, 0, test::subscriber_hello()});
-  v2[4] = 2;  // version byte; CRC now wrong too, but the version is checked first
+  v2[4] = kProtocolVersion + 1;  // version byte; CRC now wrong too, but the version is checked first
   ASSERT_TRUE(raw.send(v2));
   bool got_close = false;
   for (int i = 0; i < 5 && !got_close && !raw.eof(); ++i) {
@@ -636,7 +636,7 @@ TEST(Link, WrongVersionClosesWithAReason) {
     if (auto* c = std::get_if<Close>(&r.frame.message)) {
       got_close = true;
       EXPECT_EQ(c->reason, CloseReason::VersionMismatch);
-      EXPECT_NE(c->text.find("version 2"), std::string::npos) << c->text;
+      EXPECT_NE(c->text.find("version 3"), std::string::npos) << c->text;
     }
   }
   EXPECT_TRUE(got_close);

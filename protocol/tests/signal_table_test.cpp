@@ -31,7 +31,7 @@ TEST(SignalTable, IndexFollowsTheCatalogOrder) {
   const SignalTable table;
   for (std::size_t i = 0; i < catalog().size(); ++i) {
     const SignalId id = catalog()[i].id;
-    ASSERT_EQ(SignalTable::index_of(id), i);
+    ASSERT_EQ(table.index_of(id), i);
     EXPECT_EQ(table.find(id), &table.states()[i]);
     EXPECT_EQ(&table.get(id), &table.states()[i]);
   }
@@ -43,7 +43,7 @@ TEST(SignalTable, UnknownIdsAreNullFromFindAndThrowElsewhere) {
   for (const auto& info : catalog()) known.insert(info.id);
   for (SignalId id : {SignalId{0}, SignalId{19}, kUnknown, SignalId{65535}}) {
     if (known.count(id) != 0) continue;
-    EXPECT_FALSE(SignalTable::index_of(id).has_value()) << id;
+    EXPECT_FALSE(table.index_of(id).has_value()) << id;
     EXPECT_EQ(table.find(id), nullptr) << id;
     EXPECT_THROW((void)table.get(id), std::out_of_range) << id;
     EXPECT_THROW((void)table.changed_at(id), std::out_of_range) << id;

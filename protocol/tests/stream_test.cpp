@@ -11,7 +11,7 @@ namespace {
 
 std::vector<std::uint8_t> three_frames() {
   std::vector<std::uint8_t> s;
-  encode(Frame{1, 10, Hello{Role::Publisher, kProtocolVersion, 5, 26, 100, "ctl"}}, s);
+  encode(Frame{1, 10, Hello{Role::Publisher, kProtocolVersion, 5, 26, 100, "ctl", "ctl.vss.json", 0}}, s);
   encode(Frame{2, 20, Snapshot{true, {{sig::kSpeed, SignalStatus::Valid, 12.0, true, "txt"}}}}, s);
   encode(Frame{3, 30, Heartbeat{}}, s);
   return s;

@@ -2,6 +2,8 @@
 // malformed input the decoder must reject without crashing.
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <cmath>
 #include <limits>
 #include <string>
@@ -61,10 +63,28 @@ TEST(WireRoundTrip, Hello) {
   h.signal_count = 26;
   h.heartbeat_period_ms = 100;
   h.name = "meter-view \xC3\xA9";  // UTF-8 é
+  h.catalog_source = "vehicles/ev/ev.vss.json";
+  h.flags = kHelloTakesCatalog;
   expect_round_trip(frame_of(h));
   h.role = Role::Publisher;
   h.name.clear();
+  h.catalog_source = std::string(kMaxTextBytes, 'p');
+  h.flags = 0;
   expect_round_trip(frame_of(h, 1, -5));
+}
+
+TEST(WireRoundTrip, CatalogPieces) {
+  expect_round_trip(frame_of(CatalogChunk{0x0123456789ABCDEFULL, 0, 1, R"({"Vehicle": {}})"}));
+  expect_round_trip(frame_of(CatalogChunk{1, 2, 3, std::string(kMaxCatalogChunkBytes, 'x')}));
+  expect_round_trip(frame_of(CatalogChunk{1, 0, 1, ""}));
+  // The encoder refuses what the decoder would reject.
+  EXPECT_THROW(encode(frame_of(CatalogChunk{1, 3, 3, "x"})), std::invalid_argument);
+  EXPECT_THROW(encode(frame_of(CatalogChunk{1, 0, 0, "x"})), std::invalid_argument);
+  EXPECT_THROW(encode(frame_of(CatalogChunk{1, 0, 1, std::string(kMaxCatalogChunkBytes + 1, 'x')})),
+               std::invalid_argument);
+  Hello h;
+  h.flags = 2;
+  EXPECT_THROW(encode(frame_of(h)), std::invalid_argument);
 }
 
 TEST(WireRoundTrip, SnapshotWithTextAndEveryStatus) {
@@ -97,7 +117,7 @@ TEST(WireLayout, HeaderBytesMatchTheDocument) {
   const std::vector<std::uint8_t> header(bytes.begin(), bytes.begin() + 28);
   const std::vector<std::uint8_t> expected = {
       0x4D, 0x54, 0x52, 0x4C,                          // "MTRL"
-      0x01,                                            // version
+      0x02,                                            // version
       0x05,                                            // type STATUS
       0x00, 0x00,                                      // flags
       0x14, 0x00, 0x00, 0x00,                          // payload length 20
@@ -186,9 +206,9 @@ TEST(WireDecode, GarbageIsRefusedAsSoonAsTheMagicDiffers) {
 }
 
 TEST(WireDecode, BadVersion) {
-  const auto r = decode(raw_frame(3, valid_delta_payload(), 1, 2));
+  const auto r = decode(raw_frame(3, valid_delta_payload(), 1, 1));  // a version-1 peer
   EXPECT_EQ(r.error, DecodeError::BadVersion);
-  EXPECT_NE(r.detail.find("version 2"), std::string::npos) << r.detail;
+  EXPECT_NE(r.detail.find("version 1"), std::string::npos) << r.detail;
 }
 
 TEST(WireDecode, OversizedLengthIsRejectedFromTheHeaderAlone) {
@@ -228,7 +248,7 @@ TEST(WireDecode, BadCrc) {
 }
 
 TEST(WireDecode, UnknownType) {
-  for (std::uint8_t type : {0, 7, 200}) {
+  for (std::uint8_t type : {0, 8, 200}) {
     const auto r = decode(raw_frame(type, {1, 2, 3}));
     EXPECT_EQ(r.error, DecodeError::UnknownType) << int(type);
     EXPECT_EQ(r.frame_size, kHeaderSize + 3);
@@ -293,22 +313,43 @@ std::vector<MalformedCase> malformed_cases() {
   cases.push_back({"CLOSE unknown reason", 6, {7, 0}});
   cases.push_back({"CLOSE text past end", 6, {1, 5, 'a'}});
   cases.push_back({"CLOSE empty", 6, {}});
-  auto hello = [](std::uint8_t role, std::uint8_t reserved, std::uint8_t name_len, std::string name) {
-    std::vector<std::uint8_t> p = {role, reserved};
-    put_le(p, 1, 2);
+  auto hello = [](std::uint8_t role, std::uint8_t flags, std::uint8_t name_len, std::string name,
+                  std::optional<std::string> source = std::string()) {
+    std::vector<std::uint8_t> p = {role, flags};
+    put_le(p, 2, 2);
     put_le(p, 0, 8);
     put_le(p, 0, 2);
     put_le(p, 100, 4);
     p.push_back(name_len);
     p.insert(p.end(), name.begin(), name.end());
+    if (source) {
+      p.push_back(static_cast<std::uint8_t>(source->size()));
+      p.insert(p.end(), source->begin(), source->end());
+    }
     return p;
   };
   cases.push_back({"HELLO role 0", 1, hello(0, 0, 0, "")});
   cases.push_back({"HELLO role 3", 1, hello(3, 0, 0, "")});
-  cases.push_back({"HELLO reserved byte", 1, hello(1, 1, 0, "")});
+  cases.push_back({"HELLO reserved flag bits", 1, hello(2, 2, 0, "")});
   cases.push_back({"HELLO name past end", 1, hello(1, 0, 5, "ab")});
   cases.push_back({"HELLO name too long", 1, hello(1, 0, 65, std::string(65, 'a'))});
   cases.push_back({"HELLO short", 1, {1, 0, 1}});
+  cases.push_back({"HELLO without catalog source", 1, hello(1, 0, 1, "c", std::nullopt)});
+  cases.push_back({"HELLO catalog source not UTF-8", 1, hello(1, 0, 1, "c", std::string("\xC3"))});
+  auto piece = [](std::uint16_t index, std::uint16_t count, std::uint32_t len, std::string bytes) {
+    std::vector<std::uint8_t> p;
+    put_le(p, 7, 8);
+    put_le(p, index, 2);
+    put_le(p, count, 2);
+    put_le(p, len, 4);
+    p.insert(p.end(), bytes.begin(), bytes.end());
+    return p;
+  };
+  cases.push_back({"CATALOG short", 7, std::vector<std::uint8_t>(15, 0)});
+  cases.push_back({"CATALOG count 0", 7, piece(0, 0, 1, "{")});
+  cases.push_back({"CATALOG index past count", 7, piece(2, 2, 1, "{")});
+  cases.push_back({"CATALOG length past end", 7, piece(0, 1, 5, "{")});
+  cases.push_back({"CATALOG length short of end", 7, piece(0, 1, 1, "{}")});
   return cases;
 }
 

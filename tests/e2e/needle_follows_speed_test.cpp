@@ -21,12 +21,16 @@
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/input/can_frame.hpp"
 #include "meter/platform/image.hpp"
+#include "candump_line.hpp"
+#include "csv_rows.hpp"
 #include "needle.hpp"
 #include "process.hpp"
 
 namespace fs = std::filesystem;
 using meter::testing::ChildProcess;
 using meter::testing::built_executable;
+using meter::testing::read_csv;
+using meter::testing::wait_for_first_dump;
 
 namespace {
 
@@ -52,14 +56,7 @@ void write_speed_log(const fs::path& file) {
     const std::pair<std::string_view, double> values[] = {{"VehicleSpeed", true_speed_at(t)},
                                                           {"WheelSpeedFL", true_speed_at(t)},
                                                           {"WheelSpeedFR", true_speed_at(t)}};
-    const auto payload = meter::controller::encode(*msg, values);
-    meter::controller::CanFrame f;
-    f.timestamp_ns = t0_ns + static_cast<std::int64_t>(i) * 20'000'000LL;
-    f.id = msg->id;
-    f.extended = msg->extended;
-    f.len = static_cast<std::uint8_t>(payload.size());
-    std::copy(payload.begin(), payload.end(), f.data.begin());
-    out << meter::controller::format_candump_line(f, "can0") << "\n";
+    out << meter::testing::candump_line(*msg, values, t0_ns + static_cast<std::int64_t>(i) * 20'000'000LL) << "\n";
   }
 }
 
@@ -70,30 +67,6 @@ struct FrameRow {
   double speed;
   std::string status;
 };
-
-// Rows of a CSV with a header, as column name -> cell; a row shorter than the header (still being
-// written) is left out.
-std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) cells.push_back(cell);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    if (cells.size() < header.size()) continue;
-    std::map<std::string, std::string> row;
-    for (std::size_t i = 0; i < header.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 std::vector<FrameRow> read_frames_csv(const fs::path& file) {
   std::vector<FrameRow> rows;
@@ -118,16 +91,6 @@ void convert_gauge(const fs::path& dir) {
   auto rc = convert.wait_for(std::chrono::seconds(60));
   ASSERT_TRUE(rc.has_value()) << "meter-convert hung";
   ASSERT_EQ(*rc, 0) << convert.log();
-}
-
-// Waits until the live view has dumped its first frame (frames.csv has a row): its loop is running.
-void wait_for_first_dump(const fs::path& frames_csv, ChildProcess& view) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (!fs::exists(frames_csv) || read_csv(frames_csv).empty()) {
-    ASSERT_TRUE(view.running()) << "meter-view ended before its first frame:\n" << view.log();
-    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "meter-view dumped no frame in 30 s:\n" << view.log();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
 }
 
 // meter-controller on the demo vehicle replays `log` in real time to `link` and lingers 3 s (so

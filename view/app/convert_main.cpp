@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
   app.add_flag("--report", o.report, "list each generated program: features, SPIR-V instruction and uniform counts");
   app.add_option("--optimize", o.optimize, "fold scene constants into the programs (shadergen::optimize)")
       ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--catalog", o.catalog,
+                 "signal catalog (VSS JSON, docs/catalog.md) the bindings must name; default: the built-in one")
+      ->check(CLI::ExistingFile);
   app.add_flag("-q,--quiet", o.quiet, "do not print repairs (warnings)");
   app.add_flag("--propose-groups", o.propose_groups,
                "merge ungrouped objects automatically (same material and blend state, no overlap; docs/concatenation.md)");

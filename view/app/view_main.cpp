@@ -47,6 +47,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(30, 60000))->capture_default_str();
   app.add_option("--trace", o.trace_csv,
                  "live: latency trace CSV (link updates applied, frame rendered, PNG written; CLOCK_REALTIME ns)");
+  app.add_option("--catalog", o.catalog,
+                 "signal catalog, a VSS JSON file (docs/catalog.md); default: the built-in "
+                 "protocol/catalog/signals.vss.json. Live without it: the controller's catalog is used")
+      ->check(CLI::ExistingFile);
+  app.add_flag("--catalog-from-controller", o.catalog_from_controller,
+               "live: use the controller's catalog when it differs from --catalog (instead of refusing the link)")
+      ->needs(link_opt);
+  app.add_option("--catalog-wait", o.catalog_wait_ms,
+                 "live: milliseconds to wait for the controller (and its catalog) before loading the scene")
+      ->check(CLI::Range(0, 60000))->capture_default_str();
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
   return run_view(o, std::cerr);

@@ -2,6 +2,7 @@
 // [modbus.register NAME]. Every error names file:line and what was expected.
 #include "meter/controller/mapping/mapping.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -249,7 +250,8 @@ void set_output_key(OutputMapping& o, const std::string& key, std::string_view v
       o.rule = Rule::SeatBelt;
     } else if (w.size() == 4 && (w[0] == "below" || w[0] == "above")) {
       o.rule = w[0] == "below" ? Rule::Below : Rule::Above;
-      if (!protocol::find_signal(w[1])) c.fail("rule: '" + w[1] + "' is not a catalog signal");
+      if (!protocol::find_signal(w[1]))
+        c.fail("rule: '" + w[1] + "' is not a signal of the catalog " + protocol::active_catalog()->source());
       o.rule_input = w[1];
       o.rule_on = c.number(w[2], key);
       o.rule_off = c.number(w[3], key);
@@ -332,7 +334,9 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
         sec = Sec::Register;
       } else {
         const protocol::SignalInfo* info = protocol::find_signal(name);
-        if (!info) c.fail("section [" + name + "]: expected a catalog signal name (e.g. Vehicle.Speed), 'global', 'modbus' or 'modbus.register NAME'");
+        if (!info)
+          c.fail("section [" + name + "]: expected a signal of the catalog " + protocol::active_catalog()->source() +
+                 " (e.g. Vehicle.Speed), 'global', 'modbus' or 'modbus.register NAME'");
         if (m.find(info->id)) c.fail("section [" + name + "] appears twice");
         OutputMapping o;
         o.id = info->id;
@@ -415,10 +419,11 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
     const bool needs_source = o.rule == Rule::None && o.accumulate == Accumulate::None;
     if (needs_source && o.sources.empty()) c.fail("[" + o.name + "]: expected a 'source', 'rule' or 'accumulate' key");
     if (o.rule == Rule::SeatBelt && o.sources.empty()) c.fail("[" + o.name + "]: rule seatbelt needs 'source' = the unbuckled signal");
-    if (o.accumulate != Accumulate::None && o.id != protocol::sig::kOdometer)
-      c.fail("[" + o.name + "]: accumulate belongs to Vehicle.TraveledDistance");
-    if (o.accumulate == Accumulate::Speed && !m.find(protocol::sig::kSpeed))
-      c.fail("[" + o.name + "]: accumulate speed needs a [Vehicle.Speed] section");
+    if (o.accumulate != Accumulate::None && o.name != protocol::vss::kOdometer)
+      c.fail("[" + o.name + "]: accumulate belongs to " + std::string(protocol::vss::kOdometer));
+    if (o.accumulate == Accumulate::Speed &&
+        std::none_of(m.outputs.begin(), m.outputs.end(), [](const OutputMapping& x) { return x.name == protocol::vss::kSpeed; }))
+      c.fail("[" + o.name + "]: accumulate speed needs a [" + std::string(protocol::vss::kSpeed) + "] section");
     for (const auto& s : o.sources)
       if (s.rfind("modbus.", 0) == 0 && (!m.modbus || !m.modbus->find(s.substr(7))))
         c.fail("[" + o.name + "]: source " + s + " names no [modbus.register " + s.substr(7) + "]");

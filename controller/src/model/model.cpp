@@ -30,8 +30,8 @@ namespace {
 std::vector<std::size_t> evaluation_order(const Mapping& mapping) {
   auto rank = [&](std::size_t i) {
     const auto& o = mapping.outputs[i];
-    if (o.id == protocol::sig::kSpeed) return 0;
-    if (o.id == protocol::sig::kIgnition) return 1;
+    if (o.name == protocol::vss::kSpeed) return 0;
+    if (o.name == protocol::vss::kIgnition) return 1;
     if (o.rule == Rule::Below || o.rule == Rule::Above) return 3;
     if (o.accumulate != Accumulate::None) return 4;
     return 2;
@@ -45,6 +45,13 @@ std::vector<std::size_t> evaluation_order(const Mapping& mapping) {
 // VSS (vehicle system state) at or above this is ignition on (ON or START).
 constexpr double kIgnitionOn = 4;
 
+std::optional<protocol::SignalId> id_named(std::string_view name) {
+  const auto* info = protocol::find_signal(name);
+  return info ? std::optional<protocol::SignalId>(info->id) : std::nullopt;
+}
+
+bool maps(const Mapping& mapping, std::optional<protocol::SignalId> id) { return id && mapping.find(*id); }
+
 }  // namespace
 
 Model::Model(const Database* db, Mapping mapping, ModelOptions options)
@@ -53,9 +60,15 @@ Model::Model(const Database* db, Mapping mapping, ModelOptions options)
 Model::Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options)
     : mapping_(std::move(mapping)), options_(std::move(options)), sources_(std::move(inputs), mapping_),
       bulb_(mapping_.bulb_check_s) {
+  special_ = {id_named(protocol::vss::kSpeed), id_named(protocol::vss::kIgnition), id_named(protocol::vss::kOdometer),
+              id_named(protocol::vss::kTrip)};
+  if (maps(mapping_, special_.odometer) && !special_.trip) {
+    // The trip meter comes with the odometer: a catalog with one has the other.
+    protocol::active_catalog()->require(protocol::vss::kTrip, "the trip meter that comes with the odometer");
+  }
   resolve_value_names(mapping_, sources_.inputs());
   build_outputs();
-  if (!options_.state_dir.empty() && mapping_.find(protocol::sig::kOdometer)) {
+  if (!options_.state_dir.empty() && maps(mapping_, special_.odometer)) {
     store_ = std::make_unique<OdometerStore>(options_.state_dir);
     const OdometerLoad loaded = store_->load();
     for (const std::string& fault : loaded.faults) report("odometer: " + fault);
@@ -77,14 +90,14 @@ void Model::build_outputs() {
       cycles.push_back(src.dbc.message ? signal_period_ms(*src.dbc.message, src.dbc.signal) : src.cycle_ms);
     }
     const SourceTimeouts timeouts = derive_timeouts(m, cycles, mapping_.file);
-    if (m.id == protocol::sig::kSpeed && speed_out_ < 0) speed_out_ = static_cast<int>(outs_.size());
+    if (m.id == special_.speed && speed_out_ < 0) speed_out_ = static_cast<int>(outs_.size());
     outs_.push_back(Out{i, outputs_.size(), std::move(sources), timeouts,
                         OutputConditioner(m, protocol::find_signal(m.id)->kind), std::nullopt, 0.0, false, 0});
     outputs_.push_back(ModelOutput{m.id});
   }
-  if (mapping_.find(protocol::sig::kOdometer) && !mapping_.find(protocol::sig::kTrip)) {
+  if (maps(mapping_, special_.odometer) && !maps(mapping_, special_.trip)) {
     // The trip meter comes with the odometer.
-    outputs_.push_back(ModelOutput{protocol::sig::kTrip});
+    outputs_.push_back(ModelOutput{*special_.trip});
   }
 }
 
@@ -182,7 +195,7 @@ void Model::accumulate_distance(Out& o, std::int64_t dt_ns) {
   outputs_[o.index].value = ok ? odometer_display_km(odo_.total_km()) : 0.0;
   outputs_[o.index].status = status;
   for (auto& out : outputs_)
-    if (out.id == protocol::sig::kTrip) {
+    if (out.id == special_.trip) {
       out.value = ok ? odometer_display_km(odo_.trip_km()) : 0.0;
       out.status = status;
     }
@@ -197,7 +210,7 @@ void Model::update(std::int64_t t) {
     const OutputMapping& m = mapping_.outputs[o.map];
     if (m.accumulate != Accumulate::None) continue;
     evaluate(o, t, dt);
-    if (m.id == protocol::sig::kIgnition && o.truth_valid) on_ignition(o.truth, t);
+    if (m.id == special_.ignition && o.truth_valid) on_ignition(o.truth, t);
   }
   for (auto& o : outs_)
     if (mapping_.outputs[o.map].accumulate != Accumulate::None) accumulate_distance(o, dt_ns);

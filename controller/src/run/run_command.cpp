@@ -49,6 +49,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   std::signal(SIGTERM, on_signal);
   std::signal(SIGPIPE, SIG_IGN);
   try {
+    protocol::use_catalog_option(o.catalog);  // before the mapping: its sections name catalog signals
     const std::vector<InputSpec> specs = parse_input_specs(o.inputs, o.dbcs);
     std::vector<std::optional<Database>> dbs(specs.size());
     std::vector<InputDbc> buses;

@@ -128,7 +128,7 @@ struct Publisher::Impl {
       }
       Peer peer;
       peer.channel = std::make_unique<Channel>(std::move(fd), stream, label);
-      peer.dirty.assign(catalog().size(), 0);
+      peer.dirty.assign(table.size(), 0);
       if (allowed && peers.size() >= options.max_peers) {
         // Bounded resources: every connection costs a buffer and a dirty table.
         last_error = "rejected " + label + ": already serving " + std::to_string(peers.size()) +
@@ -144,7 +144,7 @@ struct Publisher::Impl {
         peer.channel->send(Close{CloseReason::NotAllowed, refusal.substr(0, kMaxTextBytes)}, stats);
         peer.closing = true;
       } else {
-        peer.channel->send(detail::make_hello(Role::Publisher, our_hash, options), stats);
+        peer.channel->send(our_hello(), stats);
       }
       poller.add(peer.channel->fd(), peer.channel->has_pending());
       peers.push_back(std::move(peer));
@@ -179,9 +179,19 @@ struct Publisher::Impl {
         return;
       }
       CloseReason reason{};
-      if (auto why = detail::check_hello(*hello, Role::Subscriber, our_hash, reason); !why.empty()) {
+      if (auto why = detail::check_hello(*hello, Role::Subscriber, reason); !why.empty()) {
         refuse(peer, reason, why);
         return;
+      }
+      switch (detail::agree_catalogs(our_hash, hello->catalog_hash, (hello->flags & kHelloTakesCatalog) != 0)) {
+        case detail::CatalogAgreement::Same: break;
+        case detail::CatalogAgreement::Refuse:
+          refuse(peer, CloseReason::CatalogMismatch, detail::catalog_mismatch(our_hello(), *hello));
+          return;
+        case detail::CatalogAgreement::Transfer:
+          // The view takes ours: the catalog goes first, the SNAPSHOT's ids then mean the same there.
+          for (const auto& piece : detail::catalog_chunks(table.catalog(), our_hash)) peer.channel->send(piece, stats);
+          break;
       }
       if (!hello->name.empty()) peer.channel->set_label(hello->name + " (" + peer.channel->label() + ")");
       peer.peer_heartbeat = std::chrono::milliseconds(hello->heartbeat_period_ms);
@@ -208,13 +218,16 @@ struct Publisher::Impl {
         frame.message);
   }
 
+  Hello our_hello() const { return detail::make_hello(Role::Publisher, table.catalog(), our_hash, options); }
+
   SignalUpdate update_for(std::size_t index) const {
     const auto& s = table.states()[index];
     SignalUpdate u;
-    u.id = catalog()[index].id;
+    const auto& info = table.catalog().signals()[index];
+    u.id = info.id;
     u.status = s.status;
     u.value = s.value;
-    u.has_text = !s.text.empty() || catalog()[index].kind == SignalKind::Text;
+    u.has_text = !s.text.empty() || info.kind == SignalKind::Text;
     u.text = s.text;
     return u;
   }
@@ -239,7 +252,7 @@ struct Publisher::Impl {
   }
 
   void send_snapshot(Peer& peer) {
-    std::vector<std::size_t> all(catalog().size());
+    std::vector<std::size_t> all(table.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
     chunked(all, [&](std::vector<SignalUpdate>&& batch, bool last) {
       peer.channel->send(Snapshot{last, std::move(batch)}, stats);
@@ -355,11 +368,11 @@ struct Publisher::Impl {
 
 namespace {
 
-std::size_t index_or_invalid_argument(SignalId id, const char* who) {
-  const auto index = SignalTable::index_of(id);
+std::size_t index_or_invalid_argument(const SignalTable& table, SignalId id, const char* who) {
+  const auto index = table.index_of(id);
   if (!index) {
-    throw std::invalid_argument(std::string(who) + ": signal id " + std::to_string(id) +
-                                " is not in the catalog (protocol/src/signals/catalog.cpp)");
+    throw std::invalid_argument(std::string(who) + ": signal id " + std::to_string(id) + " is not in the catalog " +
+                                table.catalog().source());
   }
   return *index;
 }
@@ -373,9 +386,9 @@ Publisher::Publisher(Publisher&&) noexcept = default;
 Publisher& Publisher::operator=(Publisher&&) noexcept = default;
 
 void Publisher::set(SignalId id, double value, SignalStatus status) {
-  const std::size_t index = index_or_invalid_argument(id, "Publisher::set");
+  const std::size_t index = index_or_invalid_argument(impl_->table, id, "Publisher::set");
   if (!std::isfinite(value)) {
-    detail::log_limited("nonfinite", "signal " + std::string(catalog()[index].name) +
+    detail::log_limited("nonfinite", "signal " + impl_->table.catalog().signals()[index].name +
                                          ": non-finite value replaced by 0 with status invalid");
     value = 0.0;
     status = SignalStatus::Invalid;
@@ -384,7 +397,7 @@ void Publisher::set(SignalId id, double value, SignalStatus status) {
 }
 
 void Publisher::set_text(SignalId id, std::string_view text, SignalStatus status) {
-  const std::size_t index = index_or_invalid_argument(id, "Publisher::set_text");
+  const std::size_t index = index_or_invalid_argument(impl_->table, id, "Publisher::set_text");
   if (impl_->table.set_text(id, detail::sanitize_text(text), status)) impl_->mark_dirty(index);
 }
 

@@ -39,6 +39,9 @@ struct Subscriber::Impl {
   std::chrono::milliseconds backoff;
   std::chrono::milliseconds peer_heartbeat{0};
   SignalTable table;
+  std::uint64_t catalog_changes = 0;
+  // Set between the publisher's HELLO and the last CATALOG piece when we take its catalog.
+  std::optional<detail::CatalogAssembler> incoming_catalog;
   std::int64_t sender_time_ns = 0;
   std::uint64_t last_applied_seq = 0;
   std::optional<Status> pending_status;
@@ -87,6 +90,7 @@ struct Subscriber::Impl {
     }
     phase = Phase::Idle;
     got_hello = false;
+    incoming_catalog.reset();
     stats.link_up = false;
     retry_at = Clock::now() + backoff;
     backoff = std::min(backoff * 2, options.reconnect_max);
@@ -148,8 +152,22 @@ struct Subscriber::Impl {
       }
     }
     phase = Phase::Handshake;
-    channel->send(detail::make_hello(Role::Subscriber, our_hash, options), stats);
+    channel->send(our_hello(), stats);
     channel->last_rx = Clock::now();  // the handshake timeout counts from here
+  }
+
+  Hello our_hello() const { return detail::make_hello(Role::Subscriber, table.catalog(), our_hash, options); }
+
+  // The publisher's catalog is complete: from now on its ids are the ones this process reads.
+  void take_catalog(std::shared_ptr<const Catalog> taken) {
+    our_hash = taken->hash();
+    set_active_catalog(taken);  // the decoder checks ids against the active catalog
+    table = SignalTable(std::move(taken));
+    ++catalog_changes;
+    ++stats.catalogs_taken;
+    changed = true;
+    detail::log_limited("catalog-taken", options.name + ": using " + table.catalog().source() + " (" +
+                                             std::to_string(table.size()) + " signals)");
   }
 
   void refuse(CloseReason reason, const std::string& why) {
@@ -191,14 +209,44 @@ struct Subscriber::Impl {
         return false;
       }
       CloseReason reason{};
-      if (auto why = detail::check_hello(*hello, Role::Publisher, our_hash, reason); !why.empty()) {
+      if (auto why = detail::check_hello(*hello, Role::Publisher, reason); !why.empty()) {
         refuse(reason, why);
         return false;
+      }
+      switch (detail::agree_catalogs(hello->catalog_hash, our_hash, options.take_peer_catalog)) {
+        case detail::CatalogAgreement::Same: break;
+        case detail::CatalogAgreement::Refuse:
+          refuse(CloseReason::CatalogMismatch, detail::catalog_mismatch(*hello, our_hello()));
+          return false;
+        case detail::CatalogAgreement::Transfer:
+          incoming_catalog.emplace(hello->catalog_hash, "catalog sent by " + (hello->name.empty() ? std::string("the publisher") : hello->name) +
+                                                            " (" + hello->catalog_source + ")");
+          break;
       }
       got_hello = true;
       peer_heartbeat = std::chrono::milliseconds(hello->heartbeat_period_ms);
       if (!hello->name.empty()) channel->set_label(hello->name + " at " + where.to_string());
       return true;
+    }
+    if (auto* piece = std::get_if<CatalogChunk>(&frame.message)) {
+      if (!incoming_catalog) {
+        refuse(CloseReason::ProtocolError, "CATALOG without a catalog mismatch to resolve");
+        return false;
+      }
+      if (auto why = incoming_catalog->add(*piece); !why.empty()) {
+        refuse(CloseReason::ProtocolError, why);
+        return false;
+      }
+      if (incoming_catalog->complete()) {
+        take_catalog(incoming_catalog->take());
+        incoming_catalog.reset();
+      }
+      return true;
+    }
+    if (incoming_catalog) {
+      refuse(CloseReason::ProtocolError, std::string(to_string(type_of(frame.message))) +
+                                             " before the publisher's catalog was complete");
+      return false;
     }
     if (auto* snap = std::get_if<Snapshot>(&frame.message)) {
       apply(snap->signals, frame);
@@ -344,6 +392,8 @@ const SignalState& Subscriber::get(SignalId id) const {
   return impl_->table.get(id);
 }
 const SignalTable& Subscriber::signals() const { return impl_->table; }
+const Catalog& Subscriber::catalog() const { return impl_->table.catalog(); }
+std::uint64_t Subscriber::catalog_changes() const { return impl_->catalog_changes; }
 std::uint64_t Subscriber::state_version() const { return impl_->table.version(); }
 std::int64_t Subscriber::last_sender_time_ns() const { return impl_->sender_time_ns; }
 std::uint64_t Subscriber::last_sequence_applied() const { return impl_->last_applied_seq; }

@@ -2,37 +2,14 @@
 
 #include <algorithm>
 #include <bit>
-#include <limits>
 #include <stdexcept>
 #include <utility>
 
 namespace meter::protocol {
-namespace {
+SignalTable::SignalTable() : SignalTable(active_catalog()) {}
 
-constexpr std::uint16_t kNoEntry = std::numeric_limits<std::uint16_t>::max();
-
-// id -> catalog position, one slot per id up to the largest id in the catalog.
-const std::vector<std::uint16_t>& position_by_id() {
-  static const std::vector<std::uint16_t> index = [] {
-    const auto entries = catalog();
-    SignalId max_id = 0;
-    for (const auto& s : entries) max_id = std::max(max_id, s.id);
-    std::vector<std::uint16_t> by_id(static_cast<std::size_t>(max_id) + 1, kNoEntry);
-    for (std::size_t i = 0; i < entries.size(); ++i) by_id[entries[i].id] = static_cast<std::uint16_t>(i);
-    return by_id;
-  }();
-  return index;
-}
-
-}  // namespace
-
-SignalTable::SignalTable() : states_(catalog().size()), changed_at_(catalog().size(), 0) {}
-
-std::optional<std::size_t> SignalTable::index_of(SignalId id) {
-  const auto& by_id = position_by_id();
-  if (id >= by_id.size() || by_id[id] == kNoEntry) return std::nullopt;
-  return by_id[id];
-}
+SignalTable::SignalTable(std::shared_ptr<const Catalog> catalog)
+    : catalog_(std::move(catalog)), states_(catalog_->size()), changed_at_(catalog_->size(), 0) {}
 
 std::size_t SignalTable::index_or_throw(SignalId id) const {
   const auto index = index_of(id);

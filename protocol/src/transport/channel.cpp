@@ -37,6 +37,7 @@ void Channel::send(const Message& message, LinkStats& stats) {
     case MessageType::Heartbeat: ++stats.heartbeats_sent; break;
     case MessageType::Status: ++stats.status_sent; break;
     case MessageType::Close: break;
+    case MessageType::Catalog: ++stats.catalog_pieces_sent; break;
   }
   last_tx = Clock::now();
 }
@@ -101,6 +102,7 @@ bool Channel::accept_frame(Frame&& frame, LinkStats& stats, const std::function<
     case MessageType::Heartbeat: ++stats.heartbeats_received; break;
     case MessageType::Status: ++stats.status_received; break;
     case MessageType::Close: break;
+    case MessageType::Catalog: ++stats.catalog_pieces_received; break;
   }
   return on_frame(std::move(frame));
 }

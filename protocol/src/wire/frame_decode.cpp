@@ -17,7 +17,7 @@ using detail::Reader;
 using detail::valid_status;
 
 bool known_type(std::uint8_t t) {
-  return t >= static_cast<std::uint8_t>(MessageType::Hello) && t <= static_cast<std::uint8_t>(MessageType::Close);
+  return t >= static_cast<std::uint8_t>(MessageType::Hello) && t <= static_cast<std::uint8_t>(MessageType::Catalog);
 }
 
 
@@ -102,18 +102,18 @@ bool decode_payload(std::uint8_t type, std::span<const std::uint8_t> payload, Me
   switch (static_cast<MessageType>(type)) {
     case MessageType::Hello: {
       Hello h;
-      std::uint8_t role = 0, reserved = 0, name_len = 0;
-      if (!r.u8(role) || !r.u8(reserved) || !r.u16(h.protocol_version) || !r.u64(h.catalog_hash) ||
+      std::uint8_t role = 0, name_len = 0, source_len = 0;
+      if (!r.u8(role) || !r.u8(h.flags) || !r.u16(h.protocol_version) || !r.u64(h.catalog_hash) ||
           !r.u16(h.signal_count) || !r.u32(h.heartbeat_period_ms) || !r.u8(name_len)) {
-        detail = "HELLO needs at least 19 bytes, got " + std::to_string(payload.size());
+        detail = "HELLO needs at least 20 bytes, got " + std::to_string(payload.size());
         return false;
       }
       if (role != 1 && role != 2) {
         detail = "HELLO role " + std::to_string(role) + " is not 1 (publisher) or 2 (subscriber)";
         return false;
       }
-      if (reserved != 0) {
-        detail = "HELLO reserved byte is not 0";
+      if ((h.flags & ~kHelloTakesCatalog) != 0) {
+        detail = "HELLO flags " + std::to_string(h.flags) + " use reserved bits (only bit 0 is defined)";
         return false;
       }
       if (name_len > kMaxNameBytes) {
@@ -121,6 +121,11 @@ bool decode_payload(std::uint8_t type, std::span<const std::uint8_t> payload, Me
         return false;
       }
       if (!read_text(r, name_len, h.name, "HELLO name", detail)) return false;
+      if (!r.u8(source_len)) {
+        detail = "HELLO catalog source length missing after the name";
+        return false;
+      }
+      if (!read_text(r, source_len, h.catalog_source, "HELLO catalog source", detail)) return false;
       h.role = static_cast<Role>(role);
       out = std::move(h);
       break;
@@ -179,6 +184,27 @@ bool decode_payload(std::uint8_t type, std::span<const std::uint8_t> payload, Me
       }
       if (!read_text(r, len, c.text, "CLOSE text", detail)) return false;
       c.reason = static_cast<CloseReason>(reason);
+      out = std::move(c);
+      break;
+    }
+    case MessageType::Catalog: {
+      CatalogChunk c;
+      std::uint32_t len = 0;
+      if (!r.u64(c.catalog_hash) || !r.u16(c.index) || !r.u16(c.count) || !r.u32(len)) {
+        detail = "CATALOG needs at least 16 bytes, got " + std::to_string(payload.size());
+        return false;
+      }
+      if (c.count == 0 || c.index >= c.count) {
+        detail = "CATALOG piece " + std::to_string(c.index) + " of " + std::to_string(c.count) +
+                 ": index must be below count";
+        return false;
+      }
+      if (len != r.remaining()) {
+        detail = "CATALOG length " + std::to_string(len) + " does not match the " + std::to_string(r.remaining()) +
+                 " byte(s) that follow";
+        return false;
+      }
+      r.text(len, c.bytes);  // JSON is checked when the pieces are assembled and parsed
       out = std::move(c);
       break;
     }
@@ -277,7 +303,7 @@ DecodeResult decode(std::span<const std::uint8_t> bytes) {
   }
   if (!known_type(res.header.type)) {
     res.error = DecodeError::UnknownType;
-    res.detail = "message type " + std::to_string(res.header.type) + " is not 1..6";
+    res.detail = "message type " + std::to_string(res.header.type) + " is not 1..7";
     return res;
   }
   if (res.header.flags != 0) {

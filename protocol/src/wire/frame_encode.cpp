@@ -59,14 +59,27 @@ void encode_payload(const Message& m, Writer& w) {
       if (h.role != Role::Publisher && h.role != Role::Subscriber) {
         throw std::invalid_argument("HELLO role must be publisher (1) or subscriber (2)");
       }
+      check_text("HELLO catalog source", h.catalog_source, kMaxTextBytes);
+      if ((h.flags & ~kHelloTakesCatalog) != 0) throw std::invalid_argument("HELLO flags use reserved bits");
       w.u8(static_cast<std::uint8_t>(h.role));
-      w.u8(0);
+      w.u8(h.flags);
       w.u16(h.protocol_version);
       w.u64(h.catalog_hash);
       w.u16(h.signal_count);
       w.u32(h.heartbeat_period_ms);
       w.u8(static_cast<std::uint8_t>(h.name.size()));
       w.bytes(h.name);
+      w.u8(static_cast<std::uint8_t>(h.catalog_source.size()));
+      w.bytes(h.catalog_source);
+    }
+    void operator()(const CatalogChunk& c) const {
+      if (c.bytes.size() > kMaxCatalogChunkBytes) throw std::invalid_argument("CATALOG piece exceeds kMaxCatalogChunkBytes");
+      if (c.count == 0 || c.index >= c.count) throw std::invalid_argument("CATALOG piece index must be below count");
+      w.u64(c.catalog_hash);
+      w.u16(c.index);
+      w.u16(c.count);
+      w.u32(static_cast<std::uint32_t>(c.bytes.size()));
+      w.bytes(c.bytes);
     }
     void operator()(const Snapshot& s) const { encode_updates(s.complete ? 1 : 0, s.signals, w); }
     void operator()(const Delta& d) const { encode_updates(0, d.signals, w); }

@@ -34,6 +34,7 @@ std::string_view to_string(MessageType type) {
     case MessageType::Heartbeat: return "HEARTBEAT";
     case MessageType::Status: return "STATUS";
     case MessageType::Close: return "CLOSE";
+    case MessageType::Catalog: return "CATALOG";
   }
   return "UNKNOWN";
 }
@@ -76,9 +77,10 @@ std::string_view to_string(DecodeError error) {
 MessageType type_of(const Message& message) {
   return static_cast<MessageType>(message.index() + 1);  // variant order matches the type codes
 }
-static_assert(std::variant_size_v<Message> == 6);
+static_assert(std::variant_size_v<Message> == 7);
 static_assert(std::is_same_v<std::variant_alternative_t<0, Message>, Hello> &&
-              std::is_same_v<std::variant_alternative_t<5, Message>, Close>);
+              std::is_same_v<std::variant_alternative_t<5, Message>, Close> &&
+              std::is_same_v<std::variant_alternative_t<6, Message>, CatalogChunk>);
 
 
 }  // namespace meter::protocol

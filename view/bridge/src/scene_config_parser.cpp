@@ -20,6 +20,7 @@ using nlohmann::json;
 
 struct Ctx {
   std::string origin;
+  const protocol::Catalog& catalog;  // binding signal names are checked against it
   [[noreturn]] void fail(const std::string& path, const std::string& what) const {
     throw std::invalid_argument(origin + ": " + path + ": " + what);
   }
@@ -95,8 +96,8 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
   Binding out;
   if (!b.contains("signal")) c.fail(path + ".signal", "missing (a catalog signal name)");
   out.signal = string(c, b["signal"], path + ".signal");
-  const auto* info = protocol::find_signal(out.signal);
-  if (!info) c.fail(path + ".signal", "\"" + out.signal + "\" is not in the signal catalog");
+  const auto* info = c.catalog.find(out.signal);
+  if (!info) c.fail(path + ".signal", "\"" + out.signal + "\" is not in the signal catalog " + c.catalog.source());
   out.signal_id = info->id;
   if (!b.contains("kind")) c.fail(path + ".kind", "missing");
   std::string kind = string(c, b["kind"], path + ".kind");
@@ -197,7 +198,11 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
 }  // namespace
 
 SceneConfig parse_scene_config(std::string_view text, const std::string& origin) {
-  Ctx c{origin};
+  return parse_scene_config(text, *protocol::active_catalog(), origin);
+}
+
+SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& catalog, const std::string& origin) {
+  Ctx c{origin, catalog};
   json j;
   try {
     j = json::parse(text.begin(), text.end());
@@ -285,12 +290,14 @@ SceneConfig parse_scene_config(std::string_view text, const std::string& origin)
   return out;
 }
 
-SceneConfig load_scene_config(const std::string& path) {
+SceneConfig load_scene_config(const std::string& path, const protocol::Catalog& catalog) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open scene config");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_scene_config(ss.str(), path);
+  return parse_scene_config(ss.str(), catalog, path);
 }
+
+SceneConfig load_scene_config(const std::string& path) { return load_scene_config(path, *protocol::active_catalog()); }
 
 }  // namespace meter::bridge

@@ -56,3 +56,24 @@ TEST(SceneConfig, NumberFormatsAreCheckedSoFormattingCannotBeUndefined) {
   EXPECT_FALSE(valid_number_format("%999f"));
   EXPECT_EQ(format_number("%.1f km", 12.34), "12.3 km");
 }
+
+TEST(SceneConfig, BindingsAreCheckedAgainstTheCatalogGiven) {
+  const std::string config = R"({"format": "meter-scene-config/1", "bindings": [
+      {"signal": "Vehicle.Powertrain.TractionBattery.StateOfCharge.Displayed", "kind": "visibility", "node": "N"}]})";
+  auto ev = meter::protocol::parse_catalog(
+      R"({"Vehicle": {"type": "branch", "children": {"Powertrain": {"type": "branch", "children": {
+           "TractionBattery": {"type": "branch", "children": {"StateOfCharge": {"type": "branch", "children": {
+             "Displayed": {"type": "sensor", "datatype": "float", "min": 0, "max": 100, "meter_id": 100}}}}}}}}}})",
+      "ev.vss.json");
+  ASSERT_TRUE(ev.catalog) << ev.error;
+  const auto c = parse_scene_config(config, *ev.catalog, "ev.scene.json");
+  ASSERT_EQ(c.bindings.size(), 1u);
+  EXPECT_EQ(c.bindings[0].signal_id, 100);
+  try {
+    parse_scene_config(config, *meter::protocol::default_catalog(), "ev.scene.json");
+    ADD_FAILURE() << "the shipped catalog has no state of charge";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "ev.scene.json: $.bindings[0].signal: \"Vehicle.Powertrain.TractionBattery.StateOfCharge."
+                           "Displayed\" is not in the signal catalog protocol/catalog/signals.vss.json (built in)");
+  }
+}

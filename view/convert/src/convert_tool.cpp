@@ -3,12 +3,14 @@
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
+#include "meter/protocol/catalog.hpp"
 
 namespace meter::convert {
 
 int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err) {
   try {
-    const auto config = load_scene_config(o.config);
+    const auto catalog = protocol::use_catalog_option(o.catalog);
+    const auto config = load_scene_config(o.config, *catalog);
     ConvertOptions opt;
     opt.optimize = o.optimize == "on";
     opt.propose_groups = o.propose_groups;

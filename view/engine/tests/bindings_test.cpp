@@ -174,3 +174,29 @@ TEST(BindingText, MapWinsForIntegralValuesElseFormat) {
   EXPECT_EQ(binding_text(b, 3.0), "3");
   EXPECT_EQ(binding_text(b, 0.4), "0");  // not integral: formatted, not mapped
 }
+
+// A view that takes its controller's catalog looks every binding up again by name: the speed
+// needle follows Vehicle.Speed under the controller's id, and a signal the new catalog lacks reads
+// as not-available (its failsafe), reported by name.
+TEST_F(Fixture, RebindFollowsTheNewCatalogsIdsByName) {
+  auto parsed = meter::protocol::parse_catalog(
+      R"({"Vehicle": {"type": "branch", "children": {"Speed": {"type": "sensor", "datatype": "float", "min": 0, "max": 300, "meter_id": 700}}},
+          "Cluster": {"type": "branch", "children": {"Telltale": {"type": "branch", "children": {
+             "ABS": {"type": "sensor", "datatype": "boolean", "meter_id": 701}}}}}})",
+      "controller.vss.json");
+  ASSERT_TRUE(parsed.catalog) << parsed.error;
+  BindingEvaluator ev(scene());
+  const auto missing = ev.rebind(*parsed.catalog);
+  EXPECT_EQ(missing, std::vector<std::string>{"Vehicle.Powertrain.FuelSystem.RelativeLevel"});
+  SignalTable table(parsed.catalog);
+  table.set(700, 130.0, SignalStatus::Valid);
+  ev.update(table, true, -1.0);
+  const int anim = scene().find_animation("SpeedNeedle");
+  EXPECT_NEAR(ev.outputs().animation_time[static_cast<std::size_t>(anim)], 10.8333333 / 2, 1e-9);
+  for (std::size_t i = 0; i < ev.bindings().size(); ++i) {
+    if (ev.bindings()[i].signal == "Vehicle.Powertrain.FuelSystem.RelativeLevel") {
+      EXPECT_EQ(ev.states()[i].status, SignalStatus::NotAvailable);
+      EXPECT_TRUE(ev.states()[i].failsafe);
+    }
+  }
+}

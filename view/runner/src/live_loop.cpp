@@ -29,14 +29,44 @@ std::string png_name(std::uint64_t frame) {
   return name;
 }
 
+bool takes_controller_catalog(const ViewOptions& options) {
+  return options.catalog.empty() || options.catalog_from_controller;
+}
+
+protocol::LinkOptions view_link_options(const ViewOptions& options) {
+  auto lo = protocol::link_options("meter-view", std::chrono::milliseconds(options.link_timeout_ms));
+  lo.take_peer_catalog = takes_controller_catalog(options);
+  return lo;
+}
+
 }  // namespace
+
+void fetch_controller_catalog(const ViewOptions& options, std::ostream& log) {
+  if (!takes_controller_catalog(options)) return;
+  protocol::Subscriber sub(protocol::endpoint_from_option(options.link), view_link_options(options));
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(options.catalog_wait_ms);
+  while (!sub.link_up() && std::chrono::steady_clock::now() < until) sub.poll(std::chrono::milliseconds(10));
+  if (!sub.link_up()) {
+    log << "meter-view: no controller within " << options.catalog_wait_ms << " ms; loading the scene with the catalog "
+        << sub.catalog().source() << "\n";
+  }
+}
 
 void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
   using Clock = FramePacer::Clock;
   DumpPolicy policy = dump_policy(options);
   install_stop_handlers();
-  protocol::Subscriber sub(protocol::endpoint_from_option(options.link),
-                          protocol::link_options("meter-view", std::chrono::milliseconds(options.link_timeout_ms)));
+  protocol::Subscriber sub(protocol::endpoint_from_option(options.link), view_link_options(options));
+  std::uint64_t catalog_seen = sub.catalog_changes();
+  // A controller restarted with another catalog: its ids are the ones the table now holds.
+  auto follow_catalog = [&] {
+    if (sub.catalog_changes() == catalog_seen) return;
+    catalog_seen = sub.catalog_changes();
+    for (const auto& name : ctx.evaluator.rebind(sub.catalog())) {
+      log << "meter-view: the controller's catalog " << sub.catalog().source() << " has no signal " << name
+          << "; its bindings show not-available\n";
+    }
+  };
   FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
   LatencyTrace trace(options.trace_csv);
   auto trace_applied = [&] { trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied()); };
@@ -91,6 +121,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     // Whatever arrived while waiting (or while the last frame rendered) is applied before the
     // frame: the frame always draws the newest state, and an EOF is seen now, not a frame later.
     drain();
+    follow_catalog();
     const auto ft = pacer.begin_frame(Clock::now());
     const std::int64_t t_update = LatencyTrace::now();
     ctx.evaluator.update(sub.signals(), sub.link_up(), ft.dt);  // read in place, no copy

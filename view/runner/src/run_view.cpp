@@ -1,5 +1,6 @@
 #include "meter/view/run_view.hpp"
 
+#include "meter/protocol/catalog.hpp"
 #include "meter/view/live_loop.hpp"
 #include "meter/view/offline_render.hpp"
 #include "meter/view/process_signals.hpp"
@@ -10,10 +11,13 @@ namespace meter::view {
 int run_view(const ViewOptions& options, std::ostream& log) {
   install_dump_request_handler();
   try {
-    RenderContext ctx(options, log);
+    protocol::use_catalog_option(options.catalog);  // before the scene: its bindings name catalog signals
     if (options.link.empty()) {
+      RenderContext ctx(options, log);
       render_offline(ctx, options, log);
     } else {
+      fetch_controller_catalog(options, log);
+      RenderContext ctx(options, log);
       run_live(ctx, options, log);
     }
     return 0;

@@ -52,6 +52,8 @@ struct LinkStats {
   std::uint64_t deltas_sent = 0, deltas_received = 0;
   std::uint64_t heartbeats_sent = 0, heartbeats_received = 0;
   std::uint64_t status_sent = 0, status_received = 0;
+  std::uint64_t catalog_pieces_sent = 0, catalog_pieces_received = 0;  // CATALOG frames
+  std::uint64_t catalogs_taken = 0;           // Subscriber: publisher catalogs assembled and used
   std::uint64_t signal_updates_sent = 0;      // entries inside SNAPSHOT/DELTA frames
   std::uint64_t signal_updates_applied = 0;   // entries that changed the local state
   std::uint64_t coalesced_updates = 0;        // set() calls that overwrote a value not yet sent
@@ -142,6 +144,11 @@ class Subscriber {
   // since a version a consumer saw.
   const SignalTable& signals() const;
   const SignalState& get(SignalId id) const;  // signals().get(id); unknown id: std::out_of_range
+  // The catalog signals() follows: the active catalog at construction, or the publisher's once
+  // taken (LinkOptions::take_peer_catalog). catalog_changes() counts how often it was replaced, so
+  // a consumer that resolved names to ids knows to resolve them again.
+  const Catalog& catalog() const;
+  std::uint64_t catalog_changes() const;
   std::uint64_t state_version() const;        // signals().version(): increments on every applied change
   std::int64_t last_sender_time_ns() const;   // sender timestamp (CLOCK_MONOTONIC) of last applied msg
   std::uint64_t last_sequence_applied() const;

@@ -20,9 +20,13 @@ struct LinkOptions {
   std::chrono::milliseconds reconnect_min{50}, reconnect_max{2000};  // Subscriber backoff
   std::string name;                       // sent in HELLO, used in log lines ("meter-view")
   std::size_t max_peers = 16;             // Publisher: connections beyond this get CLOSE and are dropped
-  // The catalog hash announced in HELLO. Empty = catalog_hash() of this build. Only tools and
+  // The catalog hash announced in HELLO. Empty = the hash of the catalog in use. Only tools and
   // tests that deliberately emulate another build set it.
   std::optional<std::uint64_t> catalog_hash_override;
+  // Subscriber: when the publisher's catalog differs from ours, ask for it (HELLO flag) and use
+  // it: it becomes this process's active catalog and the table is rebuilt on it. false: such a
+  // link is refused with a message naming both catalog files.
+  bool take_peer_catalog = false;
 };
 
 // The options meter-controller and meter-view both derive from their --link-timeout (the silence

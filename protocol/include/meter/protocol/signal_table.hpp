@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -27,14 +28,18 @@ struct SignalState {
 
 class SignalTable {
  public:
-  // Every catalog signal at value 0, status NotAvailable, no text; version() 0.
+  // Every signal of `catalog` (default: the active catalog) at value 0, status NotAvailable, no
+  // text; version() 0.
   SignalTable();
+  explicit SignalTable(std::shared_ptr<const Catalog> catalog);
 
+  const Catalog& catalog() const { return *catalog_; }
+  const std::shared_ptr<const Catalog>& catalog_ptr() const { return catalog_; }
   // Position of `id` in catalog(), std::nullopt if the catalog has no such signal. O(1).
-  static std::optional<std::size_t> index_of(SignalId id);
+  std::optional<std::size_t> index_of(SignalId id) const { return catalog_->index_of(id); }
 
   std::size_t size() const { return states_.size(); }
-  // All states in catalog order: states()[i] belongs to catalog()[i].
+  // All states in catalog order: states()[i] belongs to catalog().signals()[i].
   std::span<const SignalState> states() const { return states_; }
 
   const SignalState* find(SignalId id) const;  // nullptr for an id not in the catalog
@@ -59,6 +64,7 @@ class SignalTable {
   std::size_t index_or_throw(SignalId id) const;
   bool store(std::size_t index, double value, SignalStatus status, std::string* text);
 
+  std::shared_ptr<const Catalog> catalog_;
   std::vector<SignalState> states_;
   std::vector<std::uint64_t> changed_at_;
   std::uint64_t version_ = 0;

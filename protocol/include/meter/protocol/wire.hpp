@@ -2,7 +2,7 @@
 // rule in docs/protocol.md is testable (and fuzzable) on plain bytes.
 //
 // Frame = 32-byte header + payload, all integers little-endian:
-//   0  u32 magic "MTRL" (bytes 4D 54 52 4C)   4  u8 version (1)   5  u8 type   6  u16 flags (0)
+//   0  u32 magic "MTRL" (bytes 4D 54 52 4C)   4  u8 version (2)   5  u8 type   6  u16 flags (0)
 //   8  u32 payload length                    12  u64 sequence    20  i64 sender timestamp ns
 //   28 u32 CRC-32C over bytes 0..27 and the payload
 #pragma once
@@ -21,7 +21,7 @@
 namespace meter::protocol {
 
 inline constexpr std::uint32_t kMagic = 0x4C52544DU;  // "MTRL" as bytes on the wire
-inline constexpr std::uint8_t kProtocolVersion = 1;
+inline constexpr std::uint8_t kProtocolVersion = 2;  // 2: HELLO flags + catalog source, CATALOG
 inline constexpr std::size_t kHeaderSize = 32;
 inline constexpr std::size_t kMaxFrameSize = 65536;
 inline constexpr std::size_t kMaxPayloadSize = kMaxFrameSize - kHeaderSize;
@@ -41,11 +41,15 @@ enum class MessageType : std::uint8_t {
   Heartbeat = 4,
   Status = 5,
   Close = 6,
+  Catalog = 7,
 };
 std::string_view to_string(MessageType type);
 
 enum class Role : std::uint8_t { Publisher = 1, Subscriber = 2 };
 std::string_view to_string(Role role);
+
+// HELLO flag bits.
+inline constexpr std::uint8_t kHelloTakesCatalog = 1;  // subscriber: send me your catalog if ours differ
 
 struct Hello {
   Role role = Role::Publisher;
@@ -54,8 +58,22 @@ struct Hello {
   std::uint16_t signal_count = 0;         // informational: entries in the sender's catalog
   std::uint32_t heartbeat_period_ms = 0;  // the receiver uses max(own, this) for loss detection
   std::string name;                       // at most kMaxNameBytes
+  std::string catalog_source;             // the sender's catalog file, for refusals; at most kMaxTextBytes
+  std::uint8_t flags = 0;                 // kHelloTakesCatalog; other bits reserved (0)
   bool operator==(const Hello&) const = default;
 };
+
+// One piece of the publisher's catalog (its VSS JSON text), sent after HELLO to a subscriber that
+// takes it. Pieces arrive in order, index 0..count-1; their bytes concatenated are the file.
+struct CatalogChunk {
+  std::uint64_t catalog_hash = 0;  // the hash the assembled catalog must have (as in HELLO)
+  std::uint16_t index = 0;
+  std::uint16_t count = 1;
+  std::string bytes;               // at most kMaxCatalogChunkBytes
+  bool operator==(const CatalogChunk&) const = default;
+};
+inline constexpr std::size_t kCatalogChunkOverhead = 16;  // hash u64, index u16, count u16, length u32
+inline constexpr std::size_t kMaxCatalogChunkBytes = kMaxPayloadSize - kCatalogChunkOverhead;
 
 // One signal's value in a SNAPSHOT or DELTA.
 struct SignalUpdate {
@@ -128,7 +146,7 @@ struct Close {
   bool operator==(const Close&) const = default;
 };
 
-using Message = std::variant<Hello, Snapshot, Delta, Heartbeat, Status, Close>;
+using Message = std::variant<Hello, Snapshot, Delta, Heartbeat, Status, Close, CatalogChunk>;
 MessageType type_of(const Message& message);
 
 struct FrameHeader {

@@ -52,6 +52,16 @@ BindingEvaluator::BindingEvaluator(const Scene& scene) : scene_(scene), bindings
   out_ = resting_outputs(scene);
 }
 
+std::vector<std::string> BindingEvaluator::rebind(const protocol::Catalog& catalog) {
+  std::vector<std::string> missing;
+  for (auto& b : bindings_) {
+    const auto* info = catalog.find(b.signal);
+    b.signal_id = info ? info->id : -1;
+    if (!info) missing.push_back(b.signal);
+  }
+  return missing;
+}
+
 namespace {
 
 double unit(double v, const std::array<double, 2>& range) {

@@ -99,6 +99,11 @@ class Model {
   ModelOptions options_;
   SourceTable sources_;
   std::vector<Out> outs_;
+  // Ids of the signals the model treats specially, found by VSS name in the loaded catalog
+  // (another catalog may number them differently); nullopt when the catalog has none.
+  struct SpecialIds {
+    std::optional<protocol::SignalId> speed, ignition, odometer, trip;
+  } special_;
   int speed_out_ = -1;  // the vehicle-speed output in outs_ (the odometer and conditioning read it), -1 = none
   std::vector<ModelOutput> outputs_;
   std::vector<ModelOutput> reported_;  // outputs as of the previous update (change detection)

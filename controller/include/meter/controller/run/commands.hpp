@@ -29,6 +29,8 @@ struct RunOptions {
   // flush to the link, on CLOCK_REALTIME (bench/latency reads it). Empty = off.
   std::string trace;
   bool strict = false;  // refuse every DBC quirk the lenient parser would only warn about
+  // The signal catalog (VSS JSON, docs/catalog.md); empty: the built-in default.
+  std::string catalog;
 };
 
 // Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;

@@ -6,11 +6,17 @@
 #include <string_view>
 
 #include "meter/bridge/scene_config.hpp"
+#include "meter/protocol/catalog.hpp"
 
 namespace meter::bridge {
 
-// `origin` names the file in messages. Throws std::invalid_argument.
+// `origin` names the file in messages. Binding signal names must be in `catalog` (their ids come
+// from it). Throws std::invalid_argument.
+SceneConfig parse_scene_config(std::string_view json_text, const protocol::Catalog& catalog,
+                               const std::string& origin);
+// The same against the process's active catalog (protocol::active_catalog()).
 SceneConfig parse_scene_config(std::string_view json_text, const std::string& origin = "config");
+SceneConfig load_scene_config(const std::string& path, const protocol::Catalog& catalog);
 SceneConfig load_scene_config(const std::string& path);
 
 }  // namespace meter::bridge

@@ -12,6 +12,7 @@ struct ToolOptions {
   std::string input, config, output;
   std::string optimize = "on";  // "on" | "off"
   bool report = false, quiet = false, propose_groups = false;
+  std::string catalog;  // signal catalog the config's bindings are checked against; empty = built in
 };
 
 // Returns the process exit code (0 written, 1 error); `out` gets the report, `err` the repairs,

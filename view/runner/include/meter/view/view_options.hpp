@@ -31,6 +31,14 @@ struct ViewOptions {
   std::vector<std::string> dump_at;  // times, e.g. "2.5s"
   int link_timeout_ms = 300;
   std::string trace_csv;          // empty = none
+
+  // The signal catalog (VSS JSON); empty = the built-in default. Live, a view without --catalog
+  // (or with catalog_from_controller) takes its controller's catalog when it differs: it waits up
+  // to catalog_wait_ms for the controller before loading the scene, so a scene binding a signal
+  // only the controller's catalog has still loads.
+  std::string catalog;
+  bool catalog_from_controller = false;
+  int catalog_wait_ms = 2000;
 };
 
 }  // namespace meter::view

@@ -72,6 +72,11 @@ class BindingEvaluator {
   // changed.
   bool update(const protocol::SignalTable& signals, bool link_up, double dt_seconds);
 
+  // Looks every binding's signal up again by name in `catalog` (the view took its controller's
+  // catalog, whose ids may differ). A name the catalog lacks reads as NotAvailable from then on;
+  // those names are returned.
+  std::vector<std::string> rebind(const protocol::Catalog& catalog);
+
   const BindingOutputs& outputs() const { return out_; }
   const std::vector<BindingState>& states() const { return state_; }
   const std::vector<Binding>& bindings() const { return bindings_; }
