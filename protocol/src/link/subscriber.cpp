@@ -45,6 +45,7 @@ struct Subscriber::Impl {
   LinkStats stats;
   std::string last_error;
   bool changed = false;  // set by apply(), consumed by poll()
+  FrameObserver observer;
   // A disconnect decided while Channel::receive() is still on the stack runs after it returns.
   struct PendingDisconnect {
     std::string why;
@@ -174,6 +175,7 @@ struct Subscriber::Impl {
 
   // Returns false if the channel was closed while handling the frame.
   bool on_frame(Frame&& frame) {
+    if (observer) observer(frame);
     if (auto* close = std::get_if<Close>(&frame.message)) {
       const bool was_live = phase == Phase::Live;
       if (close->reason != CloseReason::Normal) ++stats.handshakes_refused;
@@ -357,5 +359,6 @@ void Subscriber::send_status(std::uint64_t frames_rendered, std::uint32_t fault_
 LinkStats Subscriber::stats() const { return impl_->stats; }
 int Subscriber::wait_fd() const { return impl_->poller.fd(); }
 std::string Subscriber::last_error() const { return impl_->last_error; }
+void Subscriber::set_frame_observer(FrameObserver observer) { impl_->observer = std::move(observer); }
 
 }  // namespace meter::protocol

@@ -26,6 +26,7 @@
 #include "meter/protocol/endpoint.hpp"
 #include "meter/protocol/link_options.hpp"
 #include "meter/protocol/signal_table.hpp"
+#include "meter/protocol/wire.hpp"
 
 namespace meter::protocol {
 
@@ -145,6 +146,11 @@ class Subscriber {
   LinkStats stats() const;
   int wait_fd() const;  // epoll fd readable when poll() has work
   std::string last_error() const;
+
+  // Called with every frame received from the publisher (HELLO, SNAPSHOT, DELTA, HEARTBEAT, CLOSE),
+  // before it is handled, from inside poll(). For tools that show the link's traffic (meter-linkdump).
+  using FrameObserver = std::function<void(const Frame& frame)>;
+  void set_frame_observer(FrameObserver observer);  // empty = none
 
  private:
   struct Impl;
