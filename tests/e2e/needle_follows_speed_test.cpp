@@ -22,11 +22,13 @@
 #include "meter/controller/input/can_frame.hpp"
 #include "meter/platform/image.hpp"
 #include "needle.hpp"
+#include "live_run.hpp"
 #include "process.hpp"
 
 namespace fs = std::filesystem;
 using meter::testing::ChildProcess;
 using meter::testing::built_executable;
+using meter::testing::read_csv;
 
 namespace {
 
@@ -71,30 +73,6 @@ struct FrameRow {
   std::string status;
 };
 
-// Rows of a CSV with a header, as column name -> cell; a row shorter than the header (still being
-// written) is left out.
-std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) cells.push_back(cell);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    if (cells.size() < header.size()) continue;
-    std::map<std::string, std::string> row;
-    for (std::size_t i = 0; i < header.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 std::vector<FrameRow> read_frames_csv(const fs::path& file) {
   std::vector<FrameRow> rows;
   for (const auto& r : read_csv(file)) {
@@ -111,22 +89,15 @@ std::vector<FrameRow> read_frames_csv(const fs::path& file) {
 
 // scenes/minimal-gauge converted into dir/gauge.msp.
 void convert_gauge(const fs::path& dir) {
-  ChildProcess convert({built_executable("meter-convert"), kSource + "/scenes/minimal-gauge/minimal-gauge.glb",
-                        "--config", kSource + "/scenes/minimal-gauge/minimal-gauge.scene.json", "-o",
-                        (dir / "gauge.msp").string()},
-                       (dir / "convert.log").string());
-  auto rc = convert.wait_for(std::chrono::seconds(60));
-  ASSERT_TRUE(rc.has_value()) << "meter-convert hung";
-  ASSERT_EQ(*rc, 0) << convert.log();
+  ASSERT_NO_THROW(meter::testing::convert_minimal_gauge(dir / "gauge.msp"));
 }
 
 // Waits until the live view has dumped its first frame (frames.csv has a row): its loop is running.
-void wait_for_first_dump(const fs::path& frames_csv, ChildProcess& view) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (!fs::exists(frames_csv) || read_csv(frames_csv).empty()) {
-    ASSERT_TRUE(view.running()) << "meter-view ended before its first frame:\n" << view.log();
-    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "meter-view dumped no frame in 30 s:\n" << view.log();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+void await_first_dump(const fs::path& frames_csv, ChildProcess& view) {
+  try {
+    meter::testing::wait_for_first_dump(frames_csv, view);
+  } catch (const std::exception& e) {
+    FAIL() << e.what();
   }
 }
 
@@ -150,7 +121,7 @@ TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
                      "--backend", "egl", "--link", link, "--fps", "10", "--dump-every", "1",
                      "--duration", "9", "--out", (dir / "frames").string()},
                     (dir / "view.log").string());
-  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  await_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
   ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
                            kSource + "/controller/vehicles/demo/demo.dbc", "--map",
@@ -212,7 +183,7 @@ TEST(EndToEnd, LiveViewDumpsAtGivenTimesAndOnRequest) {
                      (dir / "timing.csv").string(), "--out", (dir / "frames").string()},
                     (dir / "view.log").string());
   // The request comes once the view is surely in its loop (the 0.5 s dump is there).
-  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  await_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
   view.signal(SIGUSR1);
   const auto rc = view.wait_for(std::chrono::seconds(40));

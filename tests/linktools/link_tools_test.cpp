@@ -1,0 +1,206 @@
+// The link tools end to end, without a bus: meter-controller replays a candump log into its link;
+// meter-linkdump records what it sent while a live meter-view draws it; meter-linkplay then
+// replays the recording into a second view. Frames the two views drew at the same signal state
+// must be equal pixel for pixel, and every state the live view dwelt in must come back.
+//
+// Why states and not frame numbers: each view renders at its own clock, so frame N of one run
+// and frame N of the other fall at different moments. The minimal gauge draws a pure function of
+// its state (Vehicle.Speed value and status, link up; smoothing_ms 0 in its scene config), so two
+// frames drawn at the same frames.csv state must be the same image.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <variant>
+#include <vector>
+
+#include "live_run.hpp"
+#include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/dbc/database.hpp"
+#include "meter/controller/input/can_frame.hpp"
+#include "meter/platform/image.hpp"
+#include "meter/protocol/recording.hpp"
+#include "process.hpp"
+
+namespace fs = std::filesystem;
+using meter::testing::built_executable;
+using meter::testing::ChildProcess;
+
+namespace {
+
+const std::string kSource = METER_SOURCE_DIR;
+
+// Speed steps the controller's damping settles between: 0, 60, 120 km/h, 1.5 s each.
+double step_speed_at(double t) { return t < 1.5 ? 0.0 : (t < 3.0 ? 60.0 : 120.0); }
+constexpr double kLogSeconds = 4.5;
+
+// ESP_WheelSpeeds (the demo vehicle's speed message) every 20 ms in candump -L form.
+void write_step_log(const fs::path& file) {
+  const auto db = meter::controller::load_dbc(kSource + "/controller/vehicles/demo/demo.dbc");
+  const auto* msg = db.find("ESP_WheelSpeeds");
+  ASSERT_NE(msg, nullptr) << "demo.dbc lost ESP_WheelSpeeds";
+  std::ofstream out(file);
+  for (int i = 0; i * 0.02 <= kLogSeconds + 1e-9; ++i) {
+    const double v = step_speed_at(i * 0.02);
+    const std::pair<std::string_view, double> values[] = {{"VehicleSpeed", v}, {"WheelSpeedFL", v}, {"WheelSpeedFR", v}};
+    const auto payload = meter::controller::encode(*msg, values);
+    meter::controller::CanFrame f;
+    f.timestamp_ns = 1'700'000'000'000'000'000LL + static_cast<std::int64_t>(i) * 20'000'000LL;
+    f.id = msg->id;
+    f.extended = msg->extended;
+    f.len = static_cast<std::uint8_t>(payload.size());
+    std::copy(payload.begin(), payload.end(), f.data.begin());
+    out << meter::controller::format_candump_line(f, "can0") << "\n";
+  }
+}
+
+std::vector<std::string> view_args(const fs::path& dir, const std::string& link, const std::string& out) {
+  return {built_executable("meter-view"), "--scene", (dir / "gauge.msp").string(), "--backend", "egl", "--link", link,
+          "--fps", "10", "--dump-every", "1", "--duration", "10", "--out", (dir / out).string()};
+}
+
+// A frame's drawn state as frames.csv gives it.
+using State = std::tuple<std::string, std::string, std::string, std::string>;  // link_up, speed, status, failsafe
+std::map<State, std::vector<std::string>> frames_by_state(const fs::path& frames_dir) {
+  std::map<State, std::vector<std::string>> out;
+  for (const auto& r : meter::testing::read_csv(frames_dir / "frames.csv")) {
+    out[{r.at("link_up"), r.at("Vehicle.Speed"), r.at("Vehicle.Speed.status"), r.at("Vehicle.Speed.failsafe")}]
+        .push_back(r.at("png"));
+  }
+  return out;
+}
+
+std::string describe(const State& s) {
+  return "link_up=" + std::get<0>(s) + " speed=" + std::get<1>(s) + " " + std::get<2>(s) + " failsafe=" + std::get<3>(s);
+}
+
+std::vector<std::string> lines_of(const fs::path& file, bool skip_comments) {
+  std::ifstream in(file);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);)
+    if (!(skip_comments && line.rfind("#", 0) == 0) && line.rfind("(", 0) == 0) out.push_back(line);
+  return out;
+}
+
+}  // namespace
+
+TEST(LinkTools, ReplayedRecordingDrawsTheLiveFramesPixelForPixel) {
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "linktools" / "roundtrip";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_step_log(dir / "steps.log");
+  if (HasFatalFailure()) return;
+  ASSERT_NO_THROW(meter::testing::convert_minimal_gauge(dir / "gauge.msp"));
+
+  // Live: controller -> (view A, linkdump) on one link.
+  const std::string live_link = "unix:" + (dir / "live.sock").string();
+  ChildProcess live_view(view_args(dir, live_link, "live"), (dir / "live-view.log").string());
+  ASSERT_NO_THROW(meter::testing::wait_for_first_dump(dir / "live" / "frames.csv", live_view));
+  ChildProcess dump({built_executable("meter-linkdump"), "--link", live_link, "-o", (dir / "rec.txt").string(),
+                     "--until-closed", "--duration", "60"},
+                    (dir / "linkdump.out").string());
+  ChildProcess controller({built_executable("meter-controller"), "run", "--dbc",
+                           kSource + "/controller/vehicles/demo/demo.dbc", "--map",
+                           kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + (dir / "steps.log").string(),
+                           "--replay", "realtime", "--link", live_link, "--state-dir", (dir / "state").string(),
+                           "--exit-at-end", "--linger", "2"},
+                          (dir / "controller.log").string());
+  const auto crc = controller.wait_for(std::chrono::seconds(40));
+  ASSERT_TRUE(crc.has_value()) << "meter-controller did not finish:\n" << controller.log();
+  ASSERT_EQ(*crc, 0) << controller.log();
+  const auto drc = dump.wait_for(std::chrono::seconds(20));
+  ASSERT_TRUE(drc.has_value()) << "meter-linkdump did not end when the link closed:\n" << dump.log();
+  ASSERT_EQ(*drc, 0) << dump.log();
+  const auto lrc = live_view.wait_for(std::chrono::seconds(40));
+  ASSERT_TRUE(lrc.has_value()) << live_view.log();
+  ASSERT_EQ(*lrc, 0) << live_view.log();
+
+  // What linkdump printed is what it recorded, and the recording parses.
+  const auto printed = lines_of(dir / "linkdump.out", false);
+  const auto recorded = lines_of(dir / "rec.txt", true);
+  ASSERT_FALSE(recorded.empty()) << dump.log();
+  EXPECT_EQ(printed, recorded);
+  std::ifstream rec_in(dir / "rec.txt");
+  std::string header;
+  std::getline(rec_in, header);
+  EXPECT_EQ(header, meter::protocol::recording_header(meter::protocol::catalog_hash()));
+  rec_in.seekg(0);
+  std::vector<meter::protocol::RecordedFrame> frames;
+  ASSERT_NO_THROW(frames = meter::protocol::parse_recording(rec_in, (dir / "rec.txt").string()));
+  ASSERT_TRUE(std::holds_alternative<meter::protocol::Hello>(frames.front().frame.message)) << recorded.front();
+  EXPECT_EQ(std::get<meter::protocol::Hello>(frames.front().frame.message).name, "meter-controller");
+  std::size_t deltas = 0, heartbeats = 0;
+  for (const auto& f : frames) {
+    deltas += std::holds_alternative<meter::protocol::Delta>(f.frame.message);
+    heartbeats += std::holds_alternative<meter::protocol::Heartbeat>(f.frame.message);
+  }
+  EXPECT_TRUE(std::holds_alternative<meter::protocol::Snapshot>(frames.at(1).frame.message)) << recorded.at(1);
+  EXPECT_GT(deltas, 10u) << "two speed steps, damped, arrive as many DELTAs";
+  EXPECT_GT(heartbeats, 0u) << "--linger 2 with a 1 s link timeout sends heartbeats";
+  // The controller ends with --exit-at-end and says so.
+  ASSERT_TRUE(std::holds_alternative<meter::protocol::Close>(frames.back().frame.message)) << recorded.back();
+  EXPECT_EQ(std::get<meter::protocol::Close>(frames.back().frame.message).reason, meter::protocol::CloseReason::Normal);
+
+  // Replay: linkplay(recording) -> view B.
+  const std::string play_link = "unix:" + (dir / "play.sock").string();
+  ChildProcess play_view(view_args(dir, play_link, "replay"), (dir / "replay-view.log").string());
+  ASSERT_NO_THROW(meter::testing::wait_for_first_dump(dir / "replay" / "frames.csv", play_view));
+  ChildProcess play({built_executable("meter-linkplay"), (dir / "rec.txt").string(), "--link", play_link, "--speed",
+                     "realtime", "--linger", "2"},
+                    (dir / "linkplay.log").string());
+  const auto prc = play.wait_for(std::chrono::seconds(40));
+  ASSERT_TRUE(prc.has_value()) << "meter-linkplay did not finish:\n" << play.log();
+  ASSERT_EQ(*prc, 0) << play.log();
+  const auto vrc = play_view.wait_for(std::chrono::seconds(40));
+  ASSERT_TRUE(vrc.has_value()) << play_view.log();
+  ASSERT_EQ(*vrc, 0) << play_view.log();
+
+  const auto live = frames_by_state(dir / "live");
+  const auto replay = frames_by_state(dir / "replay");
+  std::size_t common = 0;
+  for (const auto& [state, pngs] : live) {
+    const auto it = replay.find(state);
+    // The live view dwelt >= 0.5 s (5 frames at 10 fps) in each settled state with the link up: at
+    // rest, at the 60 and 120 km/h plateaus (1.5 s each) and through the controller's 2 s linger.
+    // The replay holds each state as long, so it must have drawn them too.
+    if (std::get<0>(state) == "1" && pngs.size() >= 5) {
+      EXPECT_NE(it, replay.end()) << "the replay never drew " << describe(state) << " (" << pngs.size()
+                                  << " live frames did)";
+    }
+    if (it == replay.end()) continue;
+    ++common;
+    const auto a = meter::platform::read_png(dir / "live" / pngs.front());
+    const auto b = meter::platform::read_png(dir / "replay" / it->second.front());
+    EXPECT_TRUE(a == b) << describe(state) << ": live " << pngs.front() << " and replayed " << it->second.front()
+                        << " differ";
+  }
+  // At least rest, the two plateaus and the failsafe look before and after the link.
+  EXPECT_GE(common, 3u) << "too few states drawn by both views to compare";
+}
+
+// A recording with a bad line is refused before anything is served, naming the file and line.
+TEST(LinkTools, LinkplayRefusesABadRecordingWithFileAndLine) {
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "linktools" / "bad";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  {
+    std::ofstream out(dir / "bad.txt");
+    out << meter::protocol::recording_header(meter::protocol::catalog_hash()) << "\n"
+        << "(1.000000000) HEARTBEAT seq=1 sent=1.000000000\n"
+        << "(1.100000000) DELTA seq=2 sent=1.100000000 Vehicle.Speed=12:fine\n";
+  }
+  ChildProcess play({built_executable("meter-linkplay"), (dir / "bad.txt").string(), "--link",
+                     "unix:" + (dir / "never.sock").string(), "--wait-for-view", "0"},
+                    (dir / "linkplay.log").string());
+  const auto rc = play.wait_for(std::chrono::seconds(20));
+  ASSERT_TRUE(rc.has_value());
+  EXPECT_EQ(*rc, 1) << play.log();
+  EXPECT_NE(play.log().find((dir / "bad.txt").string() + ":3: Vehicle.Speed: unknown status 'fine'"), std::string::npos)
+      << play.log();
+  EXPECT_FALSE(fs::exists(dir / "never.sock")) << "linkplay listened before checking the recording";
+}
