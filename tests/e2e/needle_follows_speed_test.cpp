@@ -17,13 +17,11 @@
 #include <thread>
 #include <vector>
 
-#include "meter/controller/dbc/codec.hpp"
-#include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/can_frame.hpp"
 #include "meter/platform/image.hpp"
 #include "needle.hpp"
 #include "live_run.hpp"
 #include "process.hpp"
+#include "speed_log.hpp"
 
 namespace fs = std::filesystem;
 using meter::testing::ChildProcess;
@@ -42,27 +40,9 @@ double true_speed_at(double t) {
 }
 constexpr double kLogSeconds = 4.0;
 
-// Writes ESP_WheelSpeeds (the demo vehicle's speed message) every 20 ms in candump -L form.
+// ESP_WheelSpeeds (the demo vehicle's speed message) every 20 ms in candump -L form.
 void write_speed_log(const fs::path& file) {
-  const auto db = meter::controller::load_dbc(kSource + "/controller/vehicles/demo/demo.dbc");
-  const auto* msg = db.find("ESP_WheelSpeeds");
-  ASSERT_NE(msg, nullptr) << "demo.dbc lost ESP_WheelSpeeds";
-  std::ofstream out(file);
-  const std::int64_t t0_ns = 1'700'000'000'000'000'000LL;
-  for (int i = 0; i * 0.02 <= kLogSeconds + 1e-9; ++i) {
-    const double t = i * 0.02;
-    const std::pair<std::string_view, double> values[] = {{"VehicleSpeed", true_speed_at(t)},
-                                                          {"WheelSpeedFL", true_speed_at(t)},
-                                                          {"WheelSpeedFR", true_speed_at(t)}};
-    const auto payload = meter::controller::encode(*msg, values);
-    meter::controller::CanFrame f;
-    f.timestamp_ns = t0_ns + static_cast<std::int64_t>(i) * 20'000'000LL;
-    f.id = msg->id;
-    f.extended = msg->extended;
-    f.len = static_cast<std::uint8_t>(payload.size());
-    std::copy(payload.begin(), payload.end(), f.data.begin());
-    out << meter::controller::format_candump_line(f, "can0") << "\n";
-  }
+  ASSERT_NO_THROW(meter::testing::write_demo_speed_log(file, true_speed_at, kLogSeconds));
 }
 
 struct FrameRow {

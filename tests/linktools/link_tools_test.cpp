@@ -20,12 +20,10 @@
 #include <vector>
 
 #include "live_run.hpp"
-#include "meter/controller/dbc/codec.hpp"
-#include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/can_frame.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/recording.hpp"
 #include "process.hpp"
+#include "speed_log.hpp"
 
 namespace fs = std::filesystem;
 using meter::testing::built_executable;
@@ -38,26 +36,6 @@ const std::string kSource = METER_SOURCE_DIR;
 // Speed steps the controller's damping settles between: 0, 60, 120 km/h, 1.5 s each.
 double step_speed_at(double t) { return t < 1.5 ? 0.0 : (t < 3.0 ? 60.0 : 120.0); }
 constexpr double kLogSeconds = 4.5;
-
-// ESP_WheelSpeeds (the demo vehicle's speed message) every 20 ms in candump -L form.
-void write_step_log(const fs::path& file) {
-  const auto db = meter::controller::load_dbc(kSource + "/controller/vehicles/demo/demo.dbc");
-  const auto* msg = db.find("ESP_WheelSpeeds");
-  ASSERT_NE(msg, nullptr) << "demo.dbc lost ESP_WheelSpeeds";
-  std::ofstream out(file);
-  for (int i = 0; i * 0.02 <= kLogSeconds + 1e-9; ++i) {
-    const double v = step_speed_at(i * 0.02);
-    const std::pair<std::string_view, double> values[] = {{"VehicleSpeed", v}, {"WheelSpeedFL", v}, {"WheelSpeedFR", v}};
-    const auto payload = meter::controller::encode(*msg, values);
-    meter::controller::CanFrame f;
-    f.timestamp_ns = 1'700'000'000'000'000'000LL + static_cast<std::int64_t>(i) * 20'000'000LL;
-    f.id = msg->id;
-    f.extended = msg->extended;
-    f.len = static_cast<std::uint8_t>(payload.size());
-    std::copy(payload.begin(), payload.end(), f.data.begin());
-    out << meter::controller::format_candump_line(f, "can0") << "\n";
-  }
-}
 
 std::vector<std::string> view_args(const fs::path& dir, const std::string& link, const std::string& out) {
   return {built_executable("meter-view"), "--scene", (dir / "gauge.msp").string(), "--backend", "egl", "--link", link,
@@ -93,8 +71,7 @@ TEST(LinkTools, ReplayedRecordingDrawsTheLiveFramesPixelForPixel) {
   const fs::path dir = fs::path(METER_BINARY_DIR) / "linktools" / "roundtrip";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  write_step_log(dir / "steps.log");
-  if (HasFatalFailure()) return;
+  ASSERT_NO_THROW(meter::testing::write_demo_speed_log(dir / "steps.log", step_speed_at, kLogSeconds));
   ASSERT_NO_THROW(meter::testing::convert_minimal_gauge(dir / "gauge.msp"));
 
   // Live: controller -> (view A, linkdump) on one link.
