@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(30, 60000))->capture_default_str();
   app.add_option("--trace", o.trace_csv,
                  "live: latency trace CSV (link updates applied, frame rendered, PNG written; CLOCK_REALTIME ns)");
+  app.add_option("--trace-json", o.trace_json,
+                 "live: Chrome trace-event JSON (intake, evaluate, render, readback, encode on CLOCK_MONOTONIC, "
+                 "the controller's --trace-json clock; opens in Perfetto UI)");
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
   return run_view(o, std::cerr);

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "meter/protocol/link.hpp"
+#include "meter/protocol/trace_events.hpp"
 
 #include "meter/view/dump_policy.hpp"
 #include "meter/view/frame_pacing.hpp"
@@ -27,6 +28,25 @@ std::string png_name(std::uint64_t frame) {
   return name;
 }
 
+// The frame's slices: evaluate (bindings, outputs applied), render, and inside render the
+// renderer's own measured parts laid end to end from its start (update, submit, readback).
+void trace_frame_events(protocol::TraceEventFile& events, std::uint64_t frame, std::int64_t evaluate_began,
+                        std::int64_t render_began, std::int64_t render_ended, const engine::FrameTiming& timing) {
+  if (!events.on()) return;
+  const std::vector<std::pair<std::string, std::int64_t>> args = {{"frame", static_cast<std::int64_t>(frame)},
+                                                                  {"drawn", timing.drawn ? 1 : 0}};
+  events.complete("evaluate", "view", evaluate_began, render_began, 1, args);
+  events.complete("render", "view", render_began, render_ended, 1, args);
+  std::int64_t t = render_began;
+  const std::pair<const char*, double> parts[] = {
+      {"update", timing.update_ms}, {"submit", timing.submit_ms}, {"readback", timing.gpu_readback_ms}};
+  for (const auto& [name, ms] : parts) {
+    const auto end = t + static_cast<std::int64_t>(ms * 1e6);
+    events.complete(name, "view", t, end, 1, args);
+    t = end;
+  }
+}
+
 }  // namespace
 
 void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
@@ -37,9 +57,22 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
                           protocol::link_options("meter-view", std::chrono::milliseconds(options.link_timeout_ms)));
   FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
   LatencyTrace trace(options.trace_csv);
-  auto trace_applied = [&] { trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied()); };
+  // --trace-json (docs/tracing.md): intake, evaluate, render (update, submit, readback) on the render
+  // loop, encode on the PNG writer; CLOCK_MONOTONIC like the controller's file and the link's stamps.
+  protocol::TraceEventFile events(options.trace_json, "meter-view");
+  events.thread_name(1, "render loop");
+  events.thread_name(2, "png writer");
+  // A link poll that applied changes is an intake slice, from the poll's start (so a poll that
+  // waited for the message includes the wait); args: the newest frame's sender stamp and sequence.
+  auto trace_applied = [&](std::int64_t poll_begin) {
+    trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied());
+    events.complete("intake", "view", poll_begin, protocol::monotonic_now_ns(), 1,
+                    {{"sent_ns", sub.last_sender_time_ns()},
+                     {"seq", static_cast<std::int64_t>(sub.last_sequence_applied())}});
+  };
   auto poll = [&](std::chrono::milliseconds timeout) {
-    if (sub.poll(timeout)) trace_applied();
+    const std::int64_t begin = protocol::monotonic_now_ns();
+    if (sub.poll(timeout)) trace_applied(begin);
   };
   // Every pending message, not one batch: a view that renders slower than the link delivers
   // must coalesce the backlog to the latest state each frame instead of drawing it frame by
@@ -47,13 +80,21 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   // reads up to 64 socket buffers.
   auto drain = [&] {
     for (int round = 0; round < 16; ++round) {
+      const std::int64_t begin = protocol::monotonic_now_ns();
       if (!sub.poll(std::chrono::milliseconds(0))) break;
-      trace_applied();
+      trace_applied(begin);
     }
   };
   FramePacer pacer(options.fps, Clock::now());
   std::uint64_t frame = 0;
-  PngWriter png_writer([&trace](std::uint64_t n) { trace.png_written(n); });
+  std::int64_t encode_began = 0;  // touched on the writer thread only
+  PngWriter png_writer(
+      [&](std::uint64_t n) {
+        trace.png_written(n);
+        events.complete("encode", "view", encode_began, protocol::monotonic_now_ns(), 2,
+                        {{"frame", static_cast<std::int64_t>(n)}});
+      },
+      [&](std::uint64_t) { encode_began = protocol::monotonic_now_ns(); });
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
     const std::string name = png_name(n);
     // The row is the state this image was rendered with; the file follows from the writer.
@@ -70,13 +111,16 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     drain();
     const auto ft = pacer.begin_frame(Clock::now());
     const std::int64_t t_update = LatencyTrace::now();
+    const std::int64_t evaluate_began = protocol::monotonic_now_ns();
     ctx.evaluator.update(sub.signals(), sub.link_up(), ft.dt);  // read in place, no copy
     ctx.renderer.apply(ctx.evaluator.outputs());
     const bool want = policy.decide(frame, ft.t, take_dump_request());
+    const std::int64_t render_began = protocol::monotonic_now_ns();
     const auto timing = ctx.renderer.render(false, want);
     const std::int64_t t_rendered = LatencyTrace::now();
     ctx.timing.row(frame, ft.t, timing);
     trace.frame(frame, t_update, t_rendered);
+    trace_frame_events(events, frame, evaluate_began, render_began, protocol::monotonic_now_ns(), timing);
     if (want) dump(frame, ft.t, timing.drawn);
     sub.send_status(ctx.renderer.stats().drawn, 0);
     ++frame;
@@ -88,6 +132,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   }
   png_writer.finish();  // every dumped frame is on disk before the exit status says so
   png_writer.check();
+  if (!events.close()) log << "meter-view: write error on " << options.trace_json << "\n";
   const auto& st = ctx.renderer.stats();
   log << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped
       << " skipped (inputs unchanged)\n";

@@ -28,6 +28,9 @@ struct RunOptions {
   // Latency trace (CSV): every received CAN frame, every published value change and every
   // flush to the link, on CLOCK_REALTIME (bench/latency reads it). Empty = off.
   std::string trace;
+  // Chrome trace-event JSON (docs/tracing.md): receive, decode and publish spans on CLOCK_MONOTONIC,
+  // the clock of the link's stamps and of meter-view's --trace-json. Empty = off.
+  std::string trace_json;
 };
 
 // Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;

@@ -31,6 +31,7 @@ struct ViewOptions {
   std::vector<std::string> dump_at;  // times, e.g. "2.5s"
   int link_timeout_ms = 300;
   std::string trace_csv;          // empty = none
+  std::string trace_json;         // Chrome trace-event JSON (docs/tracing.md); empty = none
 };
 
 }  // namespace meter::view
