@@ -11,7 +11,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -22,6 +24,7 @@
 #include "live_run.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/recording.hpp"
+#include "meter/protocol/signal_table.hpp"
 #include "process.hpp"
 #include "speed_log.hpp"
 
@@ -180,4 +183,101 @@ TEST(LinkTools, LinkplayRefusesABadRecordingWithFileAndLine) {
   EXPECT_NE(play.log().find((dir / "bad.txt").string() + ":3: Vehicle.Speed: unknown status 'fine'"), std::string::npos)
       << play.log();
   EXPECT_FALSE(fs::exists(dir / "never.sock")) << "linkplay listened before checking the recording";
+}
+
+namespace {
+
+// The state a view holds after applying every SNAPSHOT/DELTA of a recording, as the Subscriber
+// applies them (an entry without text clears the text).
+meter::protocol::SignalTable final_state(const std::vector<meter::protocol::RecordedFrame>& frames) {
+  meter::protocol::SignalTable table;
+  for (const auto& r : frames) {
+    const std::vector<meter::protocol::SignalUpdate>* list = nullptr;
+    if (const auto* s = std::get_if<meter::protocol::Snapshot>(&r.frame.message)) list = &s->signals;
+    if (const auto* d = std::get_if<meter::protocol::Delta>(&r.frame.message)) list = &d->signals;
+    if (list == nullptr) continue;
+    for (const auto& u : *list) table.set(u.id, {u.value, u.status, u.has_text ? u.text : std::string()});
+  }
+  return table;
+}
+
+std::vector<meter::protocol::RecordedFrame> read_recording(const fs::path& file) {
+  std::ifstream in(file);
+  return meter::protocol::parse_recording(in, file.string());
+}
+
+}  // namespace
+
+// linkplay -> linkdump, no view and no GL: the dump of a replay ends in the state the recording
+// ends in, at both speeds, and the realtime replay never runs ahead of the recorded timing.
+TEST(LinkTools, ReplayIntoLinkdumpEndsInTheRecordedState) {
+  using namespace meter::protocol;
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "linktools" / "replay_dump";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // A hand-made recording over 0.8 s: statuses, a text set and cleared, a value that goes -0.
+  const std::int64_t t0 = 5'000'000'000LL;
+  auto at = [&](double s) { return t0 + static_cast<std::int64_t>(s * 1e9); };
+  auto update = [](SignalId id, double v, SignalStatus st, std::optional<std::string> text = std::nullopt) {
+    SignalUpdate u;
+    u.id = id;
+    u.value = v;
+    u.status = st;
+    u.has_text = text.has_value();
+    u.text = text.value_or("");
+    return u;
+  };
+  const std::vector<RecordedFrame> original = {
+      {at(0.0), {1, at(0.0), Hello{Role::Publisher, kProtocolVersion, catalog_hash(), 26, 100, "meter-controller"}}},
+      {at(0.0), {2, at(0.0), Snapshot{true, {update(sig::kSpeed, 0.0, SignalStatus::Valid),
+                                             update(sig::kFuelLevel, 0.0, SignalStatus::NotAvailable)}}}},
+      {at(0.2), {3, at(0.2), Delta{{update(sig::kSpeed, 33.25, SignalStatus::Valid),
+                                    update(sig::kCurrentGear, 3.0, SignalStatus::Valid, "D \"3\"")}}}},
+      {at(0.3), {4, at(0.3), Heartbeat{}}},
+      {at(0.5), {5, at(0.5), Delta{{update(sig::kFuelLevel, 41.5, SignalStatus::TimedOut)}}}},
+      {at(0.8), {6, at(0.8), Delta{{update(sig::kSpeed, -0.0, SignalStatus::Invalid),
+                                    update(sig::kCurrentGear, 4.0, SignalStatus::Valid)}}}},
+  };
+  {
+    std::ofstream out(dir / "in.txt");
+    out << recording_header(catalog_hash()) << "\n";
+    for (const auto& r : original) out << format_line(r) << "\n";
+  }
+  const auto expected = final_state(original);
+  for (const std::string speed : {"realtime", "max"}) {
+    SCOPED_TRACE(speed);
+    const std::string link = "unix:" + (dir / (speed + ".sock")).string();
+    const fs::path out = dir / ("out-" + speed + ".txt");
+    ChildProcess play({built_executable("meter-linkplay"), (dir / "in.txt").string(), "--link", link, "--speed", speed,
+                       "--linger", "0.5"},
+                      (dir / ("play-" + speed + ".log")).string());
+    ChildProcess dump({built_executable("meter-linkdump"), "--link", link, "-q", "-o", out.string(), "--until-closed",
+                       "--duration", "30"},
+                      (dir / ("dump-" + speed + ".log")).string());
+    const auto prc = play.wait_for(std::chrono::seconds(30));
+    ASSERT_TRUE(prc.has_value()) << play.log();
+    ASSERT_EQ(*prc, 0) << play.log();
+    const auto drc = dump.wait_for(std::chrono::seconds(30));
+    ASSERT_TRUE(drc.has_value()) << dump.log();
+    ASSERT_EQ(*drc, 0) << dump.log();
+    EXPECT_NE(play.log().find("replayed 4 messages (7 signal updates)"), std::string::npos) << play.log();
+    const auto replayed = read_recording(out);
+    ASSERT_FALSE(replayed.empty());
+    const auto got = final_state(replayed);
+    for (const auto& info : catalog()) {
+      EXPECT_EQ(got.get(info.id), expected.get(info.id)) << info.name;
+    }
+    EXPECT_TRUE(std::signbit(got.get(sig::kSpeed).value)) << "-0 came back as +0";
+    if (speed == "realtime") {
+      // The last update goes out no earlier than 0.8 s after the first (linkplay waits for each
+      // recorded time); the dump stamps its receipt, so its span is at least that, less the 1 ms
+      // the two receipts' own scheduling can differ by.
+      std::vector<std::int64_t> stamps;
+      for (const auto& r : replayed)
+        if (std::holds_alternative<Delta>(r.frame.message) || std::holds_alternative<Snapshot>(r.frame.message))
+          stamps.push_back(r.received_ns);
+      ASSERT_GE(stamps.size(), 2u);
+      EXPECT_GE(stamps.back() - stamps.front(), 800'000'000LL - 1'000'000LL);
+    }
+  }
 }
