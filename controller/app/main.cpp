@@ -46,6 +46,8 @@ int main(int argc, char** argv) {
   r->add_option("--catalog", run.catalog, catalog_help)->check(CLI::ExistingFile);
   r->add_option("--trace", run.trace,
                 "Write a latency trace CSV (frames received, values published, link flushes; CLOCK_REALTIME ns)");
+  r->add_option("--trace-json", run.trace_json,
+                "Write a Chrome trace-event JSON (receive, decode, publish on CLOCK_MONOTONIC; opens in Perfetto UI)");
 
   std::string dbc, log, map;
   auto* d = app.add_subcommand("decode", "Decode a candump -L log with a DBC to CSV: timestamp,message,signal,raw,physical,unit,status.");

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "candump_line.hpp"
-#include "csv_rows.hpp"
+#include "live_run.hpp"
 #include "ev_catalog.hpp"
 #include "meter/controller/dbc/database.hpp"
 #include "meter/platform/image.hpp"

@@ -17,20 +17,17 @@
 #include <thread>
 #include <vector>
 
-#include "meter/controller/dbc/codec.hpp"
-#include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/can_frame.hpp"
 #include "meter/platform/image.hpp"
-#include "candump_line.hpp"
-#include "csv_rows.hpp"
 #include "needle.hpp"
+#include "candump_line.hpp"
+#include "live_run.hpp"
 #include "process.hpp"
+#include "speed_log.hpp"
 
 namespace fs = std::filesystem;
 using meter::testing::ChildProcess;
 using meter::testing::built_executable;
 using meter::testing::read_csv;
-using meter::testing::wait_for_first_dump;
 
 namespace {
 
@@ -44,20 +41,9 @@ double true_speed_at(double t) {
 }
 constexpr double kLogSeconds = 4.0;
 
-// Writes ESP_WheelSpeeds (the demo vehicle's speed message) every 20 ms in candump -L form.
+// ESP_WheelSpeeds (the demo vehicle's speed message) every 20 ms in candump -L form.
 void write_speed_log(const fs::path& file) {
-  const auto db = meter::controller::load_dbc(kSource + "/controller/vehicles/demo/demo.dbc");
-  const auto* msg = db.find("ESP_WheelSpeeds");
-  ASSERT_NE(msg, nullptr) << "demo.dbc lost ESP_WheelSpeeds";
-  std::ofstream out(file);
-  const std::int64_t t0_ns = 1'700'000'000'000'000'000LL;
-  for (int i = 0; i * 0.02 <= kLogSeconds + 1e-9; ++i) {
-    const double t = i * 0.02;
-    const std::pair<std::string_view, double> values[] = {{"VehicleSpeed", true_speed_at(t)},
-                                                          {"WheelSpeedFL", true_speed_at(t)},
-                                                          {"WheelSpeedFR", true_speed_at(t)}};
-    out << meter::testing::candump_line(*msg, values, t0_ns + static_cast<std::int64_t>(i) * 20'000'000LL) << "\n";
-  }
+  ASSERT_NO_THROW(meter::testing::write_demo_speed_log(file, true_speed_at, kLogSeconds));
 }
 
 struct FrameRow {
@@ -84,13 +70,16 @@ std::vector<FrameRow> read_frames_csv(const fs::path& file) {
 
 // scenes/minimal-gauge converted into dir/gauge.msp.
 void convert_gauge(const fs::path& dir) {
-  ChildProcess convert({built_executable("meter-convert"), kSource + "/scenes/minimal-gauge/minimal-gauge.glb",
-                        "--config", kSource + "/scenes/minimal-gauge/minimal-gauge.scene.json", "-o",
-                        (dir / "gauge.msp").string()},
-                       (dir / "convert.log").string());
-  auto rc = convert.wait_for(std::chrono::seconds(60));
-  ASSERT_TRUE(rc.has_value()) << "meter-convert hung";
-  ASSERT_EQ(*rc, 0) << convert.log();
+  ASSERT_NO_THROW(meter::testing::convert_minimal_gauge(dir / "gauge.msp"));
+}
+
+// Waits until the live view has dumped its first frame (frames.csv has a row): its loop is running.
+void await_first_dump(const fs::path& frames_csv, ChildProcess& view) {
+  try {
+    meter::testing::wait_for_first_dump(frames_csv, view);
+  } catch (const std::exception& e) {
+    FAIL() << e.what();
+  }
 }
 
 // meter-controller on the demo vehicle replays `log` in real time to `link` and lingers 3 s (so
@@ -135,7 +124,7 @@ TEST(EndToEnd, NeedleFollowsSpeedFromLog) {
                      "--backend", "egl", "--link", link, "--fps", "10", "--dump-every", "1",
                      "--duration", "9", "--out", (dir / "frames").string()},
                     (dir / "view.log").string());
-  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  await_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
   int view_rc = -1;
   replay_to_view(dir, log, link, view, view_rc);
@@ -188,7 +177,7 @@ TEST(EndToEnd, LiveViewDumpsAtGivenTimesAndOnRequest) {
                      (dir / "timing.csv").string(), "--out", (dir / "frames").string()},
                     (dir / "view.log").string());
   // The request comes once the view is surely in its loop (the 0.5 s dump is there).
-  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  await_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
   view.signal(SIGUSR1);
   const auto rc = view.wait_for(std::chrono::seconds(40));
@@ -251,7 +240,7 @@ TEST(EndToEnd, FaultsReachTheOtherProcessBothWays) {
                      "--link", link, "--fps", "10", "--dump-every", "1", "--duration", "8", "--out",
                      (dir / "frames").string()},
                     (dir / "view.log").string());
-  wait_for_first_dump(dir / "frames" / "frames.csv", view);
+  await_first_dump(dir / "frames" / "frames.csv", view);
   if (HasFatalFailure()) return;
   int view_rc = -1;
   const std::string clog = replay_to_view(dir, log, link, view, view_rc);

@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
   app.add_option("--catalog-wait", o.catalog_wait_ms,
                  "live: milliseconds to wait for the controller (and its catalog) before loading the scene")
       ->check(CLI::Range(0, 60000))->capture_default_str();
+  app.add_option("--trace-json", o.trace_json,
+                 "live: Chrome trace-event JSON (intake, evaluate, render, readback, encode on CLOCK_MONOTONIC, "
+                 "the controller's --trace-json clock; opens in Perfetto UI)");
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
   return run_view(o, std::cerr);

@@ -19,6 +19,7 @@
 #include "meter/controller/run/commands.hpp"
 #include "meter/controller/run/inputs.hpp"
 #include "meter/protocol/link.hpp"
+#include "meter/protocol/trace_events.hpp"
 #include "open_input.hpp"
 
 namespace meter::controller {
@@ -29,16 +30,20 @@ void on_signal(int) { g_stop = 1; }
 
 class ModelSink : public InputSink {
  public:
-  ModelSink(Model& m, Trace& t) : m_(m), t_(t) {}
+  ModelSink(Model& m, Trace& t, protocol::TraceEventFile& events) : m_(m), t_(t), events_(events) {}
   void on_frame(const CanFrame& f) override {
+    const std::int64_t begin = events_.on() ? protocol::monotonic_now_ns() : 0;
     m_.on_frame(f);
     t_.frame(f);
+    if (events_.on()) events_.complete("decode", "controller", begin, protocol::monotonic_now_ns(), 1,
+                                       {{"can_id", static_cast<std::int64_t>(f.id)}});
   }
   void on_value(std::string_view key, double v, bool valid, std::int64_t t) override { m_.on_value(key, v, valid, t); }
 
  private:
   Model& m_;
   Trace& t_;
+  protocol::TraceEventFile& events_;
 };
 
 }  // namespace
@@ -75,6 +80,11 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const protocol::LinkOptions lo =
         protocol::link_options("meter-controller", std::chrono::milliseconds(o.link_timeout_ms));
     Trace trace(o.trace);
+    // --trace-json: receive (an input poll that delivered frames), decode (per frame, inside it),
+    // condition (the model's tick), publish (changed outputs handed to the link and flushed: the
+    // DELTA's sender stamp falls inside it), on CLOCK_MONOTONIC.
+    protocol::TraceEventFile events(o.trace_json, "meter-controller");
+    events.thread_name(1, "controller loop");
     protocol::Publisher pub(protocol::endpoint_from_option(o.link), lo);
     if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
 
@@ -87,7 +97,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       }
     };
 
-    ModelSink sink(model, trace);
+    ModelSink sink(model, trace, events);
     HealthReport health(input->describe());
     auto report_health = [&](std::int64_t t) {
       health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
@@ -105,17 +115,34 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       const double wait_wall_ns = static_cast<double>(next_tick - input->now_ns()) / input->rate();
       // Rounded up: a 0 ms wait while the tick is still ahead would spin.
       const auto wait = std::chrono::milliseconds(std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil(wait_wall_ns / 1e6)), 1, 100));
+      const std::uint64_t frames_before = model.stats().frames;
+      const std::int64_t poll_begin = events.on() ? protocol::monotonic_now_ns() : 0;
       more = input->poll(sink, wait);
+      const std::int64_t poll_end = events.on() ? protocol::monotonic_now_ns() : 0;
+      if (model.stats().frames != frames_before) {
+        events.complete("receive", "controller", poll_begin, poll_end, 1,
+                        {{"frames", static_cast<std::int64_t>(model.stats().frames - frames_before)}});
+      }
       const bool just_ended = !more && !ended;
       ended = !more;
       const std::int64_t t = input->now_ns();
-      if (t >= next_tick || just_ended) {
+      const bool tick = t >= next_tick || just_ended;
+      std::size_t changed = 0;
+      std::int64_t conditioned = 0;
+      if (tick) {
         model.update(t);
+        changed = model.changed().size();
+        conditioned = events.on() ? protocol::monotonic_now_ns() : 0;
+        events.complete("condition", "controller", poll_end, conditioned, 1);
         publish();
         report_health(t);
         next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
       }
       pub.poll(std::chrono::milliseconds(0));  // never waits for a view
+      if (tick && changed > 0) {
+        events.complete("publish", "controller", conditioned, protocol::monotonic_now_ns(), 1,
+                        {{"changed", static_cast<std::int64_t>(changed)}});
+      }
       if (trace.on()) {
         const auto ls = pub.stats();
         if (ls.bytes_sent != traced_bytes) trace.sent(traced_bytes = ls.bytes_sent, ls.deltas_sent);
@@ -123,6 +150,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     model.persist_now();
     trace.flush();
+    if (!events.close()) err << "meter-controller: write error on " << o.trace_json << "\n";
     if (o.verbose) {
       for (const auto& x : model.outputs())
         err << "  final " << protocol::find_signal(x.id)->name << " = " << fmt_double(x.value) << " ("

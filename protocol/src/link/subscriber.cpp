@@ -49,6 +49,7 @@ struct Subscriber::Impl {
   LinkStats stats;
   std::string last_error;
   bool changed = false;  // set by apply(), consumed by poll()
+  FrameObserver observer;
   // A disconnect decided while Channel::receive() is still on the stack runs after it returns.
   struct PendingDisconnect {
     std::string why;
@@ -193,6 +194,7 @@ struct Subscriber::Impl {
 
   // Returns false if the channel was closed while handling the frame.
   bool on_frame(Frame&& frame) {
+    if (observer) observer(frame);
     if (auto* close = std::get_if<Close>(&frame.message)) {
       const bool was_live = phase == Phase::Live;
       if (close->reason != CloseReason::Normal) ++stats.handshakes_refused;
@@ -414,5 +416,6 @@ std::optional<Status> Subscriber::publisher_status() const { return impl_->publi
 LinkStats Subscriber::stats() const { return impl_->stats; }
 int Subscriber::wait_fd() const { return impl_->poller.fd(); }
 std::string Subscriber::last_error() const { return impl_->last_error; }
+void Subscriber::set_frame_observer(FrameObserver observer) { impl_->observer = std::move(observer); }
 
 }  // namespace meter::protocol

@@ -4,6 +4,7 @@
 
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/wire.hpp"
+#include "meter/protocol/trace_events.hpp"
 
 #include "meter/view/dump_policy.hpp"
 #include "meter/view/frame_pacing.hpp"
@@ -39,6 +40,25 @@ protocol::LinkOptions view_link_options(const ViewOptions& options) {
   return lo;
 }
 
+// The frame's slices: evaluate (bindings, outputs applied), render, and inside render the
+// renderer's own measured parts laid end to end from its start (update, submit, readback).
+void trace_frame_events(protocol::TraceEventFile& events, std::uint64_t frame, std::int64_t evaluate_began,
+                        std::int64_t render_began, std::int64_t render_ended, const engine::FrameTiming& timing) {
+  if (!events.on()) return;
+  const std::vector<std::pair<std::string, std::int64_t>> args = {{"frame", static_cast<std::int64_t>(frame)},
+                                                                  {"drawn", timing.drawn ? 1 : 0}};
+  events.complete("evaluate", "view", evaluate_began, render_began, 1, args);
+  events.complete("render", "view", render_began, render_ended, 1, args);
+  std::int64_t t = render_began;
+  const std::pair<const char*, double> parts[] = {
+      {"update", timing.update_ms}, {"submit", timing.submit_ms}, {"readback", timing.gpu_readback_ms}};
+  for (const auto& [name, ms] : parts) {
+    const auto end = t + static_cast<std::int64_t>(ms * 1e6);
+    events.complete(name, "view", t, end, 1, args);
+    t = end;
+  }
+}
+
 }  // namespace
 
 void fetch_controller_catalog(const ViewOptions& options, std::ostream& log) {
@@ -69,9 +89,22 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   };
   FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
   LatencyTrace trace(options.trace_csv);
-  auto trace_applied = [&] { trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied()); };
+  // --trace-json (docs/tracing.md): intake, evaluate, render (update, submit, readback) on the render
+  // loop, encode on the PNG writer; CLOCK_MONOTONIC like the controller's file and the link's stamps.
+  protocol::TraceEventFile events(options.trace_json, "meter-view");
+  events.thread_name(1, "render loop");
+  events.thread_name(2, "png writer");
+  // A link poll that applied changes is an intake slice, from the poll's start (so a poll that
+  // waited for the message includes the wait); args: the newest frame's sender stamp and sequence.
+  auto trace_applied = [&](std::int64_t poll_begin) {
+    trace.applied(sub.last_sender_time_ns(), sub.last_sequence_applied());
+    events.complete("intake", "view", poll_begin, protocol::monotonic_now_ns(), 1,
+                    {{"sent_ns", sub.last_sender_time_ns()},
+                     {"seq", static_cast<std::int64_t>(sub.last_sequence_applied())}});
+  };
   auto poll = [&](std::chrono::milliseconds timeout) {
-    if (sub.poll(timeout)) trace_applied();
+    const std::int64_t begin = protocol::monotonic_now_ns();
+    if (sub.poll(timeout)) trace_applied(begin);
   };
   // Every pending message, not one batch: a view that renders slower than the link delivers
   // must coalesce the backlog to the latest state each frame instead of drawing it frame by
@@ -79,13 +112,21 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   // reads up to 64 socket buffers.
   auto drain = [&] {
     for (int round = 0; round < 16; ++round) {
+      const std::int64_t begin = protocol::monotonic_now_ns();
       if (!sub.poll(std::chrono::milliseconds(0))) break;
-      trace_applied();
+      trace_applied(begin);
     }
   };
   FramePacer pacer(options.fps, Clock::now());
   std::uint64_t frame = 0;
-  PngWriter png_writer([&trace](std::uint64_t n) { trace.png_written(n); });
+  std::int64_t encode_began = 0;  // touched on the writer thread only
+  PngWriter png_writer(
+      [&](std::uint64_t n) {
+        trace.png_written(n);
+        events.complete("encode", "view", encode_began, protocol::monotonic_now_ns(), 2,
+                        {{"frame", static_cast<std::int64_t>(n)}});
+      },
+      [&](std::uint64_t) { encode_began = protocol::monotonic_now_ns(); });
   // The view's faults, reported to the controller in every STATUS (and logged here once each).
   ViewHealth health;
   std::uint64_t dump_failures_seen = 0;
@@ -124,13 +165,16 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     follow_catalog();
     const auto ft = pacer.begin_frame(Clock::now());
     const std::int64_t t_update = LatencyTrace::now();
+    const std::int64_t evaluate_began = protocol::monotonic_now_ns();
     ctx.evaluator.update(sub.signals(), sub.link_up(), ft.dt);  // read in place, no copy
     ctx.renderer.apply(ctx.evaluator.outputs());
     const bool want = policy.decide(frame, ft.t, take_dump_request());
+    const std::int64_t render_began = protocol::monotonic_now_ns();
     const auto timing = ctx.renderer.render(false, want);
     const std::int64_t t_rendered = LatencyTrace::now();
     ctx.timing.row(frame, ft.t, timing);
     trace.frame(frame, t_update, t_rendered);
+    trace_frame_events(events, frame, evaluate_began, render_began, protocol::monotonic_now_ns(), timing);
     if (want) dump(frame, ft.t, timing.drawn);
     ++frame;
     const auto ended = Clock::now();
@@ -144,6 +188,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     dump(frame - 1, pacer.seconds_at(Clock::now()), false);
   }
   png_writer.finish();  // every dumped frame is on disk before the exit status says so
+  if (!events.close()) log << "meter-view: write error on " << options.trace_json << "\n";
   const auto& st = ctx.renderer.stats();
   log << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped
       << " skipped (inputs unchanged), " << health.count(protocol::kViewFaultFrameDeadline)

@@ -4,7 +4,8 @@
 
 namespace meter::view {
 
-PngWriter::PngWriter(OnWritten on_written) : on_written_(std::move(on_written)), thread_([this] { run(); }) {}
+PngWriter::PngWriter(OnWritten on_written, OnStarted on_started)
+    : on_written_(std::move(on_written)), on_started_(std::move(on_started)), thread_([this] { run(); }) {}
 
 PngWriter::~PngWriter() { finish(); }
 
@@ -62,6 +63,7 @@ void PngWriter::run() {
       job = std::move(queue_.front());
     }
     try {
+      if (on_started_) on_started_(job.frame);
       platform::write_png(job.image, job.file);
       if (on_written_) on_written_(job.frame);
     } catch (const std::exception& e) {

@@ -162,6 +162,11 @@ class Subscriber {
   int wait_fd() const;  // epoll fd readable when poll() has work
   std::string last_error() const;
 
+  // Called with every frame received from the publisher (HELLO, SNAPSHOT, DELTA, HEARTBEAT, CLOSE),
+  // before it is handled, from inside poll(). For tools that show the link's traffic (meter-linkdump).
+  using FrameObserver = std::function<void(const Frame& frame)>;
+  void set_frame_observer(FrameObserver observer);  // empty = none
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

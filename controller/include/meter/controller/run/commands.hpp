@@ -31,6 +31,9 @@ struct RunOptions {
   bool strict = false;  // refuse every DBC quirk the lenient parser would only warn about
   // The signal catalog (VSS JSON, docs/catalog.md); empty: the built-in default.
   std::string catalog;
+  // Chrome trace-event JSON (docs/tracing.md): receive, decode and publish spans on CLOCK_MONOTONIC,
+  // the clock of the link's stamps and of meter-view's --trace-json. Empty = off.
+  std::string trace_json;
 };
 
 // Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;

@@ -26,8 +26,10 @@ class PngWriter {
   static constexpr std::size_t kMaxPending = 3;
   // Called on the writer thread after each file is written (the latency trace's "w" row).
   using OnWritten = std::function<void(std::uint64_t frame)>;
+  // Called on the writer thread just before a file is encoded (the trace's encode slice begins).
+  using OnStarted = std::function<void(std::uint64_t frame)>;
 
-  explicit PngWriter(OnWritten on_written = {});
+  explicit PngWriter(OnWritten on_written = {}, OnStarted on_started = {});
   ~PngWriter();  // finish(), without throwing
   PngWriter(const PngWriter&) = delete;
   PngWriter& operator=(const PngWriter&) = delete;
@@ -53,6 +55,7 @@ class PngWriter {
   void run();
 
   OnWritten on_written_;
+  OnStarted on_started_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<Job> queue_;

@@ -39,6 +39,7 @@ struct ViewOptions {
   std::string catalog;
   bool catalog_from_controller = false;
   int catalog_wait_ms = 2000;
+  std::string trace_json;         // Chrome trace-event JSON (docs/tracing.md); empty = none
 };
 
 }  // namespace meter::view
