@@ -191,3 +191,15 @@ TEST(DbcLenient, CheckDbcLintReportAndStrictExitCodes) {
   EXPECT_EQ(check_dbc_command("/nonexistent/x.dbc", mout, merr), 1);
   std::remove(path.c_str());
 }
+
+TEST(DbcLenient, TextThatIsNotUtf8IsReadAsWindows1252WithAWarningAtItsFirstLine) {
+  // A CANdb++ file saved on Windows: the degree sign is the single byte 0xB0 on line 3.
+  const std::string text = std::string(kTwoMessages) + "CM_ SG_ 100 S \"temperature in \xB0" "C\";\n";
+  const Database db = parse_dbc(text, "q.dbc");
+  const DbcWarning* w = warning(db, DbcWarningKind::NotUtf8, 5);
+  ASSERT_NE(w, nullptr);
+  EXPECT_NE(w->text.find("Windows-1252"), std::string::npos) << w->text;
+  EXPECT_EQ(db.find("A")->signals[0].comment, "temperature in \xC2\xB0" "C");
+  expect_strict_refuses(text, 5);
+  EXPECT_EQ(warning(parse_dbc(kTwoMessages, "q.dbc"), DbcWarningKind::NotUtf8, 1), nullptr);  // UTF-8: nothing
+}

@@ -133,6 +133,7 @@ const char* to_string(DbcWarningKind k) {
     case DbcWarningKind::SignalOutsideMessage: return "signal-outside-message";
     case DbcWarningKind::SkippedStatement: return "skipped-statement";
     case DbcWarningKind::ReservedIdBits: return "reserved-id-bits";
+    case DbcWarningKind::NotUtf8: return "not-utf8";
   }
   return "?";
 }
@@ -142,9 +143,13 @@ Database parse_dbc(std::string_view text, const std::string& file, const DbcOpti
       static_cast<unsigned char>(text[1]) == 0xBB && static_cast<unsigned char>(text[2]) == 0xBF)
     text.remove_prefix(3);
   Database db;
-  if (!dbc_parse::valid_utf8(text)) {
+  if (const std::size_t bad = dbc_parse::first_invalid_utf8(text); bad != std::string_view::npos) {
     std::string converted = dbc_parse::cp1252_to_utf8(text);
     db = dbc_parse::DbcParser(converted, file).run();
+    // The line of the first byte that is not UTF-8, so the user can look at what was converted.
+    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n'));
+    db.warnings.insert(db.warnings.begin(),
+                       DbcWarning{DbcWarningKind::NotUtf8, line, "the text is not UTF-8 (first at this line): read as Windows-1252"});
   } else {
     db = dbc_parse::DbcParser(text, file).run();
   }

@@ -2,7 +2,7 @@
 
 namespace meter::controller::dbc_parse {
 
-bool valid_utf8(std::string_view s) {
+std::size_t first_invalid_utf8(std::string_view s) {
   std::size_t i = 0;
   while (i < s.size()) {
     unsigned char c = static_cast<unsigned char>(s[i]);
@@ -11,13 +11,15 @@ bool valid_utf8(std::string_view s) {
       continue;
     }
     std::size_t n = (c >> 5) == 6 ? 1 : (c >> 4) == 14 ? 2 : (c >> 3) == 30 ? 3 : 0;
-    if (n == 0 || i + n >= s.size()) return false;
+    if (n == 0 || i + n >= s.size()) return i;
     for (std::size_t k = 1; k <= n; ++k)
-      if ((static_cast<unsigned char>(s[i + k]) >> 6) != 2) return false;
+      if ((static_cast<unsigned char>(s[i + k]) >> 6) != 2) return i;
     i += n + 1;
   }
-  return true;
+  return std::string_view::npos;
 }
+
+bool valid_utf8(std::string_view s) { return first_invalid_utf8(s) == std::string_view::npos; }
 
 std::string cp1252_to_utf8(std::string_view s) {
   static constexpr char16_t k80[32] = {

@@ -6,6 +6,8 @@
 
 namespace meter::controller::dbc_parse {
 
+// The offset of the first byte that does not start a valid UTF-8 sequence, or npos.
+std::size_t first_invalid_utf8(std::string_view s);
 bool valid_utf8(std::string_view s);
 // Windows-1252 to UTF-8 (0x80..0x9F differ from Latin-1; undefined bytes become U+FFFD).
 std::string cp1252_to_utf8(std::string_view s);

@@ -88,8 +88,9 @@ enum class DbcWarningKind : std::uint8_t {
   SignalOutsideMessage,  // a signal reaching past the message size (never decoded as valid)
   SkippedStatement,   // a statement that could not be understood, skipped (the rest of the file is read)
   ReservedIdBits,     // BO_ id with bit 29 or 30 set (no part of a CAN id): ignored
+  NotUtf8,            // the text is not UTF-8: read as Windows-1252 (what Vector tools write)
 };
-inline constexpr int kDbcWarningKinds = 9;
+inline constexpr int kDbcWarningKinds = 10;
 const char* to_string(DbcWarningKind k);  // "missing-semicolon", "unnamed-comment", ...
 
 struct DbcWarning {
