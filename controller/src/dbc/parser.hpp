@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "lexer.hpp"
@@ -79,6 +80,9 @@ class DbcParser {
   std::map<std::string, AttrValue> attr_defaults_;
   std::vector<PendingAttr> attrs_;
   std::vector<PendingRef> pending_;
+  // (id | extended << 32) -> the first message with it, in file order; built by finish() so
+  // resolving the references takes one lookup each, not a scan of every message.
+  std::unordered_map<std::uint64_t, std::size_t> first_by_id_;
 };
 
 }  // namespace meter::controller::dbc_parse
