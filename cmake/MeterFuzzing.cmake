@@ -1,8 +1,10 @@
 # libFuzzer targets (METER_FUZZ=ON, clang only; scripts/fuzz builds and runs them).
 #
-# meter_add_fuzzer(<name> SOURCES <files...> LIBS <libs...> CORPUS <dir> [DICT <file>] [MAX_LEN <bytes>])
+# meter_add_fuzzer(<name> SOURCES <files...> LIBS <libs...> CORPUS <dir> [DICT <file>] [MAX_LEN <bytes>]
+#                  [TIMEOUT <seconds>])
 # Builds the executable meter_fuzz_<name> and records, for scripts/fuzz, where its committed seed
-# corpus and dictionary live and the largest input worth trying. Adding a reader's target is one
+# corpus and dictionary live, the largest input worth trying and the time one input may take before
+# it counts as a hang (default 1 s; a target that needs more says why beside its call). Adding a reader's target is one
 # call beside its library (see controller/fuzz/CMakeLists.txt).
 #
 # With METER_FUZZ every target of the build gets coverage instrumentation
@@ -19,7 +21,7 @@ if(METER_FUZZ)
 endif()
 
 function(meter_add_fuzzer name)
-  cmake_parse_arguments(F "" "CORPUS;DICT;MAX_LEN" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(F "" "CORPUS;DICT;MAX_LEN;TIMEOUT" "SOURCES;LIBS" ${ARGN})
   if(NOT METER_FUZZ)
     return()
   endif()
@@ -28,6 +30,9 @@ function(meter_add_fuzzer name)
   endif()
   if(NOT F_MAX_LEN)
     set(F_MAX_LEN 65536)
+  endif()
+  if(NOT F_TIMEOUT)
+    set(F_TIMEOUT 1)
   endif()
   set(target meter_fuzz_${name})
   add_executable(${target} ${F_SOURCES})
@@ -43,5 +48,5 @@ function(meter_add_fuzzer name)
   endif()
   # One shell-sourceable file per target: what scripts/fuzz needs to run it.
   file(WRITE "${METER_FUZZ_MANIFEST_DIR}/${name}"
-       "target=${target}\ncorpus=${corpus}\ndict=${dict}\nmax_len=${F_MAX_LEN}\n")
+       "target=${target}\ncorpus=${corpus}\ndict=${dict}\nmax_len=${F_MAX_LEN}\ntimeout=${F_TIMEOUT}\n")
 endfunction()
