@@ -137,6 +137,31 @@ TEST(ModbusRegisters, DecodeTypesAndWordOrder) {
   EXPECT_EQ(modbus_register_value(r, n), 9.0);
 }
 
+// One poll's words interpreted without a connection: a NaN float register reads invalid, and an
+// unchanged heartbeat invalidates the poll once it has been the same for stale_after polls.
+TEST(ModbusRegisters, InterpretPollMarksNonFiniteInvalidAndStaleHeartbeat) {
+  ModbusConfig cfg;
+  cfg.heartbeat = "hb";
+  cfg.stale_after_polls = 2;
+  cfg.registers.resize(2);
+  cfg.registers[0].name = "hb";
+  cfg.registers[1].name = "f";
+  cfg.registers[1].type = RegisterType::Float32;
+  ModbusHeartbeat hb;
+  std::vector<ModbusReading> out;
+  std::vector<std::array<std::uint16_t, 2>> words{{1, 0}, {0x7FC0, 0x0000}};  // quiet NaN
+  ASSERT_TRUE(interpret_modbus_poll(cfg, words, hb, out));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_TRUE(out[0].valid);
+  EXPECT_EQ(out[0].value, 1.0);
+  EXPECT_FALSE(out[1].valid);
+  EXPECT_TRUE(interpret_modbus_poll(cfg, words, hb, out));   // the same once
+  EXPECT_FALSE(interpret_modbus_poll(cfg, words, hb, out));  // the same twice: stale
+  EXPECT_TRUE(out.empty());
+  words[0] = {2, 0};
+  EXPECT_TRUE(interpret_modbus_poll(cfg, words, hb, out));   // changed again: fresh
+}
+
 TEST(ModbusClient, LoopbackServerValuesTimeoutExceptionAndStaleHeartbeat) {
   LoopbackServer server;
   Mapping m = parse_mapping(kRegisters, "test.map");

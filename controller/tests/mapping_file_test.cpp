@@ -45,6 +45,24 @@ TEST(Mapping, ErrorsNameLineAndExpectation) {
   }
 }
 
+// Found by fuzzing (meter_fuzz_map: a non-finite output, minimised to the first case below): a fuel
+// time constant of -0 s passed the duration check (-0 is not below 0) and the filter's
+// exp(-dt / tau) then drove the gauge to -inf; 0 s gives 0/0 on a tick with no elapsed time.
+TEST(Mapping, FuzzFuelTimeConstantsMustBePositive) {
+  for (const char* key : {"fuel_tau_moving", "fuel_tau_stopped"}) {
+    for (const char* value : {"-0s", "0s", "0"}) {
+      const std::string text = std::string("[Vehicle.Speed]\nsource = FLS_FuelLevel.FuelLevel\nfuel = true\n") + key +
+                               " = " + value + "\n";
+      try {
+        parse_mapping(text, "fuel.map");
+        ADD_FAILURE() << key << " = " << value << " accepted";
+      } catch (const MappingError& e) {
+        EXPECT_EQ(std::string(e.what()), std::string("fuel.map:4: ") + key + ": expected a time constant in seconds (> 0)");
+      }
+    }
+  }
+}
+
 TEST(Mapping, MutatedDemoMapNeverCrashes) {
   std::ifstream in(std::string(METER_SOURCE_DIR) + "/controller/vehicles/demo/demo.map", std::ios::binary);
   std::string base((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

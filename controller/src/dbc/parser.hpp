@@ -12,6 +12,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "lexer.hpp"
@@ -93,6 +94,9 @@ class DbcParser {
   std::set<std::string> declared_attrs_;
   std::vector<PendingAttr> attrs_;
   std::vector<PendingRef> pending_;
+  // (id | extended << 32) -> the first message with it, in file order; built by finish() so
+  // resolving the references takes one lookup each, not a scan of every message.
+  std::unordered_map<std::uint64_t, std::size_t> first_by_id_;
 };
 
 }  // namespace meter::controller::dbc_parse

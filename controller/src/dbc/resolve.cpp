@@ -2,18 +2,29 @@
 // value types and extended multiplexing onto their signals (unknown references become warnings),
 // simple multiplexing onto the message's 'M' switch, layout checks against the message size, and
 // the attributes (GenMsgCycleTime, VFrameFormat incl. CAN FD and J1939PG, ProtocolType J1939).
+#include <algorithm>
 #include <set>
 
 #include "parser.hpp"
 
 namespace meter::controller::dbc_parse {
 
+namespace {
+std::uint64_t id_key(std::uint32_t id, bool extended) { return id | (extended ? (1ull << 32) : 0); }
+}  // namespace
+
+// The first message (file order) with the id and frame format; a reference without the extended
+// flag to an id above 0x7FF may also mean the extended message of that id.
 DbcMessage* DbcParser::message_by_raw(std::uint32_t raw) {
   bool ext = (raw & 0x80000000u) != 0;
   std::uint32_t id = raw & 0x1FFFFFFFu;
-  for (auto& m : db_.messages)
-    if (m.id == id && (m.extended == ext || (!ext && id > 0x7FF))) return &m;
-  return nullptr;
+  std::size_t first = db_.messages.size();
+  auto consider = [&](bool extended) {
+    if (auto it = first_by_id_.find(id_key(id, extended)); it != first_by_id_.end()) first = std::min(first, it->second);
+  };
+  consider(ext);
+  if (!ext && id > 0x7FF) consider(true);
+  return first < db_.messages.size() ? &db_.messages[first] : nullptr;
 }
 
 std::optional<std::string> DbcParser::enum_text(const std::string& name, const AttrValue& v) {
@@ -26,6 +37,8 @@ std::optional<std::string> DbcParser::enum_text(const std::string& name, const A
 }
 
 void DbcParser::finish() {
+  for (std::size_t i = 0; i < db_.messages.size(); ++i)
+    first_by_id_.try_emplace(id_key(db_.messages[i].id, db_.messages[i].extended), i);
   // Value tables, value types, comments, extended multiplexing.
   std::set<std::pair<const DbcSignal*, char>> seen;  // a second VAL_ / SIG_VALTYPE_ for a signal
   for (auto& p : pending_) {

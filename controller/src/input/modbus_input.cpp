@@ -73,16 +73,12 @@ void ModbusInput::poll_once(InputSink& sink) {
     }
     connected_ = true;
   }
-  struct Got {
-    const ModbusRegister* r;
-    std::uint16_t w[2];
-  };
-  std::vector<Got> got;
-  got.reserve(cfg_.registers.size());
-  for (const auto& r : cfg_.registers) {
-    Got g{&r, {0, 0}};
-    int n = r.input_table ? modbus_read_input_registers(ctx(ctx_), r.address, r.words(), g.w)
-                          : modbus_read_registers(ctx(ctx_), r.address, r.words(), g.w);
+  words_.assign(cfg_.registers.size(), {0, 0});
+  for (std::size_t i = 0; i < cfg_.registers.size(); ++i) {
+    const ModbusRegister& r = cfg_.registers[i];
+    std::uint16_t* w = words_[i].data();
+    int n = r.input_table ? modbus_read_input_registers(ctx(ctx_), r.address, r.words(), w)
+                          : modbus_read_registers(ctx(ctx_), r.address, r.words(), w);
     if (n != r.words()) {
       // Timeout or exception: one bad poll invalidates the whole map, like a missing CAN frame.
       ++failures_;
@@ -94,27 +90,13 @@ void ModbusInput::poll_once(InputSink& sink) {
       invalidate_all(sink, t);
       return;
     }
-    got.push_back(g);
   }
-  if (!cfg_.heartbeat.empty()) {
-    for (const auto& g : got) {
-      if (g.r->name != cfg_.heartbeat) continue;
-      bool same = hb_seen_ && g.w[0] == hb_last_[0] && g.w[1] == hb_last_[1];
-      hb_same_ = same ? hb_same_ + 1 : 0;
-      hb_last_[0] = g.w[0];
-      hb_last_[1] = g.w[1];
-      hb_seen_ = true;
-    }
-    if (hb_same_ >= cfg_.stale_after_polls) {
-      last_error_ = "heartbeat register '" + cfg_.heartbeat + "' stale for " + std::to_string(hb_same_) + " polls";
-      invalidate_all(sink, t);
-      return;
-    }
+  if (!interpret_modbus_poll(cfg_, words_, heartbeat_, readings_)) {
+    last_error_ = "heartbeat register '" + cfg_.heartbeat + "' stale for " + std::to_string(heartbeat_.same_polls) + " polls";
+    invalidate_all(sink, t);
+    return;
   }
-  for (const auto& g : got) {
-    double v = modbus_register_value(*g.r, g.w);
-    sink.on_value("modbus." + g.r->name, v, std::isfinite(v), t);
-  }
+  for (const ModbusReading& g : readings_) sink.on_value("modbus." + g.reg->name, g.value, g.valid, t);
 }
 
 bool ModbusInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {

@@ -1,5 +1,8 @@
-// Modbus register table lookups and the word -> value decoding of each register type.
+// Modbus register table lookups, the word -> value decoding of each register type and the
+// interpretation of one poll's words (heartbeat staleness, finite values).
+#include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "meter/controller/input/modbus_registers.hpp"
 
@@ -25,6 +28,28 @@ double modbus_register_value(const ModbusRegister& r, const std::uint16_t* w) {
     case RegisterType::Float32: v = std::bit_cast<float>(v32); break;
   }
   return v * r.scale + r.offset;
+}
+
+bool interpret_modbus_poll(const ModbusConfig& cfg, std::span<const std::array<std::uint16_t, 2>> words,
+                           ModbusHeartbeat& hb, std::vector<ModbusReading>& out) {
+  out.clear();
+  const std::size_t n = std::min(words.size(), cfg.registers.size());
+  if (!cfg.heartbeat.empty()) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (cfg.registers[i].name != cfg.heartbeat) continue;
+      const bool same = hb.seen && words[i] == hb.last;
+      hb.same_polls = same ? hb.same_polls + 1 : 0;
+      hb.last = words[i];
+      hb.seen = true;
+    }
+    if (hb.same_polls >= cfg.stale_after_polls) return false;
+  }
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = modbus_register_value(cfg.registers[i], words[i].data());
+    out.push_back({&cfg.registers[i], v, std::isfinite(v)});
+  }
+  return true;
 }
 
 }  // namespace meter::controller

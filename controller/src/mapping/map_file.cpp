@@ -230,10 +230,11 @@ void set_output_key(OutputMapping& o, const std::string& key, std::string_view v
     o.speedometer = r;
   } else if (key == "fuel") {
     o.fuel = c.boolean(value, key);
-  } else if (key == "fuel_tau_moving") {
-    o.fuel_config.tau_moving_s = c.seconds(value, key);
-  } else if (key == "fuel_tau_stopped") {
-    o.fuel_config.tau_stopped_s = c.seconds(value, key);
+  } else if (key == "fuel_tau_moving" || key == "fuel_tau_stopped") {
+    // The filter divides the tick by it: 0 (or -0, which passes the duration check) is no filter.
+    const double tau = c.seconds(value, key);
+    if (!(tau > 0)) c.fail(key + ": expected a time constant in seconds (> 0)");
+    (key == "fuel_tau_moving" ? o.fuel_config.tau_moving_s : o.fuel_config.tau_stopped_s) = tau;
   } else if (key == "refuel_delta") {
     o.fuel_config.refuel_delta = c.number(value, key);
   } else if (key == "sender_fault_time") {

@@ -206,7 +206,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   json j;
   try {
     j = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number overflow
     throw std::invalid_argument(origin + ": not valid JSON: " + e.what());
   }
   if (!j.is_object()) c.fail("$", "expected a JSON object");

@@ -77,3 +77,18 @@ TEST(SceneConfig, BindingsAreCheckedAgainstTheCatalogGiven) {
                            "Displayed\" is not in the signal catalog protocol/catalog/signals.vss.json (built in)");
   }
 }
+
+// Found by fuzzing (meter_fuzz_scene_config: an uncaught exception): a number too large for a
+// double ("-1e308480") made the JSON library throw its out_of_range, which escaped as neither the
+// parser's std::invalid_argument nor a message naming the file.
+TEST(SceneConfig, FuzzNumberOverflowIsAnErrorNamingTheFile) {
+  try {
+    parse_scene_config(R"({"format": "meter-scene-config/1", "size": [-1e308480, 480]})", "overflow.json");
+    FAIL() << "a number overflow was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("overflow.json: not valid JSON: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("number overflow parsing '-1e308480'"), std::string::npos) << e.what();
+  } catch (const std::exception& e) {
+    FAIL() << "escaped as another exception: " << e.what();
+  }
+}

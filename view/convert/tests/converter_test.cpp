@@ -88,6 +88,24 @@ TEST(ConverterValidation, KhronosValidatorNegativeCases) {
   EXPECT_EQ(cases, 17u);
 }
 
+// An out-of-memory of the glTF fuzz target (meter_fuzz_gltf -rss_limit_mb=512, input written by
+// hand): a 68-byte PNG whose header claims 16000 x 16000 pixels made the image decoder allocate
+// 1 GB before finding the data missing. The converter now reads an image's size from its header
+// and refuses it before decoding.
+TEST(ConverterValidation, FuzzOversizedImageHeaderIsRefusedBeforeDecoding) {
+  const std::string png_16000 =
+      "iVBORw0KGgoAAAANSUhEUgAAPoAAAD6ACAYAAABBft/eAAAAC0lEQVR4nGNgQAUAABAAATm9j2UAAAAASUVORK5CYII=";
+  const std::string file = meter::engine::test::scratch_dir("oversized_image") + "/claim.gltf";
+  std::ofstream(file) << R"({"asset":{"version":"2.0"},"images":[{"uri":"data:image/png;base64,)" << png_16000 << R"("}]})";
+  try {
+    convert_gltf(file, empty_config(), ConvertOptions{false});
+    FAIL() << "a 16000 x 16000 image was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("images[0]: 16000 x 16000 pixels, more than the 4096 x 4096 a texture may have"),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(ConverterValidation, ErrorMessageNamesElementAndValue) {
   const auto file = (kGltf / "gltf-validator-tests" / "node" / "rotation_non_unit.gltf").string();
   try {

@@ -1,15 +1,43 @@
 // glTF import: load the file with tinygltf (syntax, buffers, image decoding), then validate every
 // element, used or not, collecting all errors so an artist sees them at once. Each element kind is
 // validated by the stage that converts it; this file fixes the order the messages come in.
+#include <stb_image.h>
+
 #include <set>
 
 #include "convert_context.hpp"
 
 namespace meter::convert {
 
+namespace {
+
+// The largest image side a texture may have. GLES 3.0 guarantees 2048 and cluster GPUs commonly
+// take 4096; a 4096 x 4096 RGBA image already costs 64 MB decoded, and the decoder may allocate an
+// image's whole size from its header alone (a 68-byte PNG can claim 16000 x 16000 = 1 GB).
+constexpr int kMaxImageSide = 4096;
+
+// tinygltf's image loader, after reading the size from the image header: an image larger than
+// kMaxImageSide on either side is refused before any pixel is allocated.
+bool load_image_within_limit(tinygltf::Image* image, int index, std::string* err, std::string* warn, int req_width,
+                             int req_height, const unsigned char* bytes, int size, void* user_data) {
+  int w = 0, h = 0, components = 0;
+  if (stbi_info_from_memory(bytes, size, &w, &h, &components) && (w > kMaxImageSide || h > kMaxImageSide)) {
+    if (err) {
+      *err += "images[" + std::to_string(index) + "]: " + std::to_string(w) + " x " + std::to_string(h) +
+              " pixels, more than the " + std::to_string(kMaxImageSide) + " x " + std::to_string(kMaxImageSide) +
+              " a texture may have\n";
+    }
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size, user_data);
+}
+
+}  // namespace
+
 tinygltf::Model load_gltf(const std::string& path) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&load_image_within_limit, nullptr);
   std::string err, warn;
   const bool binary = path.size() >= 4 && (path.compare(path.size() - 4, 4, ".glb") == 0 || path.compare(path.size() - 4, 4, ".GLB") == 0);
   bool ok = false;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "meter/controller/input/input.hpp"
 #include "meter/controller/input/modbus_registers.hpp"
@@ -35,9 +36,9 @@ class ModbusInput : public Input {
   std::int64_t next_poll_ = 0;
   std::uint64_t polls_ = 0, failures_ = 0;
   std::string last_error_;
-  int hb_same_ = 0;
-  bool hb_seen_ = false;
-  std::uint16_t hb_last_[2] = {0, 0};
+  ModbusHeartbeat heartbeat_;
+  std::vector<std::array<std::uint16_t, 2>> words_;  // one poll's words, per register
+  std::vector<ModbusReading> readings_;
 };
 
 }  // namespace meter::controller

@@ -2,7 +2,9 @@
 // settings, as plain data. The mapping file's [modbus] sections fill it in; the input needs nothing else.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,5 +34,24 @@ struct ModbusConfig {
 
 // Decodes a Modbus register value from raw 16-bit words (big-endian words, as on the wire).
 double modbus_register_value(const ModbusRegister& r, const std::uint16_t* words);
+
+// The heartbeat register's history across polls (ModbusConfig::heartbeat).
+struct ModbusHeartbeat {
+  int same_polls = 0;  // consecutive polls the heartbeat words did not change
+  bool seen = false;
+  std::array<std::uint16_t, 2> last{0, 0};
+};
+// One register as a poll read it: its value, valid when finite.
+struct ModbusReading {
+  const ModbusRegister* reg = nullptr;
+  double value = 0.0;
+  bool valid = false;
+};
+// Interprets one complete poll: words[i] holds the words read for cfg.registers[i] (the second
+// word unused by 16-bit types). Advances the heartbeat check; when the heartbeat has been stale
+// for cfg.stale_after_polls polls, returns false and leaves `out` empty (every register is then
+// invalid). Otherwise fills `out` with one reading per register, in the table's order.
+bool interpret_modbus_poll(const ModbusConfig& cfg, std::span<const std::array<std::uint16_t, 2>> words,
+                           ModbusHeartbeat& heartbeat, std::vector<ModbusReading>& out);
 
 }  // namespace meter::controller
