@@ -245,6 +245,19 @@ TEST(CatalogErrors, ADeeplyNestedValueIsReportedByTypeNotDumped) {
   EXPECT_EQ(r.error, "deep.json: /Vehicle/children/Speed/meter_id: expected an integer 1..65535, got an array");
 }
 
+// Found by fuzzing (meter_fuzz_catalog: an uncaught exception): a number too large for a double
+// ("max": 301e308) made the JSON library throw its out_of_range, which escaped parse_catalog, whose
+// contract is an error result, never an exception (the view parses catalogs it receives).
+TEST(CatalogErrors, ANumberTooLargeForADoubleIsAnErrorNamingTheFile) {
+  const std::string text = R"({"Vehicle": {"type": "branch", "children": {
+      "Speed": {"type": "sensor", "datatype": "float", "min": 0, "max": 301e308, "meter_id": 1}}}})";
+  CatalogParseResult r;
+  ASSERT_NO_THROW(r = parse_catalog(text, "big.vss.json"));
+  EXPECT_EQ(r.catalog, nullptr);
+  EXPECT_NE(r.error.find("big.vss.json:2:"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("not valid JSON: number overflow"), std::string::npos) << r.error;
+}
+
 TEST(CatalogErrors, EveryTruncationOfTheShippedFileIsAnErrorNotACrash) {
   const std::string& text = default_catalog()->text();
   // Every 7th cut keeps the test under a second; the cuts still land inside every kind of token.

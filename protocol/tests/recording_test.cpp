@@ -206,6 +206,12 @@ TEST(Recording, MalformedLinesNameFileLineAndWhatWasExpected) {
        "the link carries at most 64"},
       {"(1.000000000) STATUS seq=1 sent=1.000000000 frames=1 last_seq=1 faults=0x1ffffffff", "faults: expected an integer"},
       {"(1.000000000) CLOSE seq=1 sent=1.000000000 reason=bored text=\"\"", "unknown close reason 'bored'"},
+      // HELLO flags beyond the defined "takes catalog" bit would not encode (found by fuzzing the
+      // recording reader: linkplay's encoder threw on the parsed frame).
+      {"(1.000000000) HELLO seq=1 sent=1.000000000 role=subscriber version=2 catalog=0x1 signals=1 heartbeat_ms=1 "
+       "name=\"v\" flags=0x40 source=\"\"",
+       "flags: 0x40 uses reserved bits (only 0x01, takes the catalog, is defined)"},
+      {"(1.000000000) CATALOG seq=1 sent=1.000000000 hash=0x1 piece=2 count=2 bytes=\"{}\"", "piece: expected 0..1"},
   };
   for (const auto& [line, expected] : cases) {
     try {

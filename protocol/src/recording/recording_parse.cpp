@@ -3,6 +3,7 @@
 // frame is always one the encoder accepts and the decoder would have delivered.
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <system_error>
@@ -187,6 +188,11 @@ Message parse_message(LineParser& p, std::string_view kind) {
     h.heartbeat_period_ms = p.integer<std::uint32_t>("heartbeat_ms");
     h.name = p.text("name", p.field("name"), kMaxNameBytes);
     h.flags = p.hex<std::uint8_t>("flags");
+    if ((h.flags & ~kHelloTakesCatalog) != 0) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", h.flags);
+      p.fail("flags: " + std::string(hex) + " uses reserved bits (only 0x01, takes the catalog, is defined)");
+    }
     h.catalog_source = p.text("source", p.field("source"), kMaxTextBytes);
     p.end();
     return h;
@@ -217,7 +223,7 @@ Message parse_message(LineParser& p, std::string_view kind) {
     c.catalog_hash = p.hex<std::uint64_t>("hash");
     c.index = p.integer<std::uint16_t>("piece");
     c.count = p.integer<std::uint16_t>("count");
-    if (c.count == 0 || c.index >= c.count) p.fail("piece: expected 0.." + std::to_string(c.count) + "-1 of count=" + std::to_string(c.count));
+    if (c.count == 0 || c.index >= c.count) p.fail("piece: expected 0.." + std::to_string(c.count == 0 ? 0 : c.count - 1) + " (count=" + std::to_string(c.count) + ")");
     c.bytes = p.bytes("bytes", p.field("bytes"), kMaxCatalogChunkBytes);
     p.end();
     return c;

@@ -275,6 +275,16 @@ CatalogParseResult parse_catalog(std::string_view text, std::string_view file_na
     const auto colon = what.find("parse error");
     return {nullptr, file + ":" + line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) +
                          ": not valid JSON: " + (colon == std::string::npos ? what : what.substr(colon))};
+  } catch (const json::exception& e) {
+    // A number too large for a double (out_of_range) is the other JSON error: it has no byte
+    // offset of its own, but the message quotes the number, which is found in the text.
+    const std::string what = e.what();
+    const auto quote = what.find('\'');
+    const auto end = quote == std::string::npos ? quote : what.find('\'', quote + 1);
+    const auto at = end == std::string::npos ? std::string::npos : text.find(what.substr(quote + 1, end - quote - 1));
+    const auto message = what.find("number overflow");
+    return {nullptr, file + (at == std::string::npos ? "" : ":" + line_and_column(text, at)) + ": not valid JSON: " +
+                         (message == std::string::npos ? what : what.substr(message))};
   }
   if (const auto& at = duplicates->first()) {
     return {nullptr, file + ": " + *at + ": the key appears twice (a JSON object's keys must be unique)"};
