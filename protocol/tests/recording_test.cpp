@@ -212,6 +212,7 @@ TEST(Recording, MalformedLinesNameFileLineAndWhatWasExpected) {
        "name=\"v\" flags=0x40 source=\"\"",
        "flags: 0x40 uses reserved bits (only 0x01, takes the catalog, is defined)"},
       {"(1.000000000) CATALOG seq=1 sent=1.000000000 hash=0x1 piece=2 count=2 bytes=\"{}\"", "piece: expected 0..1"},
+      {"(1.000000000) CATALOG seq=1 sent=1.000000000 hash=0x1 piece=0 count=0 bytes=\"{}\"", "count: expected at least 1 piece"},
   };
   for (const auto& [line, expected] : cases) {
     try {

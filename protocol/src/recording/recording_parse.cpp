@@ -223,7 +223,8 @@ Message parse_message(LineParser& p, std::string_view kind) {
     c.catalog_hash = p.hex<std::uint64_t>("hash");
     c.index = p.integer<std::uint16_t>("piece");
     c.count = p.integer<std::uint16_t>("count");
-    if (c.count == 0 || c.index >= c.count) p.fail("piece: expected 0.." + std::to_string(c.count == 0 ? 0 : c.count - 1) + " (count=" + std::to_string(c.count) + ")");
+    if (c.count == 0) p.fail("count: expected at least 1 piece, got 0");
+    if (c.index >= c.count) p.fail("piece: expected 0.." + std::to_string(c.count - 1) + " (count=" + std::to_string(c.count) + ")");
     c.bytes = p.bytes("bytes", p.field("bytes"), kMaxCatalogChunkBytes);
     p.end();
     return c;
