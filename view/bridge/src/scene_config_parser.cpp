@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "meter/protocol/catalog.hpp"
+#include "scene_scripts_parser.hpp"
 
 namespace meter::bridge {
 namespace {
@@ -212,9 +213,10 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   if (!j.is_object()) c.fail("$", "expected a JSON object");
   check_keys(c, j, "$",
              {"format", "size", "camera", "clear_color", "time", "ambient", "exposure", "bindings",
-              "link_loss", "groups", "materials", "comment"});
+              "link_loss", "groups", "materials", "scripts", "comment"});
   SceneConfig out;
   out.source_json = std::string(text);
+  out.origin = origin;
   if (!j.contains("format")) c.fail("$.format", "missing (expected \"meter-scene-config/1\")");
   std::string format = string(c, j["format"], "$.format");
   if (format != "meter-scene-config/1") {
@@ -285,6 +287,18 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
         o.shading = s;
       }
       out.materials[it.key()] = o;
+    }
+  }
+  if (j.contains("scripts")) {
+    bool inlined = false;
+    out.scripts = parse_scripts(j["scripts"], catalog, origin, &inlined);
+    // Scripts read from files travel inlined in the stored text: the package needs no other file.
+    if (inlined) {
+      try {
+        out.source_json = j.dump(1);
+      } catch (const json::exception& e) {
+        throw std::invalid_argument(origin + ": $.scripts: a script file is not UTF-8 text: " + e.what());
+      }
     }
   }
   return out;

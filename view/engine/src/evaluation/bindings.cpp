@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "meter/engine/logic/scripts.hpp"
+
 namespace meter::engine {
 
 std::string binding_text(const Binding& b, double value) {
@@ -50,7 +52,10 @@ BindingEvaluator::BindingEvaluator(const Scene& scene) : scene_(scene), bindings
   state_.resize(bindings_.size());
   if (!scene.config.link_loss.text_node.empty()) link_loss_node_ = scene.find_node(scene.config.link_loss.text_node);
   out_ = resting_outputs(scene);
+  if (!scene.config.scripts.empty()) scripts_ = std::make_unique<ScriptEngine>(scene);
 }
+
+BindingEvaluator::~BindingEvaluator() = default;
 
 std::vector<std::string> BindingEvaluator::rebind(const protocol::Catalog& catalog) {
   std::vector<std::string> missing;
@@ -59,6 +64,8 @@ std::vector<std::string> BindingEvaluator::rebind(const protocol::Catalog& catal
     b.signal_id = info ? info->id : -1;
     if (!info) missing.push_back(b.signal);
   }
+  if (scripts_)
+    for (auto& name : scripts_->rebind(catalog)) missing.push_back(std::move(name));
   return missing;
 }
 
@@ -156,6 +163,8 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
       }
     }
   }
+  // Scripts after the bindings (their outputs win), before the link-loss text (which nothing hides).
+  if (scripts_) scripts_->update(signals, link_up, next);
   if (!link_up && link_loss_node_ >= 0) {
     const auto& l = scene_.config.link_loss;
     next.texts.push_back({link_loss_node_, l.text, static_cast<int>(std::lround(l.size_px)),

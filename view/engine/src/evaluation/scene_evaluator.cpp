@@ -75,7 +75,7 @@ int SceneEvaluator::apply(const BindingOutputs& o) {
     ++sampled;
   }
   animation_samples_ += static_cast<std::uint64_t>(sampled);
-  if (!touched.empty()) world_dirty_ = true;
+  if (!touched.empty() || o.transforms != outputs_.transforms) world_dirty_ = true;
   visible_ = visibility_in(order_, scene_.nodes.size(), o.node_visible);
   outputs_ = o;
   return sampled;
@@ -83,7 +83,17 @@ int SceneEvaluator::apply(const BindingOutputs& o) {
 
 bool SceneEvaluator::update_world() {
   if (!world_dirty_) return false;
-  world_matrices(scene_, order_, pose_, world_);
+  if (outputs_.transforms.empty()) {
+    world_matrices(scene_, order_, pose_, world_);
+  } else {  // scripts' translations / rotations replace the animated (or rest) local values
+    Pose posed = pose_;
+    for (const auto& t : outputs_.transforms) {
+      if (t.node < 0 || static_cast<std::size_t>(t.node) >= posed.translation.size()) continue;
+      if (t.translation) posed.translation[static_cast<std::size_t>(t.node)] = *t.translation;
+      if (t.rotation) posed.rotation[static_cast<std::size_t>(t.node)] = *t.rotation;
+    }
+    world_matrices(scene_, order_, posed, world_);
+  }
   world_dirty_ = false;
   return true;
 }

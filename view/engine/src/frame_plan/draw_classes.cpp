@@ -21,6 +21,11 @@ DrawClasses classify_draws(const Scene& scene, bool merged, int camera_node) {
     if (b.kind == BindingKind::Visibility || b.kind == BindingKind::Morph) mark(node_moves, scene.find_node(b.node));
     if (b.kind == BindingKind::Emissive || b.kind == BindingKind::Color) mark(material_changes, scene.find_material(b.material));
   }
+  for (const auto& s : scene.config.scripts)
+    for (const auto& o : s.outputs) {
+      if (o.kind != ScriptOutputKind::Text && targets_node(o.kind)) mark(node_moves, scene.find_node(o.target));
+      if (targets_material(o.kind)) mark(material_changes, scene.find_material(o.target));
+    }
   // Transforms and visibility are inherited: below a moving node everything moves.
   for (int n : node_preorder(scene))
     if (node_moves[static_cast<std::size_t>(n)])

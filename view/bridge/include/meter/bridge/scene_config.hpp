@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "meter/bridge/scene_scripts.hpp"
+
 namespace meter::bridge {
 
 enum class BindingKind { Animation, Visibility, Emissive, Color, Morph, Text };
@@ -73,7 +75,9 @@ struct SceneConfig {
   LinkLossConfig link_loss;
   std::vector<Group> groups;
   std::map<std::string, MaterialOverride> materials;
+  std::vector<Script> scripts;  // "scripts" (scene_scripts.hpp, docs/scene-logic.md)
   std::string source_json;  // the original text, stored in the package
+  std::string origin;       // the file (or name) it was parsed from, for later messages
 };
 
 const char* to_string(BindingKind kind);

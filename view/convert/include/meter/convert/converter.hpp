@@ -44,6 +44,10 @@ ConvertResult convert_gltf(const std::string& gltf_path, const SceneConfig& conf
 
 // Checks that every name the config refers to exists in the scene. Throws SceneError.
 void resolve_config(const Scene& scene, const SceneConfig& config, const std::string& origin);
+// The scripts' part of it: every output's node / material / animation exists (nodes unique, morph
+// targets present), and every script loads in its sandbox and defines run(IN, OUT). Throws
+// SceneError naming the config file, the script and the Lua line.
+void resolve_scripts(const Scene& scene, const SceneConfig& config);
 
 // The `meter-convert --report` text: one block per program (features, instruction and uniform
 // counts, draws using it).

@@ -9,11 +9,13 @@
 //   effect = a function of drawn only (so equal inputs give equal outputs: the renderer can skip).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "meter/engine/scene.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -36,6 +38,15 @@ struct MorphOverride {
   bool operator==(const MorphOverride&) const = default;
 };
 
+// A node's local translation and/or rotation replaced (over its animated or rest value). Only
+// scene scripts set these (logic/scripts.hpp); bindings move nodes through animations.
+struct NodeTransformOverride {
+  int node = -1;
+  std::optional<glm::vec3> translation;
+  std::optional<glm::quat> rotation;
+  bool operator==(const NodeTransformOverride&) const = default;
+};
+
 struct BindingOutputs {
   std::vector<double> animation_time;            // per animation; config.time when not driven
   std::vector<signed char> node_visible;         // per node: -1 no override, 0 hidden, 1 shown
@@ -43,6 +54,7 @@ struct BindingOutputs {
   std::vector<std::optional<glm::vec4>> base_color;
   std::vector<MorphOverride> morph;
   std::vector<TextItem> texts;
+  std::vector<NodeTransformOverride> transforms;  // scene scripts' node translations / rotations
   bool link_lost = false;
   bool operator==(const BindingOutputs&) const = default;
 };
@@ -60,10 +72,15 @@ struct BindingState {
   std::string text;          // text bindings: the text drawn
 };
 
+class ScriptEngine;  // logic/scripts.hpp
+
 class BindingEvaluator {
  public:
-  // Resolves names against the scene (throws SceneError like resolve_config).
+  // Resolves names against the scene (throws SceneError like resolve_config). The scene's scripts
+  // (config "scripts") run inside update(), after the bindings: a script's output wins over a
+  // binding's effect on the same property (docs/scene-logic.md).
   explicit BindingEvaluator(const Scene& scene);
+  ~BindingEvaluator();
 
   // One step over the current signal states (the Subscriber's table live, a parsed one offline).
   // A binding whose signal is not in the table reads as NotAvailable, like the table's own
@@ -82,6 +99,9 @@ class BindingEvaluator {
   const std::vector<Binding>& bindings() const { return bindings_; }
   // True while some smoothed value is still moving towards its target.
   bool animating() const { return animating_; }
+  // The scene's scripts (their stats and messages); nullptr when the config has none.
+  ScriptEngine* scripts() { return scripts_.get(); }
+  const ScriptEngine* scripts() const { return scripts_.get(); }
 
  private:
   struct Resolved {
@@ -93,6 +113,7 @@ class BindingEvaluator {
   std::vector<BindingState> state_;
   BindingOutputs out_;
   int link_loss_node_ = -1;
+  std::unique_ptr<ScriptEngine> scripts_;
   bool first_ = true;
   bool animating_ = false;
 };

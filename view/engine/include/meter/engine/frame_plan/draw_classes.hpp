@@ -14,7 +14,8 @@ struct DrawClasses {
   // All -1 when groups are not drawn merged.
   std::vector<int> group;
   // Per draw: can change (its node or an ancestor has an animation channel or a visibility/morph
-  // binding, its material a colour/emissive binding, it is skinned or has morph targets). A merged
+  // binding or a script output, its material a colour/emissive binding or script output, it is
+  // skinned or has morph targets). A merged
   // group's representative: true when any member can change. False: static-layer material.
   std::vector<char> changeable;
   // The layer has content (a static opaque draw) and outlives a frame: the camera and every light

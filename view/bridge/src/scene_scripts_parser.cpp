@@ -1,0 +1,298 @@
+// The "scripts" part of the scene config: every input a catalog signal, every output a property
+// with its target named, limits in range, the code Lua text that compiles. Scene names (nodes,
+// materials, animations) are checked by the converter against the scene (resolve_config).
+#include "scene_scripts_parser.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <lua.hpp>
+
+namespace meter::bridge {
+namespace {
+
+using nlohmann::json;
+
+struct ScriptCtx {
+  const std::string& origin;
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+    throw std::invalid_argument(origin + ": " + path + ": " + what);
+  }
+};
+
+bool lua_identifier(const std::string& s) {
+  static const std::set<std::string> reserved{"and",   "break", "do",  "else", "elseif", "end",   "false", "for",
+                                              "function", "goto", "if", "in",   "local",  "nil",   "not",   "or",
+                                              "repeat", "return", "then", "true", "until", "while"};
+  if (s.empty() || s.size() > 64 || reserved.count(s)) return false;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char ch = s[i];
+    const bool alpha = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || ch == '_';
+    if (!alpha && !(i > 0 && ch >= '0' && ch <= '9')) return false;
+  }
+  return true;
+}
+
+const std::string& text_of(const ScriptCtx& c, const json& j, const std::string& path) {
+  if (!j.is_string()) c.fail(path, "expected a string, got " + std::string(j.type_name()));
+  return j.get_ref<const std::string&>();
+}
+
+double number_of(const ScriptCtx& c, const json& j, const std::string& path) {
+  if (!j.is_number() || !std::isfinite(j.get<double>())) c.fail(path, "expected a finite number");
+  return j.get<double>();
+}
+
+void only_keys(const ScriptCtx& c, const json& obj, const std::string& path, const std::set<std::string>& allowed) {
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    if (allowed.count(it.key())) continue;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    c.fail(path + "." + it.key(), "unknown key (expected one of: " + list + ")");
+  }
+}
+
+std::vector<double> numbers_of(const ScriptCtx& c, const json& j, const std::string& path, std::size_t lo, std::size_t hi) {
+  if (!j.is_array() || j.size() < lo || j.size() > hi) {
+    c.fail(path, "expected an array of " + (lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi)) + " numbers");
+  }
+  std::vector<double> v;
+  for (std::size_t i = 0; i < j.size(); ++i) v.push_back(number_of(c, j[i], path + "[" + std::to_string(i) + "]"));
+  return v;
+}
+
+struct PropertySpec {
+  ScriptOutputKind kind;
+  const char* target_key;  // "node", "material" or "animation"
+};
+
+const std::map<std::string, PropertySpec>& properties() {
+  static const std::map<std::string, PropertySpec> p{
+      {"time", {ScriptOutputKind::Animation, "animation"}},  {"visible", {ScriptOutputKind::Visible, "node"}},
+      {"translation", {ScriptOutputKind::Translation, "node"}}, {"rotation", {ScriptOutputKind::Rotation, "node"}},
+      {"morph", {ScriptOutputKind::Morph, "node"}},           {"color", {ScriptOutputKind::Color, "material"}},
+      {"emissive", {ScriptOutputKind::Emissive, "material"}}, {"text", {ScriptOutputKind::Text, "node"}}};
+  return p;
+}
+
+ScriptOutput parse_output(const ScriptCtx& c, const std::string& name, const json& o, const std::string& path) {
+  if (!lua_identifier(name)) c.fail(path, "an output name must be a Lua identifier (letters, digits, _)");
+  if (!o.is_object()) c.fail(path, "expected an object {\"property\": ..., \"node\"|\"material\"|\"animation\": ...}");
+  if (!o.contains("property")) c.fail(path + ".property", "missing (time, visible, translation, rotation, morph, color, emissive or text)");
+  const std::string& prop = text_of(c, o["property"], path + ".property");
+  const auto it = properties().find(prop);
+  if (it == properties().end()) {
+    c.fail(path + ".property", "unknown property \"" + prop + "\" (expected time, visible, translation, rotation, morph, color, emissive or text)");
+  }
+  ScriptOutput out;
+  out.name = name;
+  out.kind = it->second.kind;
+  std::set<std::string> keys{"property", it->second.target_key, "failsafe", "comment"};
+  if (!o.contains(it->second.target_key)) c.fail(path + "." + it->second.target_key, "missing (required for property \"" + prop + "\")");
+  out.target = text_of(c, o[it->second.target_key], path + "." + it->second.target_key);
+  if (out.kind == ScriptOutputKind::Morph) {
+    keys.insert("target");
+    if (o.contains("target")) {
+      const double t = number_of(c, o["target"], path + ".target");
+      if (t < 0 || t > 255 || t != std::floor(t)) c.fail(path + ".target", "expected a morph target index 0..255");
+      out.morph_target = static_cast<int>(t);
+    }
+  }
+  if (out.kind == ScriptOutputKind::Text) {
+    keys.insert({"size_px", "color", "align"});
+    if (o.contains("size_px")) {
+      out.size_px = number_of(c, o["size_px"], path + ".size_px");
+      if (out.size_px < 4 || out.size_px > 512) c.fail(path + ".size_px", "expected 4..512 pixels");
+    }
+    if (o.contains("color")) {
+      const auto v = numbers_of(c, o["color"], path + ".color", 3, 4);
+      for (std::size_t i = 0; i < v.size(); ++i) out.color[i] = v[i];
+    }
+    if (o.contains("align")) {
+      const std::string& a = text_of(c, o["align"], path + ".align");
+      if (a == "left") out.align = TextAlign{0};
+      else if (a == "center" || a == "centre") out.align = TextAlign{1};
+      else if (a == "right") out.align = TextAlign{2};
+      else c.fail(path + ".align", "expected \"left\", \"center\" or \"right\", got \"" + a + "\"");
+    }
+  }
+  only_keys(c, o, path, keys);
+  if (o.contains("failsafe")) {
+    const json& f = o["failsafe"];
+    const std::string fp = path + ".failsafe";
+    const int n = value_components(out.kind);
+    if (out.kind == ScriptOutputKind::Visible) {
+      if (!f.is_boolean()) c.fail(fp, "expected true or false (the lamp's look while the script is failed)");
+      out.failsafe_visible = f.get<bool>();
+    } else if (out.kind == ScriptOutputKind::Text) {
+      out.failsafe_text = text_of(c, f, fp);
+    } else if (n == 1) {
+      out.failsafe_numbers = std::vector<double>{number_of(c, f, fp)};
+    } else {
+      auto v = numbers_of(c, f, fp, out.kind == ScriptOutputKind::Color ? 3 : static_cast<std::size_t>(n), static_cast<std::size_t>(n));
+      if (v.size() < static_cast<std::size_t>(n)) v.push_back(1.0);  // colour: alpha 1
+      out.failsafe_numbers = std::move(v);
+    }
+  }
+  return out;
+}
+
+std::string read_script_file(const ScriptCtx& c, const std::string& file, const std::string& path) {
+  const std::filesystem::path full = std::filesystem::path(c.origin).parent_path() / file;
+  std::ifstream in(full, std::ios::binary);
+  if (!in) c.fail(path, "cannot open script file " + full.string());
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string code = ss.str();
+  if (code.size() > (1u << 20)) c.fail(path, full.string() + ": a script is at most 1 MiB");
+  return code;
+}
+
+ScriptLimits parse_limits(const ScriptCtx& c, const json& l, const std::string& path) {
+  if (!l.is_object()) c.fail(path, "expected an object");
+  only_keys(c, l, path, {"instructions", "memory_kb", "run_alloc_kb"});
+  ScriptLimits out;
+  auto bounded = [&](const char* key, double lo, double hi) {
+    const double v = number_of(c, l[key], path + "." + key);
+    if (v < lo || v > hi || v != std::floor(v)) {
+      c.fail(path + "." + key, "expected an integer " + std::to_string(static_cast<long long>(lo)) + ".." + std::to_string(static_cast<long long>(hi)));
+    }
+    return v;
+  };
+  if (l.contains("instructions")) out.instructions = static_cast<long long>(bounded("instructions", 1000, 1e7));
+  if (l.contains("memory_kb")) out.memory_bytes = static_cast<std::size_t>(bounded("memory_kb", 64, 65536)) * 1024;
+  if (l.contains("run_alloc_kb")) out.run_alloc_bytes = static_cast<std::size_t>(bounded("run_alloc_kb", 64, 262144)) * 1024;
+  return out;
+}
+
+// The property an output sets, as a key: two outputs (in one or two scripts) may not set one.
+std::string property_key(const ScriptOutput& o) {
+  std::string k = std::string(to_string(o.kind)) + " of " + o.target;
+  if (o.kind == ScriptOutputKind::Morph) k += " target " + std::to_string(o.morph_target);
+  return k;
+}
+
+}  // namespace
+
+std::vector<Script> parse_scripts(json& scripts, const protocol::Catalog& catalog, const std::string& origin, bool* inlined) {
+  const ScriptCtx c{origin};
+  if (inlined) *inlined = false;
+  if (!scripts.is_array()) c.fail("$.scripts", "expected an array of scripts");
+  std::vector<Script> out;
+  std::map<std::string, std::string> written;  // property key -> "script.output"
+  for (std::size_t i = 0; i < scripts.size(); ++i) {
+    json& s = scripts[i];
+    const std::string path = "$.scripts[" + std::to_string(i) + "]";
+    if (!s.is_object()) c.fail(path, "expected an object");
+    only_keys(c, s, path, {"name", "code", "file", "inlined_from", "inputs", "outputs", "limits", "comment"});
+    Script sc;
+    if (!s.contains("name")) c.fail(path + ".name", "missing (the script's name in messages and stats)");
+    sc.name = text_of(c, s["name"], path + ".name");
+    if (!lua_identifier(sc.name)) c.fail(path + ".name", "a script name must be a Lua identifier (letters, digits, _)");
+    for (const auto& prior : out)
+      if (prior.name == sc.name) c.fail(path + ".name", "a second script named \"" + sc.name + "\"");
+    const std::string where = path + " (" + sc.name + ")";
+    if (s.contains("code") == s.contains("file")) c.fail(where, "expected exactly one of \"code\" (Lua text) or \"file\" (a .lua file next to the config)");
+    if (s.contains("file")) {
+      sc.file = text_of(c, s["file"], path + ".file");
+      sc.code = read_script_file(c, sc.file, path + ".file");
+    } else {
+      sc.code = text_of(c, s["code"], path + ".code");
+      if (s.contains("inlined_from")) sc.file = text_of(c, s["inlined_from"], path + ".inlined_from");
+    }
+    const std::string code_path = s.contains("file") ? path + ".file (" + sc.file + ")" : path + ".code";
+    if (const std::string why = lua_syntax_error(sc.code, sc.name); !why.empty()) c.fail(code_path, why);
+    if (!s.contains("inputs") || !s["inputs"].is_object() || s["inputs"].empty()) {
+      c.fail(path + ".inputs", "expected an object {\"name\": \"Catalog.Signal\", ...} with at least one input (a script runs when an input changes)");
+    }
+    for (auto it = s["inputs"].begin(); it != s["inputs"].end(); ++it) {
+      const std::string ip = path + ".inputs." + it.key();
+      if (!lua_identifier(it.key())) c.fail(ip, "an input name must be a Lua identifier (letters, digits, _)");
+      ScriptInput in{it.key(), text_of(c, it.value(), ip), -1};
+      const auto* info = catalog.find(in.signal);
+      if (!info) c.fail(ip, "\"" + in.signal + "\" is not in the signal catalog " + catalog.source());
+      in.signal_id = info->id;
+      sc.inputs.push_back(std::move(in));
+    }
+    if (!s.contains("outputs") || !s["outputs"].is_object() || s["outputs"].empty()) {
+      c.fail(path + ".outputs", "expected an object {\"name\": {\"property\": ..., ...}, ...} with at least one output");
+    }
+    for (auto it = s["outputs"].begin(); it != s["outputs"].end(); ++it) {
+      ScriptOutput o = parse_output(c, it.key(), it.value(), path + ".outputs." + it.key());
+      const std::string key = property_key(o);
+      const std::string who = sc.name + "." + o.name;
+      if (const auto w = written.find(key); w != written.end()) {
+        c.fail(path + ".outputs." + o.name, "the " + key + " is already set by " + w->second + " (one writer per property)");
+      }
+      written.emplace(key, who);
+      sc.outputs.push_back(std::move(o));
+    }
+    if (s.contains("limits")) sc.limits = parse_limits(c, s["limits"], path + ".limits");
+    if (s.contains("file")) {
+      s.erase("file");
+      s["code"] = sc.code;
+      s["inlined_from"] = sc.file;
+      if (inlined) *inlined = true;
+    }
+    out.push_back(std::move(sc));
+  }
+  return out;
+}
+
+const char* to_string(ScriptOutputKind kind) {
+  switch (kind) {
+    case ScriptOutputKind::Animation: return "time";
+    case ScriptOutputKind::Visible: return "visible";
+    case ScriptOutputKind::Translation: return "translation";
+    case ScriptOutputKind::Rotation: return "rotation";
+    case ScriptOutputKind::Morph: return "morph";
+    case ScriptOutputKind::Color: return "color";
+    case ScriptOutputKind::Emissive: return "emissive";
+    case ScriptOutputKind::Text: return "text";
+  }
+  return "?";
+}
+
+int value_components(ScriptOutputKind kind) {
+  switch (kind) {
+    case ScriptOutputKind::Animation:
+    case ScriptOutputKind::Morph: return 1;
+    case ScriptOutputKind::Translation:
+    case ScriptOutputKind::Rotation:
+    case ScriptOutputKind::Emissive: return 3;
+    case ScriptOutputKind::Color: return 4;
+    case ScriptOutputKind::Visible:
+    case ScriptOutputKind::Text: return 0;
+  }
+  return 0;
+}
+
+bool targets_node(ScriptOutputKind kind) {
+  return kind == ScriptOutputKind::Visible || kind == ScriptOutputKind::Translation || kind == ScriptOutputKind::Rotation ||
+         kind == ScriptOutputKind::Morph || kind == ScriptOutputKind::Text;
+}
+
+bool targets_material(ScriptOutputKind kind) { return kind == ScriptOutputKind::Color || kind == ScriptOutputKind::Emissive; }
+
+std::string lua_syntax_error(std::string_view code, const std::string& chunk_name) {
+  lua_State* L = luaL_newstate();
+  if (!L) return chunk_name + ": cannot create a Lua state to check the script";
+  const std::string chunk = "=" + chunk_name;
+  // Mode "t": a precompiled (binary) chunk is refused, never loaded.
+  const int rc = luaL_loadbufferx(L, code.data(), code.size(), chunk.c_str(), "t");
+  std::string why;
+  if (rc != LUA_OK) {
+    const char* m = lua_tostring(L, -1);
+    why = m ? m : "the script does not compile";
+    if (why.rfind(chunk_name + ":", 0) != 0) why = chunk_name + ": " + why;  // e.g. a binary chunk
+  }
+  lua_close(L);
+  return why;
+}
+
+}  // namespace meter::bridge

@@ -1,0 +1,35 @@
+// A hand-built scene for the scene-script tests (no glTF, no GL): nodes Lamp, Needle, Text_Gear,
+// Warn, Bar; materials LampMat, NeedleMat; an animation Sweep without channels. The config holds
+// the given scripts and bindings.
+#pragma once
+
+#include <string>
+
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/engine/scene.hpp"
+
+namespace meter::engine::test {
+
+inline Scene script_scene(const std::string& scripts_json, const std::string& bindings_json = "[]") {
+  Scene s;
+  s.source_name = "logic.gltf";
+  for (const char* name : {"Lamp", "Needle", "Text_Gear", "Warn", "Bar"}) {
+    Node n;
+    n.name = name;
+    s.roots.push_back(static_cast<int>(s.nodes.size()));
+    s.nodes.push_back(n);
+  }
+  for (const char* name : {"LampMat", "NeedleMat"}) {
+    Material m;
+    m.name = name;
+    s.materials.push_back(m);
+  }
+  Animation a;
+  a.name = "Sweep";
+  s.animations.push_back(a);
+  s.config = bridge::parse_scene_config(
+      R"({"format": "meter-scene-config/1", "bindings": )" + bindings_json + R"(, "scripts": )" + scripts_json + "}", "logic.json");
+  return s;
+}
+
+}  // namespace meter::engine::test
