@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/evaluation/scene_evaluator.hpp"
 #include "meter/engine/logic/scripts.hpp"
 #include "script_scene.hpp"
 
@@ -285,4 +286,25 @@ TEST_F(Scripts, EnumAndTelltaleSignalsArriveAsIntegers) {
   BindingOutputs out = resting_outputs(s);
   eng.update(values, true, out);
   EXPECT_EQ(out.texts.at(0).text, "3 integer float");
+}
+
+TEST_F(Scripts, TranslationAndRotationMoveTheNodeAndLetGoAtNil) {
+  const char* code = "function run(IN, OUT) if IN.v.value > 0 then OUT.at = {1, 2, 3} OUT.turn = {0, 0, 90} else OUT.at = nil OUT.turn = nil end end";
+  json outputs = {{"at", {{"property", "translation"}, {"node", "Bar"}}}, {"turn", {{"property", "rotation"}, {"node", "Bar"}}}};
+  const Scene s = test::script_scene(json::array({script("mover", code, {{"v", "Vehicle.Speed"}}, outputs)}).dump());
+  BindingEvaluator ev(s);
+  SceneEvaluator scene_eval(s);
+  const auto bar = static_cast<std::size_t>(node(s, "Bar"));
+  set(sig::kSpeed, 1);
+  ev.update(values, true, -1.0);
+  scene_eval.apply(ev.outputs());
+  EXPECT_TRUE(scene_eval.update_world());
+  const glm::mat4& w = scene_eval.world()[bar];
+  EXPECT_EQ(glm::vec3(w[3]), glm::vec3(1, 2, 3));
+  EXPECT_NEAR(w[0][1], 1.0f, 1e-6f);  // +X turned onto +Y
+  set(sig::kSpeed, 0);
+  ev.update(values, true, -1.0);
+  scene_eval.apply(ev.outputs());
+  EXPECT_TRUE(scene_eval.update_world());
+  EXPECT_EQ(scene_eval.world()[bar], glm::mat4(1.0f));  // back to the rest pose
 }

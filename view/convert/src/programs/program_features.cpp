@@ -60,6 +60,10 @@ std::vector<char> dynamic_nodes(const Scene& s) {
   for (const auto& a : s.animations) {
     for (const auto& ch : a.channels) animated[static_cast<std::size_t>(ch.node)] = 1;
   }
+  for (const auto& sc : s.config.scripts)  // a script's translation / rotation moves its node
+    for (const auto& o : sc.outputs)
+      if (o.kind == ScriptOutputKind::Translation || o.kind == ScriptOutputKind::Rotation)
+        if (const int n = s.find_node(o.target); n >= 0) animated[static_cast<std::size_t>(n)] = 1;
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     for (int n = static_cast<int>(i); n >= 0; n = s.nodes[static_cast<std::size_t>(n)].parent) {
       if (animated[static_cast<std::size_t>(n)]) dyn[i] = 1;

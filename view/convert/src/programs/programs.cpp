@@ -36,6 +36,9 @@ void generate_programs(const ConvertContext& ctx, Scene& s) {
   for (const auto& b : ctx.cfg.bindings) {
     if (b.kind == BindingKind::Emissive || b.kind == BindingKind::Color) bound_materials.insert(s.find_material(b.material));
   }
+  for (const auto& sc : ctx.cfg.scripts)  // scripts' colour / emissive outputs: not folded either
+    for (const auto& o : sc.outputs)
+      if (targets_material(o.kind)) bound_materials.insert(s.find_material(o.target));
   const auto dyn = dynamic_nodes(s);
   std::map<std::string, int> cache;
   for (const int n : node_preorder(s)) {
