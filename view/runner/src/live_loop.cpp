@@ -13,6 +13,7 @@
 #include "meter/view/option_units.hpp"
 #include "meter/view/png_writer.hpp"
 #include "meter/view/process_signals.hpp"
+#include "meter/view/script_log.hpp"
 #include "meter/view/view_health.hpp"
 
 namespace meter::view {
@@ -167,6 +168,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     const std::int64_t t_update = LatencyTrace::now();
     const std::int64_t evaluate_began = protocol::monotonic_now_ns();
     ctx.evaluator.update(sub.signals(), sub.link_up(), ft.dt);  // read in place, no copy
+    log_script_messages(ctx.evaluator, log);
     ctx.renderer.apply(ctx.evaluator.outputs());
     const bool want = policy.decide(frame, ft.t, take_dump_request());
     const std::int64_t render_began = protocol::monotonic_now_ns();
@@ -193,6 +195,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   log << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped
       << " skipped (inputs unchanged), " << health.count(protocol::kViewFaultFrameDeadline)
       << " frame deadlines missed, " << png_writer.failures() << " dumps failed\n";
+  log_script_stats(ctx.evaluator, log);
   png_writer.check();  // a failed dump makes the exit status say so
 }
 

@@ -3,6 +3,7 @@
 #include "meter/platform/image.hpp"
 #include "meter/view/frames_csv.hpp"
 #include "meter/view/option_units.hpp"
+#include "meter/view/script_log.hpp"
 #include "meter/view/values_input.hpp"
 
 namespace meter::view {
@@ -14,6 +15,7 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
   }
   for (const auto& s : options.sets) parse_set(s, values, "--set");
   ctx.evaluator.update(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
+  log_script_messages(ctx.evaluator, log);
   ctx.renderer.apply(ctx.evaluator.outputs());
   const auto ft = ctx.renderer.render(true, true);
   ctx.timing.row(0, 0.0, ft);
@@ -24,6 +26,7 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
   if (options.info) {
     log << "meter-view: wrote " << png.string() << " in "
         << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ctx.started).count() << " ms\n";
+    log_script_stats(ctx.evaluator, log);
   }
 }
 

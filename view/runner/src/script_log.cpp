@@ -1,0 +1,17 @@
+#include "meter/view/script_log.hpp"
+
+#include "meter/engine/logic/scripts.hpp"
+
+namespace meter::view {
+
+void log_script_messages(engine::BindingEvaluator& evaluator, std::ostream& log) {
+  if (auto* scripts = evaluator.scripts())
+    for (const auto& m : scripts->take_messages()) log << "meter-view: script " << m << "\n";
+}
+
+void log_script_stats(const engine::BindingEvaluator& evaluator, std::ostream& log) {
+  if (const auto* scripts = evaluator.scripts())
+    for (const auto& st : scripts->stats()) log << "meter-view: script " << engine::describe(st) << "\n";
+}
+
+}  // namespace meter::view
