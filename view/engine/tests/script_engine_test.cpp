@@ -212,10 +212,7 @@ TEST_F(Scripts, OutputsWithoutAFailsafeHoldAndLinkLossShowsFailsafe) {
 }
 
 TEST_F(Scripts, OutputsOfTheWrongTypeOrNotFiniteAreErrorsNamingTheOutput) {
-  struct Case {
-    const char* code;
-    const char* error;
-  } cases[] = {
+  const test::LuaCase cases[] = {
       {"function run(IN, OUT) OUT.lamp = 1 end", "s: output lamp: expected true, false or nil, got number"},
       {"function run(IN, OUT) OUT.time = 0/0 end", "s: output time: expected a finite number, got NaN or infinity"},
       {"function run(IN, OUT) OUT.time = '3' end", "s: output time: expected a number or nil, got string"},

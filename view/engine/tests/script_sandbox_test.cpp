@@ -50,10 +50,7 @@ TEST(ScriptSandbox, TheOrdinaryLibrariesWork) {
 }
 
 TEST(ScriptSandbox, NoWayToFilesProcessesModulesOrCode) {
-  struct Case {
-    const char* body;
-    const char* error;
-  } cases[] = {
+  const test::LuaCase cases[] = {
       {"io.open('/etc/passwd')", "box:2: attempt to index a nil value (global 'io')"},
       {"os.execute('touch /tmp/meter_escaped')", "box:2: attempt to index a nil value (global 'os')"},
       {"require('os')", "box:2: attempt to call a nil value (global 'require')"},
@@ -73,7 +70,7 @@ TEST(ScriptSandbox, NoWayToFilesProcessesModulesOrCode) {
       // The string metatable's __index is the sandboxed string table: no dump through it either.
       {"getmetatable('').__index.dump(run)", "box:2: attempt to call a nil value (field 'dump')"},
   };
-  for (const auto& c : cases) EXPECT_EQ(run_body(c.body).error, c.error) << c.body;
+  for (const auto& c : cases) EXPECT_EQ(run_body(c.code).error, c.error) << c.code;
 }
 
 TEST(ScriptSandbox, MetatableTricksOnTheEnvironmentReachNothing) {

@@ -10,6 +10,12 @@
 
 namespace meter::engine::test {
 
+// A piece of Lua and the error it must give.
+struct LuaCase {
+  const char* code;
+  const char* error;
+};
+
 inline Scene script_scene(const std::string& scripts_json, const std::string& bindings_json = "[]") {
   Scene s;
   s.source_name = "logic.gltf";
