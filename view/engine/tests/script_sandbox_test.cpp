@@ -130,8 +130,12 @@ TEST(ScriptSandbox, EndlessLoopsHitTheInstructionLimit) {
   // A loop in a metamethod the script calls is counted too.
   EXPECT_NE(run_body("tostring(setmetatable({}, {__tostring = function() while true do end end}))").error.find(kLimit), std::string::npos);
   // A library loop in C that neither allocates nor runs an instruction: bounded on its own.
-  EXPECT_EQ(run_body("table.move({}, 1, 1e12, 2)").error, "box:2: table.move of more than 1048576 elements");
-  EXPECT_EQ(run_body("local t = table.move({1, 2, 3}, 1, 3, 2) assert(t[4] == 3)").error, "");
+  EXPECT_EQ(run_body("table.move({}, 1, 1e12, 2)").error, "box:2: table.move over more than 1048576 elements");
+  EXPECT_EQ(run_body("table.insert(setmetatable({}, {__len = function() return 1e15 end}), 1, 'x')").error,
+            "box:2: table.insert/remove over more than 1048576 elements");
+  EXPECT_EQ(run_body("table.remove(setmetatable({}, {__len = function() return 1e15 end}), 1)").error,
+            "box:2: table.insert/remove over more than 1048576 elements");
+  EXPECT_EQ(run_body("local t = table.move({1, 2, 3}, 1, 3, 2) table.insert(t, 1, 0) assert(table.remove(t) == 3 and t[1] == 0)").error, "");
   // The limit is the config's.
   EXPECT_NE(run_body("for i = 1, 20000 do end", {{"instructions", 10000}}).error.find("instruction limit (10000 per run)"), std::string::npos);
   EXPECT_EQ(run_body("for i = 1, 20000 do end").error, "");

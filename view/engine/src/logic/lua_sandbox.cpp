@@ -82,12 +82,22 @@ int message_handler(lua_State* L) {
   return 1;
 }
 
-// table.move copies element by element in C; over absent (nil) elements it neither allocates nor
-// runs an instruction, so neither limit would see table.move({}, 1, 1e12, 2). Bounded here.
-constexpr lua_Integer kMaxMove = 1 << 20;
-int guarded_move(lua_State* L) {
-  const lua_Integer f = luaL_checkinteger(L, 2), e = luaL_checkinteger(L, 3);
-  if (e >= f && e - f >= kMaxMove) return luaL_error(L, "table.move of more than %d elements", static_cast<int>(kMaxMove));
+// table.move, table.insert and table.remove shift elements one by one in C; over absent (nil)
+// elements that neither allocates nor runs an instruction, so neither limit would see
+// table.move({}, 1, 1e12, 2) or an insert into a table whose __len says 1e15. Bounded here: the
+// wrapper checks the span (move: e - f, insert / remove: the length) and calls the original.
+constexpr lua_Integer kMaxShift = 1 << 20;
+int guarded_shift(lua_State* L) {
+  const bool move = lua_toboolean(L, lua_upvalueindex(2)) != 0;
+  lua_Integer span = 0;
+  if (move) {
+    const lua_Integer f = luaL_checkinteger(L, 2), e = luaL_checkinteger(L, 3);
+    span = e >= f ? e - f : 0;
+  } else {
+    luaL_checktype(L, 1, LUA_TTABLE);
+    span = luaL_len(L, 1);  // through __len, as the original reads it
+  }
+  if (span >= kMaxShift) return luaL_error(L, "table.%s over more than %d elements", move ? "move" : "insert/remove", static_cast<int>(kMaxShift));
   const int n = lua_gettop(L);
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
@@ -164,9 +174,12 @@ int LuaSandbox::protected_setup(lua_State* L) {
   open_library(L, LUA_GNAME, luaopen_base, {"dofile", "loadfile", "load", "collectgarbage", "print", "warn"});
   open_library(L, LUA_TABLIBNAME, luaopen_table, {});
   lua_getglobal(L, LUA_TABLIBNAME);
-  lua_getfield(L, -1, "move");
-  lua_pushcclosure(L, guarded_move, 1);
-  lua_setfield(L, -2, "move");
+  for (const char* f : {"move", "insert", "remove"}) {
+    lua_getfield(L, -1, f);
+    lua_pushboolean(L, f[0] == 'm');
+    lua_pushcclosure(L, guarded_shift, 2);
+    lua_setfield(L, -2, f);
+  }
   lua_pop(L, 1);
   // find / match / gmatch / gsub backtrack inside C, where no instruction count reaches them.
   open_library(L, LUA_STRLIBNAME, luaopen_string, {"dump", "find", "match", "gmatch", "gsub"});
