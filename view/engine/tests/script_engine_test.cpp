@@ -6,6 +6,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/scene_evaluator.hpp"
+#include "meter/engine/frame_plan/draw_classes.hpp"
 #include "meter/engine/logic/scripts.hpp"
 #include "script_scene.hpp"
 
@@ -304,4 +305,19 @@ TEST_F(Scripts, TranslationAndRotationMoveTheNodeAndLetGoAtNil) {
   scene_eval.apply(ev.outputs());
   EXPECT_TRUE(scene_eval.update_world());
   EXPECT_EQ(scene_eval.world()[bar], glm::mat4(1.0f));  // back to the rest pose
+}
+
+TEST_F(Scripts, NodesAndMaterialsAScriptWritesAreNeverStaticLayerMaterial) {
+  const char* code = "function run(IN, OUT) OUT.at = {0, 0, 1} OUT.paint = {1, 0, 0} end";
+  json outputs = {{"at", {{"property", "translation"}, {"node", "Bar"}}}, {"paint", {{"property", "color"}, {"material", "LampMat"}}}};
+  Scene s = test::script_scene(json::array({script("w", code, {{"v", "Vehicle.Speed"}}, outputs)}).dump());
+  Primitive needle_paint, lamp_paint;
+  needle_paint.material = 1, lamp_paint.material = 0;
+  s.meshes.push_back({"quad", {needle_paint, lamp_paint}, {}});
+  s.programs.resize(1);
+  s.draws = {{node(s, "Warn"), 0, 0, 0}, {node(s, "Bar"), 0, 0, 0}, {node(s, "Needle"), 0, 1, 0}};
+  const DrawClasses c = classify_draws(s, false, -1);
+  EXPECT_FALSE(c.changeable[0]);  // nothing writes Warn or NeedleMat
+  EXPECT_TRUE(c.changeable[1]);   // the script moves Bar
+  EXPECT_TRUE(c.changeable[2]);   // the script paints LampMat
 }

@@ -39,7 +39,10 @@ const char* kScripts = R"([
    "outputs": {"lamp": {"property": "emissive", "material": "TT_ABS_On", "failsafe": [0, 0, 0]}}},
   {"name": "gear", "inputs": {"gear": "Vehicle.Powertrain.Transmission.CurrentGear"},
    "code": "function run(IN, OUT)\n  OUT.gear = string.format('%d', IN.gear.value)\nend",
-   "outputs": {"gear": {"property": "text", "node": "Text_Status", "size_px": 16, "color": [0.4, 0.8, 1, 1], "align": "center", "failsafe": "-"}}}
+   "outputs": {"gear": {"property": "text", "node": "Text_Status", "size_px": 16, "color": [0.4, 0.8, 1, 1], "align": "center", "failsafe": "-"}}},
+  {"name": "frost", "inputs": {"air": "Vehicle.Exterior.AirTemperature"},
+   "code": "function run(IN, OUT)\n  local icy = IN.air.valid and IN.air.value < 3\n  OUT.turn = icy and {0, 0, 45} or nil\n  OUT.at = icy and {0.6, -0.6, 0} or nil\nend",
+   "outputs": {"turn": {"property": "rotation", "node": "TT_ABS"}, "at": {"property": "translation", "node": "TT_ABS"}}}
 ])";
 
 const Scene& scripted_dial() {
@@ -61,7 +64,8 @@ class ScriptRender : public ::testing::TestWithParam<platform::BackendKind> {
     renderer_ = std::make_unique<Renderer>(*backend_, scripted_dial(), RendererOptions{});
     evaluator_ = std::make_unique<BindingEvaluator>(scripted_dial());
   }
-  const platform::Image& draw(double speed, double rpm, double gear, SignalStatus gear_status = SignalStatus::Valid) {
+  const platform::Image& draw(double speed, double rpm, double gear, SignalStatus gear_status = SignalStatus::Valid, double air = 20) {
+    values_.set(sig::kOutsideTemp, {air, SignalStatus::Valid, ""});
     values_.set(sig::kSpeed, {speed, SignalStatus::Valid, ""});
     values_.set(sig::kEngineSpeed, {rpm, SignalStatus::Valid, ""});
     values_.set(sig::kCurrentGear, {gear, gear_status, ""});
@@ -121,6 +125,24 @@ TEST_P(ScriptRender, AFailedScriptShowsItsFailsafeAndTheRestKeepsWorking) {
   EXPECT_FALSE(stats(1).failed);
   EXPECT_GT(needle_px(img)[1], 150);
   expect_golden(img, "scripts_gear_failed");
+}
+
+TEST_P(ScriptRender, FrostTurnsAndMovesTheLampAndThePartialRedrawKeepsUp) {
+  draw(210, 6400, 3);  // the lamp lit where it belongs
+  const platform::Image moved = draw(210, 6400, 3, SignalStatus::Valid, -2.0);  // turned 45 degrees, moved in
+  EXPECT_LT(lamp_px(moved)[1], 60);  // no longer at its own place
+  expect_golden(moved, "scripts_frost");
+  // Drawn as a partial redraw over the previous frame: the same pixels as a fresh full frame (no
+  // stale lamp left behind; the static layer knows the script moves the node). 60 dB: the two are
+  // the same draws of the same state, so only exact-equal pixels are expected.
+  RendererOptions full;
+  full.partial_redraw = false;
+  Renderer fresh(*backend_, scripted_dial(), full);
+  fresh.apply(evaluator_->outputs());
+  fresh.render(true, true);
+  EXPECT_GE(platform::psnr(fresh.last_image(), moved), 60.0);
+  // Warmer again: nil hands the node back to the scene, and the lamp is where it was.
+  EXPECT_GT(lamp_px(draw(210, 6400, 3))[1], 150);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ScriptRender, ::testing::Values(platform::BackendKind::Egl, platform::BackendKind::OSMesa),
