@@ -109,6 +109,9 @@ int main(int argc, char** argv) {
 
   protocol::SignalTable values;
   std::vector<double> plain_us, scripted_us, script_us, frame_us;
+  const std::size_t n_scripts = with_scripts.scripts()->stats().size();
+  std::vector<std::vector<double>> run_us(n_scripts);  // each script's runs, for their medians
+  std::vector<std::uint64_t> runs_seen(n_scripts, 0);
   double scripts_before = 0;
   for (int f = 0; f < frames; ++f) {
     drive(values, f, frames);
@@ -119,7 +122,11 @@ int main(int argc, char** argv) {
     with_scripts.update(values, true, 1.0 / 60.0);
     scripted_us.push_back(us_since(t));
     double scripts_total = 0;
-    for (const auto& st : with_scripts.scripts()->stats()) scripts_total += st.total_ms;
+    for (std::size_t k = 0; k < n_scripts; ++k) {
+      const auto& st = with_scripts.scripts()->stats()[k];
+      scripts_total += st.total_ms;
+      if (st.runs != runs_seen[k]) run_us[k].push_back(st.last_ms * 1000.0), runs_seen[k] = st.runs;
+    }
     script_us.push_back((scripts_total - scripts_before) * 1000.0);
     scripts_before = scripts_total;
     t = Clock::now();
@@ -139,6 +146,10 @@ int main(int argc, char** argv) {
   std::printf("%-34s %10.1f %10.1f %10.1f\n", "frame (apply + render)", fr.median, fr.p99, fr.mean);
   std::printf("scripts / frame: %.3f %% (median), update with / without scripts: %.2fx (median)\n",
               100.0 * s.median / (fr.median + w.median), w.median / std::max(1e-9, p.median));
-  for (const auto& st : with_scripts.scripts()->stats()) std::printf("  %s\n", engine::describe(st).c_str());
+  for (std::size_t k = 0; k < n_scripts; ++k) {
+    const auto& st = with_scripts.scripts()->stats()[k];
+    std::printf("  %-16s median run %5.1f us, p99 %7.1f us; %s\n", st.name.c_str(), summarise(run_us[k]).median,
+                summarise(run_us[k]).p99, engine::describe(st).c_str());
+  }
   return 0;
 }

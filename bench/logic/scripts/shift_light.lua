@@ -1,14 +1,14 @@
--- Shift light: lit at an engine speed that depends on the gear (the low gears shift earlier).
+-- Shift light: lit near each gear's shift point (the low gears shift earlier). The points suit
+-- the demo drive (vcan/drivecycle: each gear peaks at 2124, 2380, 2530, 2800, 2940 rpm before its
+-- upshift, 6th reaches 3055 rpm at 130 km/h).
 -- Inputs: rpm (Vehicle.Powertrain.CombustionEngine.Speed), gear (...Transmission.CurrentGear).
--- Output: glow, an emissive colour.
-local shift_rpm = {[1] = 5800, [2] = 6200, [3] = 6400, [4] = 6500, [5] = 6500, [6] = 6500}
-local ON, OFF = {1.0, 0.1, 0.05}, {0, 0, 0}
+-- Outputs: lamp (a visibility), glow (an emissive colour).
+local shift_rpm = {[1] = 2100, [2] = 2350, [3] = 2500, [4] = 2750, [5] = 2900, [6] = 3000}
+local ON, OFF = {1.0, 0.2, 0.0}, {0, 0, 0}
 
 function run(IN, OUT)
-  if not (IN.rpm.valid and IN.gear.valid) then
-    OUT.glow = OFF
-    return
-  end
-  local limit = shift_rpm[IN.gear.value]
-  OUT.glow = (limit and IN.rpm.value >= limit) and ON or OFF
+  local limit = IN.gear.valid and shift_rpm[IN.gear.value]
+  local on = limit and IN.rpm.valid and IN.rpm.value >= limit or false
+  OUT.lamp = on
+  OUT.glow = on and ON or OFF
 end

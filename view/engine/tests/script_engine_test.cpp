@@ -321,3 +321,29 @@ TEST_F(Scripts, NodesAndMaterialsAScriptWritesAreNeverStaticLayerMaterial) {
   EXPECT_TRUE(c.changeable[1]);   // the script moves Bar
   EXPECT_TRUE(c.changeable[2]);   // the script paints LampMat
 }
+
+TEST_F(Scripts, TheClusterShiftLightLightsNearEachGearsShiftPoint) {
+  // bench/logic/scripts/shift_light.lua, the file docs/scene-logic.md gives the cluster.
+  json sc = {{"name", "shift_light"}, {"file", "scripts/shift_light.lua"}, {"inputs", kRpmGear},
+             {"outputs", {{"lamp", {{"property", "visible"}, {"node", "Lamp"}, {"failsafe", false}}},
+                          {"glow", {{"property", "emissive"}, {"material", "LampMat"}, {"failsafe", {0, 0, 0}}}}}}};
+  Scene s = test::script_scene("[]");
+  s.config = meter::bridge::parse_scene_config(
+      json{{"format", "meter-scene-config/1"}, {"scripts", json::array({sc})}}.dump(), std::string(METER_SOURCE_DIR) + "/bench/logic/cluster.json");
+  ScriptEngine eng(s);
+  auto lit = [&](double gear, double rpm, SignalStatus gear_status = SignalStatus::Valid) {
+    set(sig::kCurrentGear, gear, gear_status), set(sig::kEngineSpeed, rpm);
+    BindingOutputs out = resting_outputs(s);
+    eng.update(values, true, out);
+    EXPECT_FALSE(eng.stats()[0].failed) << eng.stats()[0].last_error;
+    EXPECT_EQ(visible(out, s, "Lamp") == 1, out.emissive[0]->x > 0.5f);
+    return visible(out, s, "Lamp") == 1;
+  };
+  EXPECT_TRUE(lit(1, 2124));    // 1st just before its upshift at 18 km/h
+  EXPECT_FALSE(lit(2, 2124));   // the same rpm in 2nd is short of its point
+  EXPECT_TRUE(lit(2, 2380));
+  EXPECT_FALSE(lit(6, 2940));   // 6th cruising below 130 km/h
+  EXPECT_TRUE(lit(6, 3055));    // 130 km/h in 6th
+  EXPECT_FALSE(lit(126, 4000)); // park: no shift point
+  EXPECT_FALSE(lit(6, 3055, SignalStatus::TimedOut));  // gear unknown: dark
+}
