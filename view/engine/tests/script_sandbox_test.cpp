@@ -131,6 +131,7 @@ TEST(ScriptSandbox, EndlessLoopsHitTheInstructionLimit) {
   EXPECT_NE(run_body("tostring(setmetatable({}, {__tostring = function() while true do end end}))").error.find(kLimit), std::string::npos);
   // A library loop in C that neither allocates nor runs an instruction: bounded on its own.
   EXPECT_EQ(run_body("table.move({}, 1, 1e12, 2)").error, "box:2: table.move over more than 1048576 elements");
+  EXPECT_EQ(run_body("table.move({}, math.mininteger, math.maxinteger, 2)").error, "box:2: table.move over more than 1048576 elements");
   EXPECT_EQ(run_body("table.insert(setmetatable({}, {__len = function() return 1e15 end}), 1, 'x')").error,
             "box:2: table.insert/remove over more than 1048576 elements");
   EXPECT_EQ(run_body("table.remove(setmetatable({}, {__len = function() return 1e15 end}), 1)").error,

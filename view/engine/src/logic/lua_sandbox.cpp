@@ -92,7 +92,9 @@ int guarded_shift(lua_State* L) {
   lua_Integer span = 0;
   if (move) {
     const lua_Integer f = luaL_checkinteger(L, 2), e = luaL_checkinteger(L, 3);
-    span = e >= f ? e - f : 0;
+    // In unsigned arithmetic: e - f of e.g. maxinteger and mininteger does not fit.
+    const lua_Unsigned d = static_cast<lua_Unsigned>(e) - static_cast<lua_Unsigned>(f);
+    span = e < f ? 0 : d >= static_cast<lua_Unsigned>(kMaxShift) ? kMaxShift : static_cast<lua_Integer>(d);
   } else {
     luaL_checktype(L, 1, LUA_TTABLE);
     span = luaL_len(L, 1);  // through __len, as the original reads it
