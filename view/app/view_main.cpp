@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
   app.add_flag("--link-lost", o.link_lost, "offline: render the link-loss (failsafe) look");
   auto* link_opt = app.add_option("--link", o.link, "live: controller endpoint unix:/path | tcp:host:port | default");
   link_opt->excludes(set_opt)->excludes(values_opt);
+  app.add_option("--play", o.play,
+                 "play: render this link recording (meter-controller run --record, meter-linkdump -o) on its own "
+                 "simulated clock, frame k at k/--fps s, as fast as the machine allows")
+      ->check(CLI::ExistingFile)->excludes(link_opt)->excludes(set_opt)->excludes(values_opt);
   app.add_option("--fps", o.fps, "live: render rate")->check(CLI::Range(1.0, 240.0))->capture_default_str();
   app.add_option("--dump-every", o.dump_every, "live: write every Nth frame as PNG (0 = none)")->check(CLI::NonNegativeNumber);
   app.add_option("--duration", o.duration_s, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM)")->check(CLI::NonNegativeNumber);
@@ -38,8 +42,7 @@ int main(int argc, char** argv) {
   app.add_option("--dump-at", o.dump_at,
                  "live: write the first frame at or after each time on the view's clock (frames.csv time_s), "
                  "e.g. --dump-at 2.5s,10s (repeatable); SIGUSR1 writes the next frame")
-      ->delimiter(',')
-      ->needs(link_opt);
+      ->delimiter(',');
   app.add_option("--timing-csv", o.timing_csv, "per-frame timing by stage (update, submit, GPU+readback) to this CSV");
   app.add_option("--link-timeout", o.link_timeout_ms,
                  "live: milliseconds of silence after which the link counts as lost (heartbeats every third of "
@@ -62,5 +65,9 @@ int main(int argc, char** argv) {
                  "the controller's --trace-json clock; opens in Perfetto UI)");
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
+  if (!o.dump_at.empty() && o.link.empty() && o.play.empty()) {
+    std::cerr << "--dump-at requires --link or --play\n";
+    return 2;
+  }
   return run_view(o, std::cerr);
 }
