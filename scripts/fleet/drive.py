@@ -5,6 +5,7 @@ Writes <dir>/result.json (last, atomically: its presence means the drive finishe
 """
 import json
 import os
+import re
 import resource
 import shutil
 import socket
@@ -138,7 +139,8 @@ def run(drive, out, bin_dir, source_dir, attempt=1, extra=None):
         # the part the speed goal counts: replay, render + dump, and every check (no video)
         "checked_wall_s": checked[0], "checked_cpu_s": checked[1],
         "stages": stages, "checks": found,
-        "dumped": sorted(f for f in os.listdir(frames_dir) if f.endswith(".png")) if os.path.isdir(frames_dir) else [],
+        "dumped": sorted(f for f in os.listdir(frames_dir) if re.fullmatch(r"frame_\d{6}\.png", f))
+                  if os.path.isdir(frames_dir) else [],
         "controller_summary": _tail(os.path.join(out, "controller.log"), 1),
         "view_summary": _tail(os.path.join(out, "view.log"), 1),
         "faults": _lines_with(os.path.join(out, "view.log"), "controller report")

@@ -1,7 +1,9 @@
 """The HTML report of a fleet run: RUN/index.html (every drive with its verdict, duration and a
 thumbnail) and RUN/drives/NAME/report.html (contact sheet and video, each bound signal as published
 against what the frames drew, frame latency, faults). Static files with relative links, inline
-SVG plots: opens from disk, no server, no script."""
+SVG plots: opens from disk, no server. The one script reports a file the page cannot load (a
+thumbnail, a frame) as a console error and on the page's root element (data-load-errors), so a
+broken link is seen in a browser, not only by a link check."""
 import csv
 import html
 import os
@@ -18,9 +20,21 @@ MARK = {"pass": "PASS", "fail": "FAIL ✗", "error": "ERROR ✗", "lost": "LOST 
 E = html.escape
 
 
+LOAD_CHECK = """<script>
+addEventListener("error", function (e) {
+  var what = e.target && (e.target.currentSrc || e.target.src || e.target.href);
+  if (!what) return;
+  var root = document.documentElement;
+  root.setAttribute("data-load-errors", (+(root.getAttribute("data-load-errors") || 0) + 1).toString());
+  console.error("meter-fleet report: cannot load " + what);
+}, true);
+addEventListener("load", function () { document.documentElement.setAttribute("data-loaded", "1"); });
+</script>"""
+
+
 def _page(title, body):
     return (f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{E(title)}</title>"
-            f"<style>{STYLE}</style></head><body>\n{body}\n</body></html>\n")
+            f"<style>{STYLE}</style>{LOAD_CHECK}</head><body>\n{body}\n</body></html>\n")
 
 
 def _rel(path, start):
@@ -179,8 +193,10 @@ def _sheet(d, r):
     if os.path.isfile(sheet):
         out.append(f"<p><a href=\"frames/contact-sheet.png\"><img src=\"frames/contact-sheet.png\" alt=\"contact sheet\" style=\"max-width:100%\"></a></p>")
     if os.path.isfile(video):
-        out.append("<p><video controls src=\"frames/replay.mp4\" width=\"640\"></video> <a href=\"frames/replay.mp4\">replay.mp4</a></p>")
+        out.append("<p><video controls preload=\"none\" src=\"frames/replay.mp4\" width=\"640\"></video> <a href=\"frames/replay.mp4\">replay.mp4</a></p>")
     times = {x["png"]: x["time_s"] for x in _read_csv(os.path.join(d, "frames", "frames.csv"))}
+    if out:  # make-video's sheet and video (video = true in the manifest) stand for the frames
+        return "\n".join(out)
     figs = [f"<figure><a href=\"frames/{E(p)}\"><img src=\"frames/{E(p)}\" alt=\"{E(p)}\"></a><figcaption>{E(p)} · t = {float(times.get(p, 'nan')):.2f} s</figcaption></figure>"
             for p in _spaced(r.get("dumped", []), 12) if os.path.isfile(os.path.join(d, "frames", p))]
     if figs:
