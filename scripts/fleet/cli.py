@@ -3,6 +3,8 @@ worker processes or a Slurm cluster (one sbatch --array), and write one summary 
 
   meter-fleet run MANIFEST --out RUN [--executor local|slurm] [--workers N] [--retries N]
   meter-fleet drive --run RUN --index I     one drive (what every executor runs; docs/fleet.md)
+  meter-fleet plan MANIFEST --out RUN       only the plan, for drives another scheduler runs
+  meter-fleet collect RUN                   summary, JUnit and report of drives run elsewhere
   meter-fleet report RUN                    rewrite RUN/index.html from the results
 Exit status of run: 0 when every drive passed, 1 when any failed, erred or was lost, 2 on a bad manifest.
 """
@@ -34,23 +36,64 @@ def load_plan(run_dir):
         return json.load(f)
 
 
-def cmd_run(a):
+def make_plan(a):
+    """The run folder's plan.json: the manifest with every path resolved, which each drive call
+    reads. Returns (manifest, run_dir, bin_dir), or None after printing what is wrong."""
     try:
         m = manifest.load(a.manifest)
     except manifest.ManifestError as e:
         sys.stderr.write(f"meter-fleet: {e}\n")
-        return 2
+        return None
     run_dir = os.path.abspath(a.out)
     os.makedirs(os.path.join(run_dir, "drives"), exist_ok=True)
     bin_dir = os.path.abspath(a.bin or default_bin())
     for tool in ("meter-controller", "meter-view"):
         if not os.access(os.path.join(bin_dir, tool), os.X_OK):
             sys.stderr.write(f"meter-fleet: {bin_dir}/{tool}: not found (build it, or give --bin DIR / METER_BIN)\n")
-            return 2
-    # The plan: the manifest with every path resolved, which each drive call reads from the run folder.
+            return None
     plan = dict(m, bin=bin_dir, source_dir=SOURCE_DIR)
     with open(os.path.join(run_dir, "plan.json"), "w") as f:
         json.dump(plan, f, indent=1)
+    return m, run_dir, bin_dir
+
+
+def finish(run_dir, m, outcomes, meta, no_report):
+    summary, drives = results.write_summary(run_dir, m, outcomes, meta)
+    if not no_report:
+        report.write(run_dir, summary, drives)
+    results.print_summary(summary, sys.stdout)
+    print(f"meter-fleet: summary {run_dir}/summary.json, JUnit {run_dir}/junit.xml"
+          + ("" if no_report else f", report {run_dir}/index.html"))
+    return summary
+
+
+def cmd_plan(a):
+    made = make_plan(a)
+    if made is None:
+        return 2
+    m, run_dir, _ = made
+    print(f"meter-fleet: {run_dir}/plan.json: {len(m['drives'])} drives, indices 0..{len(m['drives']) - 1}")
+    return 0
+
+
+def cmd_collect(a):
+    """The summary of drives someone else ran (Kubernetes, Airflow): a drive without result.json is lost."""
+    run_dir = os.path.abspath(a.run)
+    plan = load_plan(run_dir)
+    outcomes = {d["name"]: results.read_result(run_dir, d["name"])
+                or results.missing(d["name"], "lost", f"no {results.drive_dir(run_dir, d['name'])}/result.json")
+                for d in plan["drives"]}
+    wall = max((r.get("started", 0) + r.get("wall_s", 0) for r in outcomes.values()), default=0) - \
+        min((r["started"] for r in outcomes.values() if r.get("started")), default=0)
+    summary = finish(run_dir, plan, outcomes, {"executor": "external", "wall_s": max(wall, 0.0)}, a.no_report)
+    return results.exit_status(summary)
+
+
+def cmd_run(a):
+    made = make_plan(a)
+    if made is None:
+        return 2
+    m, run_dir, bin_dir = made
     workers = a.workers or os.cpu_count() or 1
 
     def drive_cmd(index, attempt):
@@ -62,12 +105,7 @@ def cmd_run(a):
     else:
         outcomes, meta = slurm_executor.run(run_dir, m, [sys.executable, FLEET], a, progress)
     meta.update(wall_s=time.monotonic() - t0, manifest=m["file"], bin=bin_dir)
-    summary, drives = results.write_summary(run_dir, m, outcomes, meta)
-    if not a.no_report:
-        report.write(run_dir, summary, drives)
-    results.print_summary(summary, sys.stdout)
-    print(f"meter-fleet: summary {run_dir}/summary.json, JUnit {run_dir}/junit.xml"
-          + ("" if a.no_report else f", report {run_dir}/index.html"))
+    summary = finish(run_dir, m, outcomes, meta, a.no_report)
     return 130 if meta.get("interrupted") else results.exit_status(summary)
 
 
@@ -123,6 +161,15 @@ def main(argv):
                    help="slurm: seconds without any task running or finishing after which the pending ones "
                         "are cancelled and reported lost (a cluster with no node up)")
     r.set_defaults(func=cmd_run)
+    pl = sub.add_parser("plan", help="write RUN/plan.json only (for drives run by Kubernetes, Airflow, ...)")
+    pl.add_argument("manifest")
+    pl.add_argument("--out", required=True)
+    pl.add_argument("--bin", help="folder of meter-controller and meter-view as the workers see it")
+    pl.set_defaults(func=cmd_plan)
+    co = sub.add_parser("collect", help="summary, JUnit and report of a run folder whose drives ran elsewhere")
+    co.add_argument("run")
+    co.add_argument("--no-report", action="store_true")
+    co.set_defaults(func=cmd_collect)
     d = sub.add_parser("drive", help="run one drive of a run folder (what every executor calls)")
     d.add_argument("--run", required=True, help="run folder written by 'meter-fleet run' (its plan.json)")
     d.add_argument("--index", type=int, help="drive index (default: $SLURM_ARRAY_TASK_ID or $JOB_COMPLETION_INDEX)")

@@ -6,6 +6,7 @@ import sys
 import time
 
 from . import results
+from .interrupt import CtrlC
 
 
 def run(run_dir, manifest, drive_cmd, workers, retries, progress):
@@ -16,14 +17,9 @@ def run(run_dir, manifest, drive_cmd, workers, retries, progress):
     running, outcomes, retried = {}, {}, []
     log_dir = os.path.join(run_dir, "logs")
     os.makedirs(log_dir, exist_ok=True)
-    interrupted = False
-
-    def on_int(signum, frame):
-        nonlocal interrupted
-        interrupted = True
-    old = signal.signal(signal.SIGINT, on_int)
+    ctrl_c = CtrlC()
     try:
-        while (pending or running) and not interrupted:
+        while (pending or running) and not ctrl_c.hit:
             while pending and len(running) < workers:
                 i, attempt = pending.pop(0)
                 log = open(os.path.join(log_dir, f"{drives[i]['name']}.{attempt}.log"), "w")
@@ -47,7 +43,7 @@ def run(run_dir, manifest, drive_cmd, workers, retries, progress):
             progress.show(len(outcomes), failed, len(running))
             time.sleep(0.05)
     finally:
-        signal.signal(signal.SIGINT, old)
+        ctrl_c.restore()
         for p, (i, attempt, log) in running.items():  # Ctrl-C: stop what runs, report it cancelled
             os.killpg(p.pid, signal.SIGTERM)
             p.wait()
@@ -56,6 +52,6 @@ def run(run_dir, manifest, drive_cmd, workers, retries, progress):
         for i, attempt in pending:
             outcomes[drives[i]["name"]] = results.missing(drives[i]["name"], "cancelled", "cancelled (Ctrl-C) before it ran")
         progress.finish()
-    if interrupted:
+    if ctrl_c.hit:
         sys.stderr.write("meter-fleet: interrupted; running drives stopped\n")
-    return outcomes, {"executor": f"local x{workers}", "retried": retried, "interrupted": interrupted}
+    return outcomes, {"executor": f"local x{workers}", "retried": retried, "interrupted": ctrl_c.hit}

@@ -9,11 +9,11 @@ Ctrl-C cancels every array submitted. Nothing is left out: each drive ends passe
 import os
 import re
 import shlex
-import signal
 import subprocess
 import time
 
 from . import results
+from .interrupt import CtrlC
 
 TERMINAL = {"COMPLETED", "FAILED", "CANCELLED", "NODE_FAIL", "TIMEOUT", "PREEMPTED", "OUT_OF_MEMORY",
             "BOOT_FAIL", "DEADLINE"}
@@ -99,18 +99,13 @@ def run(run_dir, manifest, fleet_cmd, a, progress):
     attempt_of = {i: 1 for i in range(len(drives))}
     ended_at = {}  # index -> when Slurm said it ended without a result yet
     comp = jobcomp_path()
-    interrupted = False
-
-    def on_int(signum, frame):
-        nonlocal interrupted
-        interrupted = True
-    old = signal.signal(signal.SIGINT, on_int)
+    ctrl_c = CtrlC()
     try:
         job = submit(run_dir, list(range(len(drives))), 1, fleet_cmd, a.sbatch_arg)
         jobs.append(job)
         live = {i: job for i in range(len(drives))}  # index -> array job it runs in
         last_motion = time.monotonic()
-        while live and not interrupted:
+        while live and not ctrl_c.hit:
             states = {}
             for j in set(live.values()):
                 states[j] = scontrol_states(j)
@@ -156,21 +151,23 @@ def run(run_dir, manifest, fleet_cmd, a, progress):
             pend = sum(1 for i in live if (states[live[i]].get(i) or {}).get("JobState") == "PENDING")
             progress.show(len(outcomes), failed, running, f"{pend} pending" if pend else "")
             if live and time.monotonic() - last_motion > a.stall_timeout:
+                nodes = subprocess.run(["sinfo", "-h", "-o", "%N %T"], capture_output=True, text=True).stdout.split()
                 for i in sorted(live):
                     st = states[live[i]].get(i) or {}
                     outcomes[names[i]] = results.missing(
-                        names[i], "lost", f"slurm task {live[i]}_{i} {st.get('JobState', '?')} ({st.get('Reason', '?')}) "
-                                          f"with nothing running for {a.stall_timeout:g} s; cancelled")
+                        names[i], "lost", f"slurm task {live[i]}_{i} {st.get('JobState', '?')} (reason {st.get('Reason', '?')}, "
+                                          f"nodes: {' '.join(nodes) or '?'}) with nothing running for {a.stall_timeout:g} s; "
+                                          "cancelled")
                 subprocess.run(["scancel"] + sorted(set(live.values())))
                 live = {}
                 break
             time.sleep(a.poll)
     finally:
-        signal.signal(signal.SIGINT, old)
-        if interrupted:
+        ctrl_c.restore()
+        if ctrl_c.hit:
             subprocess.run(["scancel"] + jobs)
             for n in names:  # the drives that finished keep their result
                 outcomes.setdefault(n, results.missing(n, "cancelled", "cancelled (Ctrl-C): scancel " + " ".join(jobs)))
         progress.finish()
     return outcomes, {"executor": "slurm", "jobs": jobs, "retried": retried, "requeued_by_slurm": sorted(requeued),
-                      "interrupted": interrupted}
+                      "interrupted": ctrl_c.hit}

@@ -35,6 +35,9 @@ ReturnToService=2
 # A node silent for 10 s is down (pinged every third of it): the lost-node test waits this long.
 SlurmdTimeout=10
 MinJobAge=600
+# The main scheduling pass every 2 s instead of 60: a node that returns gets work at once. Pending
+# array tasks also start on job completion events; a busy site tunes this for its own load.
+SchedulerParameters=sched_interval=2
 NodeName={host} CPUs={cpus} RealMemory=2000 State=UNKNOWN
 PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP OverSubscribe=NO
 """

@@ -126,6 +126,21 @@ class LocalFleet(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("drive 'y': no such file /nonexistent/drive.log", p.stderr)
 
+    def test_drives_run_by_another_scheduler_are_collected(self):
+        # What a Kubernetes Indexed Job does: plan, one `drive` per index from the environment,
+        # collect. Drive 1 never ran: it is reported lost, not left out.
+        manifest = self.write("k8s.toml", self.header + toml_drive("k0", self.log) + toml_drive("k1", self.log))
+        run_dir = os.path.join(self.work, "k8s")
+        self.assertEqual(fl.fleet(["plan", manifest, "--out", run_dir, "--bin", fl.BIN]).returncode, 0)
+        p = fl.fleet(["drive", "--run", run_dir], env=dict(os.environ, JOB_COMPLETION_INDEX="0"))
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("meter-fleet drive k0: pass", p.stdout)
+        p = fl.fleet(["collect", run_dir])
+        self.assertEqual(p.returncode, 1, p.stdout + p.stderr)
+        d = fl.by_name(fl.summary(run_dir))
+        self.assertEqual((d["k0"]["verdict"], d["k1"]["verdict"]), ("pass", "lost"))
+        self.assertIn("k1/result.json", d["k1"]["reasons"][0])
+
     def test_ctrl_c_stops_the_run_and_reports_every_drive(self):
         text = self.header + "".join(toml_drive(f"d{k}", self.log) for k in range(6))
         manifest = self.write("many.toml", text)

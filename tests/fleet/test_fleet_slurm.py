@@ -43,7 +43,10 @@ class FleetOnSlurm(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
-        shutil.rmtree(cls.work, ignore_errors=True)
+        if os.environ.get("METER_FLEET_KEEP"):  # to read the daemons' logs and the run folder
+            fl.note(f"kept {cls.work}")
+        else:
+            shutil.rmtree(cls.work, ignore_errors=True)
 
     def assert_stopped(self, cluster, pids):
         for name, pid in pids.items():
@@ -144,6 +147,7 @@ class FleetOnSlurm(unittest.TestCase):
         self.assertEqual(s["lost"], 3, s)
         for d in s["drives"]:
             self.assertIn("slurm task", d["reasons"][0])
+        fl.note("with no node: " + s["drives"][0]["reasons"][0])
         self.assertIn("LOST", p.stdout)
 
 
