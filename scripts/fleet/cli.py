@@ -156,6 +156,9 @@ def main(argv):
     r.add_argument("--bin", help="folder of meter-controller and meter-view (default: METER_BIN or build/release/bin)")
     r.add_argument("--no-report", action="store_true", help="do not write the HTML report")
     r.add_argument("--sbatch-arg", action="append", default=[], help="slurm: extra sbatch argument (repeatable)")
+    r.add_argument("--drives-per-task", type=int, default=1,
+                   help="slurm: drives each array task runs one after another (spreads Slurm's per-task start "
+                        "over several short drives; retries run one drive per task)")
     r.add_argument("--poll", type=float, default=1.0, help="slurm: seconds between state polls")
     r.add_argument("--stall-timeout", type=float, default=600.0,
                    help="slurm: seconds without any task running or finishing after which the pending ones "

@@ -75,17 +75,23 @@ def jobcomp_states(path, job_ids):
     return out
 
 
-def submit(run_dir, indices, attempt, fleet_cmd, sbatch_args):
+def submit(run_dir, chunks, attempt, fleet_cmd, sbatch_args):
+    """One sbatch --array, task t running the drives chunks[t] one after another (several drives
+    per task spread Slurm's per-task start over them). Returns the array job id."""
     slurm_dir = os.path.join(run_dir, "slurm")
     os.makedirs(slurm_dir, exist_ok=True)
     script = os.path.join(slurm_dir, "task.sh")
     with open(script, "w") as f:
-        f.write("#!/bin/sh\n# One drive per array task: the task id is the drive's index in the plan.\n"
-                f"exec {' '.join(shlex.quote(c) for c in fleet_cmd)} drive --run {shlex.quote(run_dir)} "
-                "--index \"$SLURM_ARRAY_TASK_ID\" --attempt \"$1\"\n")
+        f.write("#!/bin/sh\n# One array task: line $SLURM_ARRAY_TASK_ID+1 of the submission's list holds its drive indices.\n"
+                "set -- \"$1\" $(sed -n \"$((SLURM_ARRAY_TASK_ID + 1))p\" \"$2\")\nattempt=$1; shift\nstatus=0\n"
+                f"for i in \"$@\"; do\n  {' '.join(shlex.quote(c) for c in fleet_cmd)} drive --run {shlex.quote(run_dir)} "
+                "--index \"$i\" --attempt \"$attempt\" || status=1\ndone\nexit $status\n")
     os.chmod(script, 0o755)
-    argv = ["sbatch", "--parsable", "--requeue", "-J", "meter-fleet", f"--array={','.join(map(str, indices))}",
-            "-o", os.path.join(slurm_dir, "%A_%a.out"), "-D", run_dir] + sbatch_args + [script, str(attempt)]
+    listing = os.path.join(slurm_dir, f"tasks-{len(os.listdir(slurm_dir))}.txt")
+    with open(listing, "w") as f:
+        f.write("".join(" ".join(map(str, c)) + "\n" for c in chunks))
+    argv = ["sbatch", "--parsable", "--requeue", "-J", "meter-fleet", f"--array=0-{len(chunks) - 1}",
+            "-o", os.path.join(slurm_dir, "%A_%a.out"), "-D", run_dir] + sbatch_args + [script, str(attempt), listing]
     p = subprocess.run(argv, capture_output=True, text=True)
     if p.returncode != 0:
         raise RuntimeError(f"sbatch failed (exit {p.returncode}): {p.stderr.strip()}")
@@ -101,30 +107,32 @@ def run(run_dir, manifest, fleet_cmd, a, progress):
     comp = jobcomp_path()
     ctrl_c = CtrlC()
     try:
-        job = submit(run_dir, list(range(len(drives))), 1, fleet_cmd, a.sbatch_arg)
+        k = max(a.drives_per_task, 1)
+        chunks = [list(range(c, min(c + k, len(drives)))) for c in range(0, len(drives), k)]
+        job = submit(run_dir, chunks, 1, fleet_cmd, a.sbatch_arg)
         jobs.append(job)
-        live = {i: job for i in range(len(drives))}  # index -> array job it runs in
+        live = {i: (job, t) for t, c in enumerate(chunks) for i in c}  # drive index -> (array job, task)
         last_motion = time.monotonic()
         while live and not ctrl_c.hit:
             states = {}
-            for j in set(live.values()):
+            for j in {j for j, _ in live.values()}:
                 states[j] = scontrol_states(j)
-            done_comp = jobcomp_states(comp, set(live.values())) if comp else {}
-            running = 0
+            done_comp = jobcomp_states(comp, {j for j, _ in live.values()}) if comp else {}
+            running_tasks = set()
             for i in sorted(live):
-                j = live[i]
+                j, t = live[i]
                 r = results.read_result(run_dir, names[i])
                 if r is not None and r.get("attempt") == attempt_of[i]:
                     outcomes[names[i]] = r
                     del live[i]
                     last_motion = time.monotonic()
                     continue
-                st = states[j].get(i) or done_comp.get((j, i))
+                st = states[j].get(t) or done_comp.get((j, t))
                 state = (st or {}).get("JobState", "")
                 if st and int(st.get("Restarts", "0") or 0) > 0:
                     requeued.add(names[i])
                 if state == "RUNNING":
-                    running += 1
+                    running_tasks.add((j, t))
                 if st and state not in TERMINAL:
                     ended_at.pop(i, None)
                     continue
@@ -132,7 +140,7 @@ def run(run_dir, manifest, fleet_cmd, a, progress):
                 first = ended_at.setdefault(i, time.monotonic())
                 if time.monotonic() - first < RESULT_GRACE_S:
                     continue
-                why = (f"slurm task {j}_{i} {state or 'gone from scontrol and the jobcomp file'}"
+                why = (f"slurm task {j}_{t} {state or 'gone from scontrol and the jobcomp file'}"
                        + (f" ({st.get('Reason')})" if st and st.get("Reason") not in (None, "None") else "")
                        + (f", exit {st.get('ExitCode')}" if st and st.get("ExitCode") else ""))
                 del live[i]
@@ -141,24 +149,27 @@ def run(run_dir, manifest, fleet_cmd, a, progress):
                 if attempt_of[i] <= a.retries:
                     retried.append(f"{names[i]} ({why}, attempt {attempt_of[i]})")
                     attempt_of[i] += 1
-                    live[i] = submit(run_dir, [i], attempt_of[i], fleet_cmd, a.sbatch_arg)
-                    jobs.append(live[i])
+                    live[i] = (submit(run_dir, [[i]], attempt_of[i], fleet_cmd, a.sbatch_arg), 0)
+                    jobs.append(live[i][0])
                 else:
                     outcomes[names[i]] = results.missing(names[i], "lost", f"{why}; no result after {attempt_of[i]} attempts")
+            running = len(running_tasks)
             if running:
                 last_motion = time.monotonic()
             failed = sum(1 for r in outcomes.values() if r["verdict"] != "pass")
-            pend = sum(1 for i in live if (states[live[i]].get(i) or {}).get("JobState") == "PENDING")
+            # (a drive resubmitted in this round is in a job this round's states do not have yet)
+            pend = sum(1 for i in live if (states.get(live[i][0], {}).get(live[i][1]) or {}).get("JobState") == "PENDING")
             progress.show(len(outcomes), failed, running, f"{pend} pending" if pend else "")
             if live and time.monotonic() - last_motion > a.stall_timeout:
                 nodes = subprocess.run(["sinfo", "-h", "-o", "%N %T"], capture_output=True, text=True).stdout.split()
                 for i in sorted(live):
-                    st = states[live[i]].get(i) or {}
+                    j, t = live[i]
+                    st = states.get(j, {}).get(t) or {}
                     outcomes[names[i]] = results.missing(
-                        names[i], "lost", f"slurm task {live[i]}_{i} {st.get('JobState', '?')} (reason {st.get('Reason', '?')}, "
+                        names[i], "lost", f"slurm task {j}_{t} {st.get('JobState', '?')} (reason {st.get('Reason', '?')}, "
                                           f"nodes: {' '.join(nodes) or '?'}) with nothing running for {a.stall_timeout:g} s; "
                                           "cancelled")
-                subprocess.run(["scancel"] + sorted(set(live.values())))
+                subprocess.run(["scancel"] + sorted({j for j, _ in live.values()}))
                 live = {}
                 break
             time.sleep(a.poll)

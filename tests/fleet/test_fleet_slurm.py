@@ -139,7 +139,8 @@ class FleetOnSlurm(unittest.TestCase):
         with cluster:
             pids = {n: cluster.pid(n) for n in ("munged", "slurmctld", "slurmd")}
             cluster.stop_daemon("slurmd", signal.SIGKILL)
-            p = fl.fleet(["run", manifest, "--out", run_dir, "--executor", "slurm", "--poll", "0.5",
+            # Two drives per array task: a task lost loses both, and both are reported.
+            p = fl.fleet(["run", manifest, "--out", run_dir, "--executor", "slurm", "--poll", "0.5", "--drives-per-task", "2",
                           "--bin", fl.BIN, "--stall-timeout", "20"], env=cluster.env, timeout=300)
         self.assert_stopped(cluster, pids)
         self.assertEqual(p.returncode, 1, p.stdout + p.stderr)
