@@ -7,7 +7,8 @@ by the test in its own folder and stopped by their pid files at the end, also on
 - slurmd is killed in the middle of the array (a node lost with tasks on it) and comes back after
   slurmctld declared it down: every drive is in the summary, passed, failed or lost with a reason,
   none silently missing;
-- with no node left at all, the pending drives are reported lost with Slurm's reason.
+- with no node left at all, the pending drives are reported lost with Slurm's reason;
+- Ctrl-C cancels the array: nothing left in the queue, every unfinished drive reported cancelled.
 """
 import os
 import shutil
@@ -150,6 +151,35 @@ class FleetOnSlurm(unittest.TestCase):
             self.assertIn("slurm task", d["reasons"][0])
         fl.note("with no node: " + s["drives"][0]["reasons"][0])
         self.assertIn("LOST", p.stdout)
+
+    def test_ctrl_c_cancels_the_array(self):
+        drives = [fl.demo_drive(f"long-{k}", fl.drivecycle(self.work, 50), speed_checks=False) for k in range(6)]
+        manifest = fl.write_manifest(os.path.join(self.work, "cancel.json"), self.scene, drives)
+        run_dir = os.path.join(self.work, "run-cancel")
+        cluster = SlurmCluster(os.path.join(self.work, "slurm-cancel"))
+        with cluster:
+            pids = {n: cluster.pid(n) for n in ("munged", "slurmctld", "slurmd")}
+            fleet = subprocess.Popen([fl.PYTHON, fl.FLEET, "run", manifest, "--out", run_dir, "--executor", "slurm",
+                                      "--poll", "0.5", "--bin", fl.BIN], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                     text=True, env=cluster.env)
+            until = time.monotonic() + 120
+            while time.monotonic() < until and not subprocess.run(
+                    ["squeue", "-h", "-t", "RUNNING"], capture_output=True, text=True, env=cluster.env).stdout.strip():
+                time.sleep(0.2)
+            fleet.send_signal(signal.SIGINT)
+            out, err = fleet.communicate(timeout=120)
+            # scancel ends every task of the array: nothing stays queued or running.
+            until, queue = time.monotonic() + 30, "?"
+            while time.monotonic() < until and queue:
+                queue = subprocess.run(["squeue", "-h"], capture_output=True, text=True, env=cluster.env).stdout.strip()
+                time.sleep(0.5)
+        self.assert_stopped(cluster, pids)
+        self.assertEqual(fleet.returncode, 130, out + err)
+        self.assertEqual(queue, "", "tasks left in the queue after Ctrl-C")
+        s = fl.summary(run_dir)
+        self.assertEqual(s["total"], 6)
+        self.assertGreaterEqual(s["cancelled"], 4, s)  # at most the two running ones may have finished
+        self.assertIn("cancelled (Ctrl-C): scancel", out)
 
 
 if __name__ == "__main__":
