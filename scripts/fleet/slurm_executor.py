@@ -133,7 +133,12 @@ def run(run_dir, manifest, fleet_cmd, a, progress):
                     requeued.add(names[i])
                 if state == "RUNNING":
                     running_tasks.add((j, t))
-                if st and state not in TERMINAL:
+                if st and state == "PENDING" and "launch_failed_requeued_held" in st.get("Reason", ""):
+                    # A task whose launch failed (its node went away as it started) is held by Slurm
+                    # and would never run: cancel it and run the drive again like a failed one.
+                    subprocess.run(["scancel", f"{j}_{t}"], capture_output=True)
+                    state, ended_at[i] = "CANCELLED", time.monotonic() - RESULT_GRACE_S
+                elif st and state not in TERMINAL:
                     ended_at.pop(i, None)
                     continue
                 # Ended (or purged from the controller) with no result of this attempt.
