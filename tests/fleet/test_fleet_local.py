@@ -126,6 +126,18 @@ class LocalFleet(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("drive 'y': no such file /nonexistent/drive.log", p.stderr)
 
+    def test_a_process_that_fails_is_an_error_with_its_message(self):
+        # Not a scene package: meter-view exits 1 naming the file; the drive is an error, not a pass.
+        bogus = self.write("not-a-package.msp", "this is not a scene package\n")
+        manifest = self.write("error.toml", self.header.replace(self.scene, bogus) + toml_drive("broken-scene", self.log))
+        run_dir = os.path.join(self.work, "error")
+        p = fl.fleet(["run", manifest, "--out", run_dir, "--bin", fl.BIN, "--no-report"])
+        self.assertEqual(p.returncode, 1, p.stdout + p.stderr)
+        d = fl.by_name(fl.summary(run_dir))["broken-scene"]
+        self.assertEqual(d["verdict"], "error")
+        self.assertIn("meter-view exit 1: meter-view: error:", d["reasons"][0])
+        self.assertIn("not-a-package.msp", d["reasons"][0])
+
     def test_drives_run_by_another_scheduler_are_collected(self):
         # What a Kubernetes Indexed Job does: plan, one `drive` per index from the environment,
         # collect. Drive 1 never ran: it is reported lost, not left out.
