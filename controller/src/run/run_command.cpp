@@ -89,9 +89,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     protocol::Publisher pub(protocol::endpoint_from_option(o.link), lo);
     if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
 
-    bool recorded_any = false;
     // --record: the same changes on the input's clock (the first tick changes every output: a SNAPSHOT).
     PublishRecording recording(o.record);
+    bool recorded_any = false;
     // The model says which outputs the tick changed; only those go to the link (and the trace).
     auto publish = [&](std::int64_t t) {
       const auto& outs = model.outputs();
