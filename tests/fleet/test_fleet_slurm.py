@@ -132,11 +132,15 @@ class FleetOnSlurm(unittest.TestCase):
         failed = [x.get("name") for x in suites if x.get("failures") != "0" or x.get("errors") != "0"]
         self.assertIn(DOCTORED, failed)
 
+    def small_fleet(self, tag, seconds, count):
+        """count drives of `seconds` without checks, their manifest, run folder and own cluster."""
+        log = fl.drivecycle(self.work, seconds)
+        drives = [fl.demo_drive(f"{tag}-{k}", log, speed_checks=False) for k in range(count)]
+        manifest = fl.write_manifest(os.path.join(self.work, f"{tag}.json"), self.scene, drives)
+        return manifest, os.path.join(self.work, f"run-{tag}"), SlurmCluster(os.path.join(self.work, f"slurm-{tag}"))
+
     def test_with_no_node_left_every_drive_is_reported_lost(self):
-        drives = [fl.demo_drive(f"short-{k}", fl.drivecycle(self.work, 6), speed_checks=False) for k in range(3)]
-        manifest = fl.write_manifest(os.path.join(self.work, "lost.json"), self.scene, drives)
-        run_dir = os.path.join(self.work, "run-lost")
-        cluster = SlurmCluster(os.path.join(self.work, "slurm-lost"))
+        manifest, run_dir, cluster = self.small_fleet("lost", 6, 3)
         with cluster:
             pids = {n: cluster.pid(n) for n in ("munged", "slurmctld", "slurmd")}
             cluster.stop_daemon("slurmd", signal.SIGKILL)
@@ -153,10 +157,7 @@ class FleetOnSlurm(unittest.TestCase):
         self.assertIn("LOST", p.stdout)
 
     def test_ctrl_c_cancels_the_array(self):
-        drives = [fl.demo_drive(f"long-{k}", fl.drivecycle(self.work, 50), speed_checks=False) for k in range(6)]
-        manifest = fl.write_manifest(os.path.join(self.work, "cancel.json"), self.scene, drives)
-        run_dir = os.path.join(self.work, "run-cancel")
-        cluster = SlurmCluster(os.path.join(self.work, "slurm-cancel"))
+        manifest, run_dir, cluster = self.small_fleet("cancel", 50, 6)
         with cluster:
             pids = {n: cluster.pid(n) for n in ("munged", "slurmctld", "slurmd")}
             fleet = subprocess.Popen([fl.PYTHON, fl.FLEET, "run", manifest, "--out", run_dir, "--executor", "slurm",
