@@ -8,6 +8,7 @@ by the test in its own folder and stopped by their pid files at the end, also on
   slurmctld declared it down: every drive is in the summary, passed, failed or lost with a reason,
   none silently missing;
 - with no node left at all, the pending drives are reported lost with Slurm's reason;
+- a task cancelled while it runs is submitted again and its drive passes on the second attempt;
 - Ctrl-C cancels the array: nothing left in the queue, every unfinished drive reported cancelled.
 """
 import os
@@ -155,6 +156,31 @@ class FleetOnSlurm(unittest.TestCase):
             self.assertIn("slurm task", d["reasons"][0])
         fl.note("with no node: " + s["drives"][0]["reasons"][0])
         self.assertIn("LOST", p.stdout)
+
+    def test_a_task_killed_without_a_result_is_run_again(self):
+        # An array task cancelled while it runs (an administrator, the OOM killer) leaves no result:
+        # the drive is submitted again (attempt 2) and passes; the summary names the retry.
+        manifest, run_dir, cluster = self.small_fleet("killed", 30, 3)
+        with cluster:
+            pids = {n: cluster.pid(n) for n in ("munged", "slurmctld", "slurmd")}
+            fleet = subprocess.Popen([fl.PYTHON, fl.FLEET, "run", manifest, "--out", run_dir, "--executor", "slurm",
+                                      "--poll", "0.5", "--bin", fl.BIN, "--retries", "1"], stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, text=True, env=cluster.env)
+            until, task = time.monotonic() + 120, None
+            while time.monotonic() < until and task is None:
+                q = subprocess.run(["squeue", "-h", "-t", "RUNNING", "-o", "%i"], capture_output=True, text=True, env=cluster.env)
+                task = next(iter(q.stdout.split()), None)
+                time.sleep(0.1)
+            self.assertIsNotNone(task, "no task started")
+            subprocess.run(["scancel", task], check=True, env=cluster.env)
+            out, err = fleet.communicate(timeout=300)
+        self.assert_stopped(cluster, pids)
+        self.assertEqual(fleet.returncode, 0, out + err)
+        s = fl.summary(run_dir)
+        self.assertEqual(s["pass"], 3, s)
+        index = int(task.split("_")[1])
+        self.assertEqual(fl.by_name(s)[f"killed-{index}"]["attempt"], 2, s)
+        self.assertTrue(any(r.startswith(f"killed-{index} (slurm task {task} CANCELLED") for r in s["retried"]), s["retried"])
 
     def test_ctrl_c_cancels_the_array(self):
         manifest, run_dir, cluster = self.small_fleet("cancel", 50, 6)
