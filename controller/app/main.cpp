@@ -46,6 +46,9 @@ int main(int argc, char** argv) {
   r->add_option("--catalog", run.catalog, catalog_help)->check(CLI::ExistingFile);
   r->add_option("--trace", run.trace,
                 "Write a latency trace CSV (frames received, values published, link flushes; CLOCK_REALTIME ns)");
+  r->add_option("--record", run.record,
+                "Write every published change as a link recording stamped with the input's clock (with "
+                "--replay fast: the simulated clock), which meter-view --play renders (docs/fleet.md)");
   r->add_option("--trace-json", run.trace_json,
                 "Write a Chrome trace-event JSON (receive, decode, publish on CLOCK_MONOTONIC; opens in Perfetto UI)");
 

@@ -101,6 +101,7 @@ TEST(Candump, FormatRoundTrips) {
 }
 
 #include <chrono>
+#include <thread>
 
 #include "meter/controller/input/candump_log.hpp"
 #include "meter/controller/input/log_replay.hpp"
@@ -156,6 +157,20 @@ TEST(Replay, ModesParseAndFastIsDeterministic) {
   EXPECT_EQ(polls, 48);  // 10 ms of simulated time per poll; the 49th delivers the last frame and ends
   EXPECT_EQ(clock.front(), 100010000000LL);
   for (std::size_t i = 1; i < c.ts.size(); ++i) EXPECT_LT(c.ts[i - 1], c.ts[i]);
+}
+
+// The tick that follows the end of a fast replay is stamped on the simulated clock, not on the
+// simulated clock plus however long the machine took to get there: the same log gives the same
+// model inputs (and the same --record file) on every run.
+TEST(Replay, FastReplayEndsOnItsSimulatedClock) {
+  LogReplay r(parse_candump_log(log_text(50, 10)), parse_replay("fast"));
+  Collect c;
+  while (r.poll(c, std::chrono::milliseconds(10))) {
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));  // wall time passes before the next tick
+  EXPECT_EQ(r.now_ns(), 100490000000LL);  // the 49th 10-ms step delivered the last frame
+  EXPECT_FALSE(r.poll(c, std::chrono::milliseconds(40)));
+  EXPECT_EQ(r.now_ns(), 100530000000LL);  // a silent bus: the clock runs on by the poll's wait
 }
 
 TEST(Replay, ScaledReplayKeepsTheRecordedTiming) {

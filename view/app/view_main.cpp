@@ -3,6 +3,8 @@
 //
 //   offline:  meter-view --scene S.msp --set Vehicle.Speed=100 [--values v.csv --at 12.5s] --out DIR
 //             renders that one state to DIR/frame.png and exits;
+//   play:     meter-view --scene S.msp --play drive.rec --fps 10 --dump-every 10 --out DIR
+//             renders a link recording on its own simulated clock (frame k at k/fps), no waiting;
 //   live:     meter-view --scene S.msp --link unix:/run/meter.sock --fps 30 --dump-every 30 --out DIR
 //             renders at its own rate, decoupled from message arrival, dumping PNGs + frames.csv:
 //             every Nth frame, the first frame at or after each --dump-at time, and the next frame
@@ -31,15 +33,18 @@ int main(int argc, char** argv) {
   app.add_flag("--link-lost", o.link_lost, "offline: render the link-loss (failsafe) look");
   auto* link_opt = app.add_option("--link", o.link, "live: controller endpoint unix:/path | tcp:host:port | default");
   link_opt->excludes(set_opt)->excludes(values_opt);
-  app.add_option("--fps", o.fps, "live: render rate")->check(CLI::Range(1.0, 240.0))->capture_default_str();
+  app.add_option("--play", o.play,
+                 "play: render this link recording (meter-controller run --record, meter-linkdump -o) on its own "
+                 "simulated clock, frame k at k/--fps s, as fast as the machine allows")
+      ->check(CLI::ExistingFile)->excludes(link_opt)->excludes(set_opt)->excludes(values_opt);
+  app.add_option("--fps", o.fps, "live: render rate; play: frames per second of recording time")->check(CLI::Range(1.0, 240.0))->capture_default_str();
   app.add_option("--dump-every", o.dump_every, "live: write every Nth frame as PNG (0 = none)")->check(CLI::NonNegativeNumber);
-  app.add_option("--duration", o.duration_s, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM)")->check(CLI::NonNegativeNumber);
+  app.add_option("--duration", o.duration_s, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM); play: SEC seconds of the recording (0 = all)")->check(CLI::NonNegativeNumber);
   app.add_flag("--dump-last", o.dump_last, "live: write the final frame on exit");
   app.add_option("--dump-at", o.dump_at,
-                 "live: write the first frame at or after each time on the view's clock (frames.csv time_s), "
+                 "live and play: write the first frame at or after each time on the view's clock (frames.csv time_s), "
                  "e.g. --dump-at 2.5s,10s (repeatable); SIGUSR1 writes the next frame")
-      ->delimiter(',')
-      ->needs(link_opt);
+      ->delimiter(',');
   app.add_option("--timing-csv", o.timing_csv, "per-frame timing by stage (update, submit, GPU+readback) to this CSV");
   app.add_option("--link-timeout", o.link_timeout_ms,
                  "live: milliseconds of silence after which the link counts as lost (heartbeats every third of "
@@ -62,5 +67,9 @@ int main(int argc, char** argv) {
                  "the controller's --trace-json clock; opens in Perfetto UI)");
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
+  if (!o.dump_at.empty() && o.link.empty() && o.play.empty()) {
+    std::cerr << "--dump-at requires --link or --play\n";
+    return 2;
+  }
   return run_view(o, std::cerr);
 }

@@ -38,8 +38,6 @@ LogReplay::LogReplay(ParsedLog log, ReplayOptions options) : log_(std::move(log)
 }
 
 std::int64_t LogReplay::now_ns() const {
-  // After the end the simulated clock runs on in wall time: a silent bus, on which timeouts expire.
-  if (opt_.mode == ReplayMode::Fast && ended_) return sim_now_ + (monotonic_ns() - end_wall_);
   if (opt_.mode == ReplayMode::Fast || !begun_) return sim_now_;
   return log_start_ + static_cast<std::int64_t>(static_cast<double>(monotonic_ns() - wall_start_) * opt_.scale);
 }
@@ -54,6 +52,9 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     // The log is over: the bus stays silent. Wait as a live input with nothing to read would.
     const auto wall = static_cast<std::int64_t>(static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count()) / rate());
     if (wall > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wall));
+    // The simulated clock runs on by each wait (at wall rate, as the wait sleeps that long): a
+    // silent bus on which timeouts expire, its time never depending on how busy the machine is.
+    if (opt_.mode == ReplayMode::Fast) sim_now_ += std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
     return false;
   }
   if (opt_.mode == ReplayMode::Fast) {
@@ -92,7 +93,6 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
 
 bool LogReplay::mark_end() {
   if (next_ < log_.frames.size()) return false;
-  if (!ended_) end_wall_ = monotonic_ns();
   ended_ = true;
   return true;
 }

@@ -21,6 +21,7 @@
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "open_input.hpp"
+#include "publish_recording.hpp"
 
 namespace meter::controller {
 namespace {
@@ -88,12 +89,23 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     protocol::Publisher pub(protocol::endpoint_from_option(o.link), lo);
     if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
 
+    // --record: the same changes on the input's clock (the first tick changes every output: a SNAPSHOT).
+    PublishRecording recording(o.record);
+    bool recorded_any = false;
     // The model says which outputs the tick changed; only those go to the link (and the trace).
-    auto publish = [&] {
+    auto publish = [&](std::int64_t t) {
       const auto& outs = model.outputs();
+      std::vector<protocol::SignalUpdate> recorded;
       for (std::size_t i : model.changed()) {
         pub.set(outs[i].id, outs[i].value, outs[i].status);
         trace.publish(static_cast<int>(outs[i].id), outs[i].value);
+        if (recording.on()) recorded.push_back(protocol::SignalUpdate{outs[i].id, outs[i].status, outs[i].value, false, {}});
+      }
+      if (recording.on()) {
+        const bool first = model.changed().size() == outs.size() && !recorded_any;
+        recorded_any = true;
+        if (first) recording.snapshot(t, std::move(recorded));
+        else recording.delta(t, std::move(recorded));
       }
     };
 
@@ -102,6 +114,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     auto report_health = [&](std::int64_t t) {
       health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
       pub.send_status(model.stats().frames + model.stats().values, health.bus().kernel_drops, health.controller_faults());
+      recording.status(t, model.stats().frames + model.stats().values, health.bus().kernel_drops, health.controller_faults());
     };
     std::uint64_t traced_bytes = 0;
     // The model ticks every update period of input time; inputs are polled until the next tick.
@@ -134,7 +147,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         changed = model.changed().size();
         conditioned = events.on() ? protocol::monotonic_now_ns() : 0;
         events.complete("condition", "controller", poll_end, conditioned, 1);
-        publish();
+        publish(t);
         report_health(t);
         next_tick = std::max(next_tick + period_ns, t);  // no catch-up burst after a stall
       }
@@ -150,6 +163,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     }
     model.persist_now();
     trace.flush();
+    recording.close();
     if (!events.close()) err << "meter-controller: write error on " << o.trace_json << "\n";
     if (o.verbose) {
       for (const auto& x : model.outputs())

@@ -3,6 +3,7 @@
 #include "meter/protocol/catalog.hpp"
 #include "meter/view/live_loop.hpp"
 #include "meter/view/offline_render.hpp"
+#include "meter/view/play_recording.hpp"
 #include "meter/view/process_signals.hpp"
 #include "meter/view/render_context.hpp"
 
@@ -12,7 +13,10 @@ int run_view(const ViewOptions& options, std::ostream& log) {
   install_dump_request_handler();
   try {
     protocol::use_catalog_option(options.catalog);  // before the scene: its bindings name catalog signals
-    if (options.link.empty()) {
+    if (!options.play.empty()) {
+      RenderContext ctx(options, log);
+      run_play(ctx, options, log);
+    } else if (options.link.empty()) {
       RenderContext ctx(options, log);
       render_offline(ctx, options, log);
     } else {

@@ -46,7 +46,6 @@ class LogReplay : public Input {
   std::int64_t wall_start_ = 0;     // CLOCK_MONOTONIC at the first poll (realtime / scaled)
   bool begun_ = false;
   bool ended_ = false;              // every frame delivered: from now on a silent bus
-  std::int64_t end_wall_ = 0;       // CLOCK_MONOTONIC when the last frame was delivered
   std::size_t slips_ = 0;
   BusHealth bus_;
   void deliver(InputSink& sink);

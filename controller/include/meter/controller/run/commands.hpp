@@ -34,6 +34,9 @@ struct RunOptions {
   // Chrome trace-event JSON (docs/tracing.md): receive, decode and publish spans on CLOCK_MONOTONIC,
   // the clock of the link's stamps and of meter-view's --trace-json. Empty = off.
   std::string trace_json;
+  // Link recording of every published change stamped with the input's clock (the simulated one
+  // under --replay fast), for meter-view --play (docs/fleet.md). Empty = off.
+  std::string record;
 };
 
 // Runs the daemon until the input ends (with exit_at_end) or SIGINT/SIGTERM. Returns the exit code;

@@ -32,6 +32,10 @@ struct ViewOptions {
   int link_timeout_ms = 300;
   std::string trace_csv;          // empty = none
 
+  // play: a link recording rendered on its own simulated clock (play_recording.hpp); uses fps,
+  // dump_every, dump_at, dump_last and duration_s (seconds of recording; 0 = all of it)
+  std::string play;
+
   // The signal catalog (VSS JSON); empty = the built-in default. Live, a view without --catalog
   // (or with catalog_from_controller) takes its controller's catalog when it differs: it waits up
   // to catalog_wait_ms for the controller before loading the scene, so a scene binding a signal

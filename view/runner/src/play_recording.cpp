@@ -1,0 +1,127 @@
+#include "meter/view/play_recording.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <thread>
+
+#include "meter/protocol/catalog.hpp"
+#include "meter/protocol/signal_table.hpp"
+#include "meter/view/dump_policy.hpp"
+#include "meter/view/frames_csv.hpp"
+#include "meter/view/option_units.hpp"
+#include "meter/view/png_writer.hpp"
+#include "meter/view/view_error.hpp"
+
+namespace meter::view {
+namespace {
+
+const std::vector<protocol::SignalUpdate>* updates_of(const protocol::Frame& frame) {
+  if (const auto* s = std::get_if<protocol::Snapshot>(&frame.message)) return &s->signals;
+  if (const auto* d = std::get_if<protocol::Delta>(&frame.message)) return &d->signals;
+  return nullptr;
+}
+
+std::vector<protocol::RecordedFrame> read_recording(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw ViewError(file + ": cannot read the recording (--play)");
+  std::string header;
+  std::getline(in, header);
+  const std::string ours = protocol::recording_header(protocol::catalog_hash());
+  if (header.rfind("# ", 0) == 0 && header.find(protocol::kRecordingFormat) != std::string::npos && header != ours) {
+    throw ViewError(file + ":1: recorded with another catalog (\"" + header + "\"); this view's catalog " +
+                    protocol::active_catalog()->source() + " gives \"" + ours + "\" (use --catalog)");
+  }
+  in.seekg(0);
+  return protocol::parse_recording(in, file);
+}
+
+std::string frame_png_name(std::uint64_t frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(frame));
+  return name;
+}
+
+}  // namespace
+
+std::vector<double> play_frame_times(double fps, double span_s) {
+  std::vector<double> times;
+  if (!(fps > 0) || !std::isfinite(fps) || !(span_s >= 0) || !std::isfinite(span_s))
+    throw ViewError("--play: fps must be > 0 and the span >= 0");
+  // Exact multiples of 1/fps (no accumulated sum), so frame k's time never drifts.
+  const auto count = static_cast<std::uint64_t>(std::floor(span_s * fps + 1e-9)) + 1;
+  times.reserve(count);
+  for (std::uint64_t k = 0; k < count; ++k) times.push_back(static_cast<double>(k) / fps);
+  return times;
+}
+
+PlaySpan play_span(const std::vector<protocol::RecordedFrame>& frames, const std::string& file) {
+  bool any = false;
+  std::int64_t first = 0, last = 0;
+  for (const auto& r : frames) {
+    if (updates_of(r.frame) == nullptr) continue;
+    if (!any) first = r.frame.timestamp_ns;
+    last = std::max(last, r.frame.timestamp_ns);
+    any = true;
+  }
+  if (!any) throw ViewError(file + ": the recording holds no SNAPSHOT or DELTA line (nothing to play)");
+  return PlaySpan{first, static_cast<double>(last - first) / 1e9};
+}
+
+void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
+  const auto frames = read_recording(options.play);
+  const PlaySpan span = play_span(frames, options.play);
+  const auto times = play_frame_times(options.fps, options.duration_s > 0 ? options.duration_s : span.span_s);
+  std::vector<double> at;
+  for (const auto& text : options.dump_at) at.push_back(parse_time(text, "--dump-at"));
+  DumpPolicy policy(options.dump_every, std::move(at), options.dump_last);
+  protocol::SignalTable table;
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
+  PngWriter png_writer;
+  auto dump = [&](std::uint64_t n, double t, bool drawn) {
+    const std::string name = frame_png_name(n);
+    csv.row(n, t, name, true, drawn, ctx.evaluator.states());
+    png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n,
+                     [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); });
+  };
+  std::size_t next = 0;
+  std::uint32_t faults = 0;
+  const double dt = 1.0 / options.fps;
+  for (std::uint64_t k = 0; k < times.size(); ++k) {
+    const double t = times[k];
+    const std::int64_t now_ns = span.first_ns + std::llround(t * 1e9);
+    for (; next < frames.size() && frames[next].frame.timestamp_ns <= now_ns; ++next) {
+      const auto& frame = frames[next].frame;
+      if (const auto* list = updates_of(frame)) {
+        for (const auto& u : *list) {
+          if (table.index_of(u.id)) table.set(u.id, protocol::SignalState{u.value, u.status, u.has_text ? u.text : std::string()});
+        }
+      } else if (const auto* st = std::get_if<protocol::Status>(&frame.message)) {
+        // The controller's faults as they rise and clear, on the recording's clock.
+        if (const std::uint32_t raised = st->fault_flags & ~faults)
+          log << "meter-view: t=" << t << " s: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
+        if (const std::uint32_t cleared = faults & ~st->fault_flags)
+          log << "meter-view: t=" << t << " s: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+        faults = st->fault_flags;
+      }
+    }
+    ctx.evaluator.update(table, true, k == 0 ? -1.0 : dt);
+    ctx.renderer.apply(ctx.evaluator.outputs());
+    const bool want = policy.decide(k, t, false);
+    const auto timing = ctx.renderer.render(false, want);
+    ctx.timing.row(k, t, timing);
+    if (want) dump(k, t, timing.drawn);
+  }
+  if (policy.dump_on_exit(times.size())) {
+    ctx.renderer.read();
+    dump(times.size() - 1, times.back(), false);
+  }
+  png_writer.finish();
+  const auto& st = ctx.renderer.stats();
+  log << "meter-view: played " << options.play << ": " << times.size() << " frames over " << times.back()
+      << " s of recording, " << st.drawn << " drawn, " << st.skipped << " skipped (inputs unchanged), "
+      << png_writer.failures() << " dumps failed\n";
+  png_writer.check();
+}
+
+}  // namespace meter::view
