@@ -1,0 +1,48 @@
+#include "meter/preview/scene_reloader.hpp"
+
+#include <exception>
+
+#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/convert/converter.hpp"
+#include "meter/convert/package_writer.hpp"
+#include "meter/engine/package_reader.hpp"
+#include "meter/protocol/catalog.hpp"
+
+namespace meter::preview {
+
+std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files) {
+  const auto config = bridge::load_scene_config(files.config, *protocol::active_catalog());
+  const auto result = convert::convert_gltf(files.gltf, config);
+  const auto bytes = convert::serialize_scene(result.scene);
+  return std::make_unique<engine::Scene>(engine::deserialize_scene(bytes, files.gltf));
+}
+
+SceneReloader::SceneReloader(SceneFiles files, std::chrono::milliseconds settle)
+    : files_(std::move(files)), settle_(settle) {}
+
+void SceneReloader::changed(Clock::time_point now) {
+  if (!pending_) first_change_ = now;
+  pending_ = true;
+  last_change_ = now;
+}
+
+bool SceneReloader::due(Clock::time_point now) const { return pending_ && now - last_change_ >= settle_; }
+
+bool SceneReloader::reload() {
+  pending_ = false;
+  const auto began = Clock::now();
+  try {
+    std::shared_ptr<const engine::Scene> next = convert_scene(files_);
+    convert_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
+    scene_ = std::move(next);
+    ++generation_;
+    error_.clear();
+    return true;
+  } catch (const std::exception& e) {
+    convert_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
+    error_ = e.what();
+    return false;
+  }
+}
+
+}  // namespace meter::preview
