@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace meter::preview {
 namespace {
@@ -36,12 +37,19 @@ std::vector<SignalControl> controls_for(const std::vector<bridge::Binding>& bind
       case protocol::SignalKind::Telltale: c.kind = ControlKind::Toggle; break;
       case protocol::SignalKind::Text: c.kind = ControlKind::Text; break;
       case protocol::SignalKind::Enum: {
+        // The first kMaxChoices integers of the range and every value a text binding maps (gear
+        // 126 "P" lies far past the numbered gears).
+        std::map<long long, std::string> items;
         const double lo = std::ceil(info->min), hi = std::floor(info->max);
-        if (hi >= lo && hi - lo < kMaxChoices) {
-          c.kind = ControlKind::Choice;
-          for (auto v = static_cast<long long>(lo); v <= static_cast<long long>(hi); ++v)
-            c.choices.push_back({v, choice_label(bindings, info->name, v)});
+        for (double v = lo; v <= hi && v < lo + kMaxChoices; v += 1.0) items[static_cast<long long>(v)];
+        for (const auto& other : bindings) {
+          if (other.kind != bridge::BindingKind::Text || other.signal != info->name) continue;
+          for (const auto& [value, text] : other.map) {
+            if (static_cast<double>(value) >= lo && static_cast<double>(value) <= hi) items[value];
+          }
         }
+        c.kind = ControlKind::Choice;
+        for (const auto& [value, unused] : items) c.choices.push_back({value, choice_label(bindings, info->name, value)});
         break;
       }
       case protocol::SignalKind::Gauge:

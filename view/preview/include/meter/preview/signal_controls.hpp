@@ -13,7 +13,8 @@ namespace meter::preview {
 enum class ControlKind {
   Slider,  // gauges and counters: the catalog's [min, max]
   Toggle,  // telltales: off (0) / on (1)
-  Choice,  // enums: every integer of the catalog range, labelled by a text binding's map
+  Choice,  // enums: the integers of the catalog range (the first kMaxChoices) and every value a
+           // text binding maps, labelled by that map
   Text,    // text signals: a line of text
 };
 
@@ -31,7 +32,7 @@ struct SignalControl {
   std::vector<ChoiceItem> choices;  // Choice only
 };
 
-// Enums with more values than this get a slider: a combo of hundreds of entries helps nobody.
+// A combo of hundreds of entries helps nobody: an enum lists at most this many numbered values.
 inline constexpr int kMaxChoices = 64;
 
 // One control per distinct signal the bindings read, in the order the config first uses them.
