@@ -13,7 +13,9 @@ Cases:
       X screen within 1 s of the save, with the signal values kept;
   bad_save: a save that does not convert shows the error in the panel and the scene area keeps the
       last good scene; the fix replaces it;
-  playback: --values plays a CSV to the state meter-view --values renders at its end.
+  playback: --values plays a CSV to the state meter-view --values renders at its end;
+  link: --link follows meter-linkplay (beside meter-view in the build's bin folder) replaying a
+      recording, and shows the failsafe look once it goes away.
 
 Pixels are read with ImageMagick (`convert ... rgb:`) and xwd's own format; no Python packages.
 """
@@ -367,6 +369,40 @@ def case_playback(tools, scene_dir):
     expect_same("cluster after playing drive.csv", got, want)
 
 
+def case_link(tools, scene_dir):
+    """--link follows a controller (meter-linkplay replaying a recording): its updates drive the
+    scene, and when it goes away the failsafe look shows, as in meter-view."""
+    linkplay = os.path.join(os.path.dirname(tools.view), "meter-linkplay")
+    scene = Scene(scene_dir, "minimal-gauge")
+    rec = os.path.join(tools.workdir, "drive.rec")
+    with open(rec, "w") as f:
+        f.write("(1.000000000) SNAPSHOT seq=1 sent=1.000000000 complete=1 Vehicle.Speed=100:valid\n"
+                "(1.300000000) DELTA seq=2 sent=1.300000000 Vehicle.Speed=150:valid\n")
+    endpoint = "unix:" + os.path.join(tools.workdir, "link.sock")
+    want = tools.offscreen(scene.glb, scene.config, ["--set", "Vehicle.Speed=150"], "linked")
+    lost = tools.offscreen(scene.glb, scene.config, ["--set", "Vehicle.Speed=150", "--link-lost"], "lost")
+    if psnr(want, lost) > 40:
+        fail("the failsafe look and the linked state look alike; the check would prove nothing")
+    player = subprocess.Popen([linkplay, rec, "--link", endpoint, "--linger", "60"])
+    live = LivePreview(tools, scene.glb, scene.config, ["--link", endpoint])
+    try:
+        live.wait_for("link " + endpoint + " up")
+        time.sleep(1.0)  # the DELTA comes 0.3 s after the SNAPSHOT
+        expect_same("minimal-gauge following the link", xwd_screen().crop(0, 0, want.w, want.h), want)
+        player.terminate()
+        player.wait(timeout=20)
+        live.wait_for("link " + endpoint + " down")
+        time.sleep(0.3)
+        expect_same("minimal-gauge after the link went down", xwd_screen().crop(0, 0, lost.w, lost.h), lost)
+    finally:
+        if player.poll() is None:
+            player.kill()
+            player.wait()
+        code = live.stop()
+    if code != 0:
+        fail(f"meter-preview exited with {code} on SIGTERM")
+
+
 def main():
     if len(sys.argv) != 7:
         fail(__doc__)
@@ -384,6 +420,8 @@ def main():
         case_bad_save(tools, scene_dir)
     elif case == "playback":
         case_playback(tools, scene_dir)
+    elif case == "link":
+        case_link(tools, scene_dir)
     else:
         fail("unknown case " + case)
     print("PASS", flush=True)

@@ -175,7 +175,11 @@ class PreviewLoop {
     if (subscriber_) {
       for (int round = 0; round < 16 && subscriber_->poll(std::chrono::milliseconds(0)); ++round) {
       }
-      status_.link_up = subscriber_->link_up();
+      if (subscriber_->link_up() != status_.link_up) {
+        status_.link_up = subscriber_->link_up();
+        log_ << "meter-preview: link " << options_.link << (status_.link_up ? " up" : " down (failsafe look)") << "\n";
+        log_.flush();
+      }
     } else if (player_) {
       if (input_.restart_playback) play_began_ = now;
       input_.restart_playback = false;
