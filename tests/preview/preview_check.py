@@ -412,16 +412,12 @@ def main():
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
     tools = Tools(convert, view, preview, workdir)
+    cases = {"reload_on_save": case_reload_on_save, "bad_save": case_bad_save, "playback": case_playback,
+             "link": case_link}
     if case.startswith("same_pixels."):
         case_same_pixels(tools, scene_dir, case.split(".", 1)[1])
-    elif case == "reload_on_save":
-        case_reload_on_save(tools, scene_dir)
-    elif case == "bad_save":
-        case_bad_save(tools, scene_dir)
-    elif case == "playback":
-        case_playback(tools, scene_dir)
-    elif case == "link":
-        case_link(tools, scene_dir)
+    elif case in cases:
+        cases[case](tools, scene_dir)
     else:
         fail("unknown case " + case)
     print("PASS", flush=True)

@@ -13,7 +13,7 @@
 namespace meter::preview {
 namespace {
 
-using testing::fresh_folder;
+using testing::scratch_dir;
 using testing::save_by_rename;
 using testing::save_in_place;
 using ::testing::ElementsAre;
@@ -21,7 +21,7 @@ using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
 TEST(FileWatcher, SeesASaveByRenameOverTheWatchedFile) {
-  const auto dir = fresh_folder();
+  const auto dir = scratch_dir();
   save_in_place(dir / "scene.json", "{}");
   FileWatcher w({dir / "scene.json"});
   EXPECT_TRUE(w.poll().empty());
@@ -34,7 +34,7 @@ TEST(FileWatcher, SeesASaveByRenameOverTheWatchedFile) {
 }
 
 TEST(FileWatcher, SeesInPlaceWritesAndDeleteThenCreate) {
-  const auto dir = fresh_folder();
+  const auto dir = scratch_dir();
   save_in_place(dir / "scene.glb", "x");
   FileWatcher w({dir / "scene.glb"});
   save_in_place(dir / "scene.glb", "yy");
@@ -46,7 +46,7 @@ TEST(FileWatcher, SeesInPlaceWritesAndDeleteThenCreate) {
 }
 
 TEST(FileWatcher, IgnoresOtherFilesInTheFolderAndReportsEachWatchedFileOnce) {
-  const auto dir = fresh_folder();
+  const auto dir = scratch_dir();
   fs::create_directories(dir / "configs");
   save_in_place(dir / "a.glb", "a");
   save_in_place(dir / "configs" / "a.scene.json", "{}");
@@ -62,7 +62,7 @@ TEST(FileWatcher, IgnoresOtherFilesInTheFolderAndReportsEachWatchedFileOnce) {
 }
 
 TEST(FileWatcher, BothFilesInOneFolderShareItsWatch) {
-  const auto dir = fresh_folder();
+  const auto dir = scratch_dir();
   save_in_place(dir / "s.glb", "g");
   save_in_place(dir / "s.json", "{}");
   FileWatcher w({dir / "s.glb", dir / "s.json"});
@@ -73,7 +73,7 @@ TEST(FileWatcher, BothFilesInOneFolderShareItsWatch) {
 }
 
 TEST(FileWatcher, AFolderThatCannotBeWatchedIsNamed) {
-  const auto dir = fresh_folder();
+  const auto dir = scratch_dir();
   try {
     FileWatcher w({dir / "missing" / "scene.json"});
     FAIL() << "no error for a folder that does not exist";

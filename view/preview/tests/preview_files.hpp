@@ -1,27 +1,18 @@
-// Scratch folders and the two ways editors save a file, for the preview's tests.
+// The two ways editors save a file, for the preview's tests; scratch folders are the runner tests'.
 #pragma once
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 
-#include <gtest/gtest.h>
+#include "../../runner/tests/scratch_files.hpp"
 
 namespace meter::preview::testing {
 
-// An empty folder named for the running test.
-inline std::filesystem::path fresh_folder() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const auto dir = std::filesystem::path(::testing::TempDir()) / "meter_preview" /
-                   (std::string(info->test_suite_name()) + "." + info->name());
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+using view::testing::scratch_dir;
 
 // Writes in place (truncate + write + close), as a plain editor does.
 inline void save_in_place(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream(file, std::ios::binary | std::ios::trunc) << text;
+  view::testing::write_text(file, text);
 }
 
 // Writes a temporary file beside `file` and renames it over `file`, as most editors and Blender's

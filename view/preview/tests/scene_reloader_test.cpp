@@ -13,7 +13,7 @@
 namespace meter::preview {
 namespace {
 
-using testing::fresh_folder;
+using testing::scratch_dir;
 using testing::save_by_rename;
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -44,7 +44,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 }
 
 TEST(SceneReloader, ConvertsTheArtistsFiles) {
-  const auto files = gauge_copy(fresh_folder());
+  const auto files = gauge_copy(scratch_dir());
   SceneReloader r(files);
   EXPECT_EQ(r.generation(), 0u);
   EXPECT_EQ(r.scene(), nullptr);
@@ -61,7 +61,7 @@ TEST(SceneReloader, ConvertsTheArtistsFiles) {
 }
 
 TEST(SceneReloader, ABadSaveKeepsTheLastGoodSceneAndGivesTheConvertersMessage) {
-  const auto files = gauge_copy(fresh_folder());
+  const auto files = gauge_copy(scratch_dir());
   const std::string good = read_text(files.config);
   SceneReloader r(files);
   ASSERT_TRUE(r.reload()) << r.error();
