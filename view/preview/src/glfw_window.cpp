@@ -66,6 +66,7 @@ class GlfwWindow final : public PreviewWindow {
                                    why + "); install libegl-mesa0 and libgles2");
     }
     glfwSetWindowPos(window_, 0, 0);
+    watch_activity();
     try {
       gpu_ = std::make_unique<WindowGpu>(window_);
     } catch (...) {
@@ -97,6 +98,7 @@ class GlfwWindow final : public PreviewWindow {
     }
   }
   bool close_requested() const override { return glfwWindowShouldClose(window_) != 0; }
+  bool take_activity() override { return std::exchange(activity_, false); }
 
   platform::Image read_back(int x, int y, int width, int height) override {
     const auto& gl = gpu_->gl();
@@ -120,8 +122,24 @@ class GlfwWindow final : public PreviewWindow {
   void* native_handle() override { return window_; }
 
  private:
+  // Installed before the UI layer's: Dear ImGui's GLFW backend chains to these callbacks.
+  void watch_activity() {
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double, double) { mark(w); });
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int, int, int) { mark(w); });
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double) { mark(w); });
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int, int, int, int) { mark(w); });
+    glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned) { mark(w); });
+    glfwSetWindowFocusCallback(window_, [](GLFWwindow* w, int) { mark(w); });
+    glfwSetCursorEnterCallback(window_, [](GLFWwindow* w, int) { mark(w); });
+    glfwSetWindowRefreshCallback(window_, [](GLFWwindow* w) { mark(w); });
+    glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int, int) { mark(w); });
+  }
+  static void mark(GLFWwindow* w) { static_cast<GlfwWindow*>(glfwGetWindowUserPointer(w))->activity_ = true; }
+
   GLFWwindow* window_ = nullptr;
   std::unique_ptr<WindowGpu> gpu_;
+  bool activity_ = true;
 };
 
 }  // namespace

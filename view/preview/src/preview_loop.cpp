@@ -95,24 +95,40 @@ class PreviewLoop {
     auto last = Clock::now();
     std::uint64_t frame = 0;
     int exit_code = 0;
+    // Scripted runs draw every window frame, so frame counts mean the same on every machine.
+    const bool scripted = options_.exit_after_frames > 0 || options_.exit_after_playback;
+    auto presented = Clock::now();
+    int ui_frames = 0;  // window frames still to draw after an input event (UI hover, focus)
     while (!window_->close_requested() && !view::stop_requested()) {
-      window_->poll_events(frame == 0 ? 0.0 : 1.0 / options_.fps);
+      // A pending save is converted as soon as it settled; otherwise wait for events at the frame rate.
+      window_->poll_events(frame == 0 ? 0.0 : reloader_.pending() ? 0.005 : 1.0 / options_.fps);
       const auto now = Clock::now();
       follow_saves(now);
       const double dt = std::chrono::duration<double>(now - last).count();
       last = now;
       update_values(now);
+      const bool engine_drew = step_scene(dt);
+      if (window_->take_activity()) ui_frames = 3;
+      // An idle window is not drawn again (the engine skipped the frame, no event, nothing new to
+      // show): the CPU stays free for the next reload. The panel's numbers refresh once a second.
+      const bool playing = player_ && status_.play_t <= player_->duration();
+      if (!(scripted || engine_drew || ui_frames > 0 || ui_changed_ || awaiting_screen_ || playing ||
+            now - presented >= std::chrono::seconds(1)))
+        continue;
+      ui_frames = std::max(0, ui_frames - 1);
+      ui_changed_ = false;
       // A scripted run ends on a frame that shows the whole scene area (a resize after a reload
       // takes effect a few events later).
       const bool whole = !shown_ || fits(window_->framebuffer_size());
       const bool last_frame = whole && options_.exit_after_frames > 0 &&
                               frame + 1 >= static_cast<std::uint64_t>(options_.exit_after_frames);
       const bool played = whole && options_.exit_after_playback && player_ && status_.play_t >= player_->duration();
-      draw_frame(dt);
+      draw_window();
       if ((last_frame || played) && !options_.screenshot.empty()) exit_code = screenshot();
       window_->present();
+      presented = Clock::now();
       if (awaiting_screen_) report_on_screen();
-      status_.frame_ms = ms_between(now, Clock::now());
+      status_.frame_ms = ms_between(now, presented);
       ++frame;
       if (last_frame || played) break;
     }
@@ -129,6 +145,7 @@ class PreviewLoop {
   void follow_saves(Clock::time_point now) {
     if (!watcher_.poll().empty()) reloader_.changed(now);
     if (!reloader_.due(now)) return;
+    ui_changed_ = true;
     const auto first_change = reloader_.first_change();
     if (reloader_.reload()) {
       adopt(first_change);
@@ -142,8 +159,10 @@ class PreviewLoop {
   // Puts the reloader's new scene on screen: the signal values and the panel's settings stay, the
   // evaluator and renderer are new. A scene the GL context cannot draw counts as a bad save.
   void adopt(Clock::time_point change) {
+    const auto began = Clock::now();
     try {
       auto next = std::make_unique<ShownScene>(reloader_.scene(), window_->gpu(), options_.msaa);
+      build_ms_ = ms_between(began, Clock::now());
       const bool resized = !shown_ || next->renderer.width() != shown_->renderer.width() ||
                            next->renderer.height() != shown_->renderer.height();
       shown_ = std::move(next);
@@ -167,7 +186,8 @@ class PreviewLoop {
     status_.reload_ms = status_.generation > 1 ? ms_between(save_time_, Clock::now()) : 0.0;
     log_ << "meter-preview: scene " << status_.generation << " on screen";
     if (status_.generation > 1) log_ << " " << static_cast<long>(status_.reload_ms) << " ms after the save";
-    log_ << " (conversion " << static_cast<long>(status_.convert_ms) << " ms)\n";
+    log_ << " (conversion " << static_cast<long>(status_.convert_ms) << " ms, renderer " << static_cast<long>(build_ms_)
+         << " ms, first frame " << static_cast<long>(first_frame_ms_) << " ms)\n";
     log_.flush();
   }
 
@@ -177,6 +197,7 @@ class PreviewLoop {
       }
       if (subscriber_->link_up() != status_.link_up) {
         status_.link_up = subscriber_->link_up();
+        ui_changed_ = true;
         log_ << "meter-preview: link " << options_.link << (status_.link_up ? " up" : " down (failsafe look)") << "\n";
         log_.flush();
       }
@@ -188,7 +209,25 @@ class PreviewLoop {
     }
   }
 
-  void draw_frame(double dt) {
+  // The values -> bindings -> the engine's frame (skipped by the engine when nothing changed).
+  // Returns true when the engine drew a new frame.
+  bool step_scene(double dt) {
+    if (!shown_) return false;
+    const auto& table = subscriber_ ? subscriber_->signals() : values_;
+    const bool link_up = subscriber_ ? subscriber_->link_up() : !input_.link_lost;
+    // Set and played states are states, not motion: jump to them as meter-view --set does; the
+    // link's values move with the bindings' smoothing, as in meter-view.
+    shown_->evaluator.update(table, link_up, subscriber_ ? dt : -1.0);
+    shown_->renderer.apply(shown_->evaluator.outputs());
+    const auto timing = shown_->renderer.render(false, false);
+    if (!timing.drawn) return false;
+    status_.render_ms = timing.update_ms + timing.submit_ms + timing.gpu_readback_ms;
+    if (awaiting_screen_) first_frame_ms_ = status_.render_ms;
+    return true;
+  }
+
+  // The engine's frame 1:1 at the top left, the panel beside it.
+  void draw_window() {
     const auto& gl = window_->gpu().gl();
     const WindowSize fb = window_->framebuffer_size();
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -198,18 +237,12 @@ class PreviewLoop {
     gl.Clear(GL_COLOR_BUFFER_BIT);
     int scene_width = 640;
     if (shown_) {
-      const auto& table = subscriber_ ? subscriber_->signals() : values_;
-      const bool link_up = subscriber_ ? subscriber_->link_up() : !input_.link_lost;
-      // Scripted and played states are states, not motion: jump to them as meter-view --set does.
-      shown_->evaluator.update(table, link_up, subscriber_ ? dt : -1.0);
-      shown_->renderer.apply(shown_->evaluator.outputs());
-      const auto timing = shown_->renderer.render(false, false);
-      if (timing.drawn) status_.render_ms = timing.update_ms + timing.submit_ms + timing.gpu_readback_ms;
       blit_->draw(shown_->renderer.resolved_target(), 0, 0, fb.height);
       scene_width = shown_->renderer.width();
     }
     ui_->begin_frame();
-    draw_controls_panel(scene_width, options_.panel_width, fb.height, status_, controls_, values_, input_);
+    if (draw_controls_panel(scene_width, options_.panel_width, fb.height, status_, controls_, values_, input_))
+      ui_changed_ = true;
     ui_->end_frame();
   }
 
@@ -249,6 +282,8 @@ class PreviewLoop {
   PanelInput input_;
   Clock::time_point play_began_{}, save_time_{};
   bool awaiting_screen_ = false;
+  bool ui_changed_ = true;  // the panel shows something new: draw the window
+  double build_ms_ = 0.0, first_frame_ms_ = 0.0;  // the new scene's renderer and first frame
 };
 
 }  // namespace

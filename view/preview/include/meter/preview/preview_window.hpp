@@ -31,6 +31,9 @@ class PreviewWindow {
   // Handles pending window events, waiting at most `timeout_s` for one (0 = do not wait).
   virtual void poll_events(double timeout_s) = 0;
   virtual bool close_requested() const = 0;
+  // True once after any input, focus, expose or resize event since the last call: the window's
+  // UI may look different and should be drawn again.
+  virtual bool take_activity() = 0;
   // Reads a box of the default framebuffer's back buffer (the frame about to be presented), box
   // origin top-left, as a top-down RGBA8 image. Throws platform::GlError on a GL error.
   virtual platform::Image read_back(int x, int y, int width, int height) = 0;

@@ -36,6 +36,8 @@ class SceneReloader {
   void changed(Clock::time_point now);
   // True once a change is pending and `settle` has passed since the last one.
   bool due(Clock::time_point now) const;
+  // A change is waiting for its reload.
+  bool pending() const { return pending_; }
   // When the first change of the pending reload arrived (for the reload latency).
   Clock::time_point first_change() const { return first_change_; }
 
