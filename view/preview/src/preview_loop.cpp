@@ -101,7 +101,7 @@ class PreviewLoop {
     int ui_frames = 0;  // window frames still to draw after an input event (UI hover, focus)
     while (!window_->close_requested() && !view::stop_requested()) {
       // A pending save is converted as soon as it settled; otherwise wait for events at the frame rate.
-      window_->poll_events(frame == 0 ? 0.0 : reloader_.pending() ? 0.005 : 1.0 / options_.fps);
+      window_->poll_events(frame == 0 ? 0.0 : reloader_.pending() || reloader_.converting() ? 0.005 : 1.0 / options_.fps);
       const auto now = Clock::now();
       follow_saves(now);
       const double dt = std::chrono::duration<double>(now - last).count();
@@ -140,15 +140,20 @@ class PreviewLoop {
   }
 
  private:
-  // Saves seen by the watcher start a reload once they settled; a scene that converts replaces the
-  // one on screen, one that does not leaves it there with the error on the panel.
+  // Saves seen by the watcher start a conversion (on a worker thread) once they settled; a scene
+  // that converts replaces the one on screen, one that does not leaves it there with the error on
+  // the panel. The window goes on drawing the old scene meanwhile.
   void follow_saves(Clock::time_point now) {
     if (!watcher_.poll().empty()) reloader_.changed(now);
-    if (!reloader_.due(now)) return;
+    if (!reloader_.converting() && reloader_.due(now)) {
+      reloader_.begin();
+      ui_changed_ = true;
+    }
+    const auto done = reloader_.finish();
+    if (!done) return;
     ui_changed_ = true;
-    const auto first_change = reloader_.first_change();
-    if (reloader_.reload()) {
-      adopt(first_change);
+    if (*done) {
+      adopt(reloader_.converting_change());
     } else {
       status_.error = reloader_.error();
       log_ << "meter-preview: the save does not convert (still showing scene " << status_.generation << "): "

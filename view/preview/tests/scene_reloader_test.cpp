@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "preview_files.hpp"
 
@@ -97,6 +98,48 @@ TEST(SceneReloader, ABadSaveKeepsTheLastGoodSceneAndGivesTheConvertersMessage) {
   EXPECT_EQ(r.scene()->config.clear_color, (std::array<double, 4>{0.0, 0.2, 0.5, 1.0}));
   EXPECT_TRUE(r.error().empty());
   EXPECT_EQ(first->config.clear_color, (std::array<double, 4>{0.0, 0.0, 0.0, 1.0})) << "the old scene is untouched";
+}
+
+// Waits for the worker's conversion, as the preview loop does between window frames.
+bool finished(SceneReloader& r) {
+  for (;;) {
+    if (const auto done = r.finish()) return *done;
+    EXPECT_TRUE(r.converting());
+    std::this_thread::sleep_for(milliseconds(5));
+  }
+}
+
+TEST(SceneReloader, ConvertsOnAWorkerWhileTheLastSceneStays) {
+  const auto files = gauge_copy(scratch_dir());
+  const std::string good = read_text(files.config);
+  SceneReloader r(files);
+  ASSERT_TRUE(r.reload()) << r.error();
+  const auto first = r.scene();
+  save_by_rename(files.config, replaced(good, "\"clear_color\": [0.0, 0.0, 0.0, 1.0]", "\"clear_color\": [1.0, 0.0, 0.0, 1.0]"));
+  const auto t0 = Clock::now();
+  r.changed(t0);
+  r.begin();
+  EXPECT_TRUE(r.converting());
+  EXPECT_FALSE(r.pending());
+  EXPECT_EQ(r.converting_change(), t0);
+  // A save while it converts: pending again, converted after this one.
+  r.changed(t0 + milliseconds(5));
+  EXPECT_TRUE(r.pending());
+  EXPECT_EQ(r.scene(), first) << "the scene changes only when the conversion is taken";
+  ASSERT_TRUE(finished(r)) << r.error();
+  EXPECT_FALSE(r.converting());
+  EXPECT_FALSE(r.finish().has_value()) << "a result is taken once";
+  EXPECT_EQ(r.generation(), 2u);
+  EXPECT_EQ(r.scene()->config.clear_color, (std::array<double, 4>{1.0, 0.0, 0.0, 1.0}));
+  EXPECT_TRUE(r.pending());
+  EXPECT_EQ(r.first_change(), t0 + milliseconds(5));
+  // A bad save converted on the worker: the message, and the last good scene stays.
+  save_by_rename(files.config, "{");
+  r.begin();
+  EXPECT_FALSE(finished(r));
+  EXPECT_THAT(r.error(), HasSubstr("gauge.scene.json"));
+  EXPECT_EQ(r.generation(), 2u);
+  EXPECT_EQ(r.scene()->config.clear_color, (std::array<double, 4>{1.0, 0.0, 0.0, 1.0}));
 }
 
 TEST(SceneReloader, AReloadWaitsUntilTheSaveSettled) {

@@ -5,10 +5,13 @@
 
 #include <chrono>
 #include <cstdint>
+#include <future>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "meter/engine/scene.hpp"
+#include "meter/protocol/catalog.hpp"
 
 namespace meter::preview {
 
@@ -19,8 +22,8 @@ struct SceneFiles {
 
 // Converts the files as meter-convert does and reads the result back through the package format,
 // so the scene is exactly the one meter-view loads from the .msp. Bindings are checked against
-// the active signal catalog. Throws (SceneError and its kinds) with the converter's text.
-std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files);
+// `catalog`. Throws (SceneError and its kinds) with the converter's text.
+std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files, const protocol::Catalog& catalog);
 
 class SceneReloader {
  public:
@@ -45,6 +48,15 @@ class SceneReloader {
   // went up by one; false: error() holds the converter's message and scene() is still the last
   // good scene (null when there never was one).
   bool reload();
+  // The same on a worker thread, so the window keeps drawing while a large scene converts:
+  // begin() starts it (clears the pending change; a save during the conversion makes a new one
+  // pending), finish() returns nullopt while it runs, then once what reload() would have returned.
+  // converting() is true in between; scene(), generation() and error() change only in finish().
+  void begin();
+  std::optional<bool> finish();
+  bool converting() const { return job_.valid(); }
+  // The first change of the save the running (or last finished) conversion is for.
+  Clock::time_point converting_change() const { return job_change_; }
 
   std::shared_ptr<const engine::Scene> scene() const { return scene_; }
   std::uint64_t generation() const { return generation_; }
@@ -61,6 +73,8 @@ class SceneReloader {
   std::uint64_t generation_ = 0;
   std::string error_;
   double convert_ms_ = 0.0;
+  std::future<std::unique_ptr<engine::Scene>> job_;
+  Clock::time_point job_began_{}, job_change_{};
 };
 
 }  // namespace meter::preview
