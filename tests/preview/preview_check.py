@@ -14,6 +14,7 @@ Cases:
       signal values kept;
   bad_save: a save that does not convert shows the error in the panel and the scene area keeps the
       last good scene; the fix replaces it;
+  bad_start: a scene that does not convert at start opens the window with the error; the fix shows it;
   playback: --values plays a CSV to the state meter-view --values renders at its end;
   link: --link follows meter-linkplay (beside meter-view in the build's bin folder) replaying a
       recording, and shows the failsafe look once it goes away.
@@ -392,6 +393,33 @@ def case_bad_save(tools, scene_dir):
         fail(f"meter-preview exited with {code} on SIGTERM")
 
 
+def case_bad_start(tools, scene_dir):
+    """A scene that does not convert at start: the window opens with the error and shows the scene
+    once a save converts."""
+    glb, config, good = working_copy(tools, Scene(scene_dir, "minimal-gauge"))
+    want = tools.offscreen(glb, config, STATES["minimal-gauge"], "good")
+    save_by_rename(config, replaced(good, '"SpeedNeedle"', '"SpeedNeedel"'))
+    live = LivePreview(tools, glb, config, STATES["minimal-gauge"])
+    try:
+        live.wait_for("does not convert")
+        time.sleep(0.5)
+        during = error_pixels(xwd_screen(), want.w, PANEL_W, 480)
+        print(f"error-coloured panel pixels before any scene converted: {during}", flush=True)
+        if during < 200:
+            fail("the panel does not show the error of the first conversion")
+        save_by_rename(config, good)
+        live.wait_for("scene 1 on screen")
+        time.sleep(0.3)
+        screen = xwd_screen()
+        if error_pixels(screen, want.w, PANEL_W, 480) != 0:
+            fail("the error stays on the panel after the fix")
+        expect_same("minimal-gauge after the fixing save", screen.crop(0, 0, want.w, want.h), want)
+    finally:
+        code = live.stop()
+    if code != 0:
+        fail(f"meter-preview exited with {code} on SIGTERM")
+
+
 def case_playback(tools, scene_dir):
     scene = Scene(scene_dir, "cluster")
     csv = os.path.join(tools.workdir, "drive.csv")
@@ -454,8 +482,8 @@ def main():
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
     tools = Tools(convert, view, preview, workdir)
-    cases = {"reload_on_save": case_reload_on_save, "bad_save": case_bad_save, "playback": case_playback,
-             "link": case_link}
+    cases = {"reload_on_save": case_reload_on_save, "bad_save": case_bad_save, "bad_start": case_bad_start,
+             "playback": case_playback, "link": case_link}
     if case.startswith("same_pixels."):
         case_same_pixels(tools, scene_dir, case.split(".", 1)[1])
     elif case in cases:

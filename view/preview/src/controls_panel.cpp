@@ -11,12 +11,20 @@ const ImVec4 kErrorColor{1.0f, 0.4f, 0.35f, 1.0f};
 
 void draw_status(const PanelStatus& s) {
   ImGui::TextWrapped("%s", s.files.c_str());
-  ImGui::Text("scene %llu: converted in %.0f ms", static_cast<unsigned long long>(s.generation), s.convert_ms);
+  if (s.generation > 0) {
+    ImGui::Text("scene %llu: converted in %.0f ms", static_cast<unsigned long long>(s.generation), s.convert_ms);
+  } else {
+    ImGui::TextUnformatted("no scene yet: waiting for a save that converts");
+  }
   if (s.reload_ms > 0) ImGui::Text("on screen %.0f ms after the save", s.reload_ms);
   if (!s.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
-    ImGui::TextWrapped("The last save does not convert; still showing scene %llu:",
-                       static_cast<unsigned long long>(s.generation));
+    if (s.generation > 0) {
+      ImGui::TextWrapped("The last save does not convert; still showing scene %llu:",
+                         static_cast<unsigned long long>(s.generation));
+    } else {
+      ImGui::TextWrapped("The scene does not convert:");
+    }
     ImGui::TextWrapped("%s", s.error.c_str());
     ImGui::PopStyleColor();
   }

@@ -48,7 +48,7 @@ class GlfwWindow final : public PreviewWindow {
  public:
   GlfwWindow(WindowSize size, const std::string& title) {
     if (!glfwInit()) {
-      throw platform::BackendError("meter-preview: cannot start GLFW (" + last_glfw_error() +
+      throw platform::BackendError("cannot start GLFW (" + last_glfw_error() +
                                    "); is DISPLAY (X11) or WAYLAND_DISPLAY set? Under no display, run it "
                                    "in xvfb-run -a (Debian xvfb)");
     }
@@ -61,7 +61,7 @@ class GlfwWindow final : public PreviewWindow {
     if (!window_) {
       const std::string why = last_glfw_error();
       glfwTerminate();
-      throw platform::BackendError("meter-preview: cannot open a " + std::to_string(size.width) + "x" +
+      throw platform::BackendError("cannot open a " + std::to_string(size.width) + "x" +
                                    std::to_string(size.height) + " window with an OpenGL ES 3 context through EGL (" +
                                    why + "); install libegl-mesa0 and libgles2");
     }

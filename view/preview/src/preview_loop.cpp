@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -85,7 +85,11 @@ class PreviewLoop {
 
   int run() {
     const bool first_ok = reloader_.reload();
-    if (!first_ok) log_ << "meter-preview: " << reloader_.error() << "\n";
+    if (!first_ok) {
+      // The window opens anyway, with the error on its panel, and waits for a save that converts.
+      status_.error = reloader_.error();
+      log_ << "meter-preview: the scene does not convert (waiting for a save that does): " << status_.error << "\n";
+    }
     window_ = create_glfw_window(window_size_for(reloader_.scene().get(), options_.panel_width),
                                  "meter-preview: " + status_.files);
     blit_ = std::make_unique<FrameBlit>(window_->gpu().gl());
@@ -208,6 +212,7 @@ class PreviewLoop {
     if (subscriber_) {
       for (int round = 0; round < 16 && subscriber_->poll(std::chrono::milliseconds(0)); ++round) {
       }
+      values_ = subscriber_->signals();  // what the scene and the (read-only) controls show
       if (subscriber_->link_up() != status_.link_up) {
         status_.link_up = subscriber_->link_up();
         ui_changed_ = true;
@@ -226,11 +231,10 @@ class PreviewLoop {
   // Returns true when the engine drew a new frame.
   bool step_scene(double dt) {
     if (!shown_) return false;
-    const auto& table = subscriber_ ? subscriber_->signals() : values_;
     const bool link_up = subscriber_ ? subscriber_->link_up() : !input_.link_lost;
     // Set and played states are states, not motion: jump to them as meter-view --set does; the
     // link's values move with the bindings' smoothing, as in meter-view.
-    shown_->evaluator.update(table, link_up, subscriber_ ? dt : -1.0);
+    shown_->evaluator.update(values_, link_up, subscriber_ ? dt : -1.0);
     shown_->renderer.apply(shown_->evaluator.outputs());
     const auto timing = shown_->renderer.render(false, false);
     if (!timing.drawn) return false;

@@ -14,7 +14,7 @@ UiLayer::UiLayer(PreviewWindow& window) : window_(window) {
   if (!ImGui_ImplGlfw_InitForOpenGL(static_cast<GLFWwindow*>(window.native_handle()), true) ||
       !ImGui_ImplOpenGL3_Init("#version 300 es")) {
     ImGui::DestroyContext();
-    throw platform::BackendError("meter-preview: Dear ImGui cannot start on the window's OpenGL ES context");
+    throw platform::BackendError("Dear ImGui cannot start on the window's OpenGL ES context");
   }
   const auto& gl = window_.gpu().gl();
   while (gl.GetError() != GL_NO_ERROR) {
