@@ -16,6 +16,7 @@ Cases:
       last good scene; the fix replaces it;
   bad_start: a scene that does not convert at start opens the window with the error; the fix shows it;
   playback: --values plays a CSV to the state meter-view --values renders at its end;
+  runtime_links: meter-view links neither the converter nor GLFW (ldd), meter-preview does;
   link: --link follows meter-linkplay (beside meter-view in the build's bin folder) replaying a
       recording, and shows the failsafe look once it goes away.
 
@@ -473,15 +474,41 @@ def case_link(tools, scene_dir):
         fail(f"meter-preview exited with {code} on SIGTERM")
 
 
+# Libraries of the offline side and of the window: the target's meter-view must load none of them.
+PC_ONLY_LIBRARIES = ("libglslang", "libSPIRV", "libspirv-cross", "libtinygltf", "libmeshoptimizer", "libglfw")
+
+
+def case_runtime_links(tools):
+    """meter-preview converts in-process and opens a window; meter-view, the target's process,
+    still links neither the converter nor the window toolkit (ldd)."""
+    def libraries(binary):
+        out = run(["ldd", binary])
+        return [line.split()[0] for line in out.splitlines() if line.strip()]
+    view_libs = libraries(tools.view)
+    preview_libs = libraries(tools.preview)
+    # The names are matched on the preview first, so a renamed library cannot make the check pass.
+    for name in ("libtinygltf", "libglfw"):
+        if not any(lib.startswith(name) for lib in preview_libs):
+            fail(f"meter-preview does not link {name}*: the check's library names are stale")
+    found = [lib for lib in view_libs if lib.startswith(PC_ONLY_LIBRARIES)]
+    if found:
+        fail("meter-view links PC-only libraries: " + ", ".join(found))
+    print(f"meter-view links none of {', '.join(PC_ONLY_LIBRARIES)} ({len(view_libs)} libraries)", flush=True)
+
+
 def main():
     if len(sys.argv) != 7:
         fail(__doc__)
     convert, view, preview, scene_dir, case, workdir = sys.argv[1:]
-    if not os.environ.get("DISPLAY"):
-        fail("no DISPLAY: run under xvfb-run -a (Debian xvfb), as the ctest registration does")
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
     tools = Tools(convert, view, preview, workdir)
+    if case == "runtime_links":
+        case_runtime_links(tools)
+        print("PASS", flush=True)
+        return
+    if not os.environ.get("DISPLAY"):
+        fail("no DISPLAY: run under xvfb-run -a (Debian xvfb), as the ctest registration does")
     cases = {"reload_on_save": case_reload_on_save, "bad_save": case_bad_save, "bad_start": case_bad_start,
              "playback": case_playback, "link": case_link}
     if case.startswith("same_pixels."):
