@@ -46,7 +46,7 @@ class PreviewWindow {
   PreviewWindow() = default;
 };
 
-// A GLFW window on X11 or Wayland with an OpenGL ES 3 context created through EGL, swap interval 0
+// A GLFW window (X11 with Debian's GLFW) with an OpenGL ES 3 context created through EGL, swap interval 0
 // (frames are paced by the preview loop, not by the display). Throws platform::BackendError naming
 // what failed (no display, no EGL/GLES 3 context) and the package or variable that fixes it.
 std::unique_ptr<PreviewWindow> create_glfw_window(WindowSize size, const std::string& title);
