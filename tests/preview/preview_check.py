@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""meter-preview under Xvfb (run inside `xvfb-run -a`, which the ctest registration does): the
-window shows what meter-view renders offscreen, saves are on screen within a second, a bad save
-shows the converter's error and keeps the last good scene, a values CSV plays to its state.
+"""meter-preview under Xvfb (the script starts its own X server, `Xvfb -displayfd`, which picks a
+free display number itself, so cases running side by side never race for one): the window shows
+what meter-view renders offscreen, saves are on screen within a second, a bad save shows the
+converter's error and keeps the last good scene, a values CSV plays to its state.
 
   preview_check.py CONVERT VIEW PREVIEW SCENE_DIR CASE WORKDIR
 
@@ -24,6 +25,7 @@ Pixels are read with ImageMagick (`convert ... rgb:`) and xwd's own format; no P
 """
 import json
 import os
+import select
 import shutil
 import struct
 import subprocess
@@ -496,6 +498,31 @@ def case_runtime_links(tools):
     print(f"meter-view links none of {', '.join(PC_ONLY_LIBRARIES)} ({len(view_libs)} libraries)", flush=True)
 
 
+def start_xvfb(screen):
+    """A private X server of `screen` (WxHxDepth); DISPLAY is set to it. Returns the process."""
+    xvfb = shutil.which("Xvfb")
+    if not xvfb:
+        fail("Xvfb not found: install the Debian package xvfb (scripts/install-deps)")
+    r, w = os.pipe()
+    proc = subprocess.Popen([xvfb, "-displayfd", str(w), "-screen", "0", screen, "-nolisten", "tcp"],
+                            pass_fds=(w,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(w)
+    data = b""
+    until = time.monotonic() + 30
+    while not data.endswith(b"\n"):
+        ready, _, _ = select.select([r], [], [], max(0.0, until - time.monotonic()))
+        chunk = os.read(r, 64) if ready else b""
+        if not chunk:
+            code = proc.poll()
+            proc.kill()
+            fail("Xvfb did not name its display within 30 s" if code is None else f"Xvfb exited with {code}")
+        data += chunk
+    os.close(r)
+    os.environ["DISPLAY"] = ":" + data.decode().strip()
+    print(f"Xvfb on DISPLAY={os.environ['DISPLAY']}, screen {screen}", flush=True)
+    return proc
+
+
 def main():
     if len(sys.argv) != 7:
         fail(__doc__)
@@ -507,8 +534,18 @@ def main():
         case_runtime_links(tools)
         print("PASS", flush=True)
         return
-    if not os.environ.get("DISPLAY"):
-        fail("no DISPLAY: run under xvfb-run -a (Debian xvfb), as the ctest registration does")
+    # The screen holds the scene beside the panel: the cluster is 1280x480, the minimal gauge
+    # 640x480 (a small screen keeps each xwd capture of the polling cases cheap).
+    xvfb = start_xvfb("1700x600x24" if "cluster" in case or case == "playback" else "1024x600x24")
+    try:
+        run_case(tools, scene_dir, case)
+    finally:
+        xvfb.terminate()
+        xvfb.wait()
+    print("PASS", flush=True)
+
+
+def run_case(tools, scene_dir, case):
     cases = {"reload_on_save": case_reload_on_save, "bad_save": case_bad_save, "bad_start": case_bad_start,
              "playback": case_playback, "link": case_link}
     if case.startswith("same_pixels."):
@@ -517,7 +554,6 @@ def main():
         cases[case](tools, scene_dir)
     else:
         fail("unknown case " + case)
-    print("PASS", flush=True)
 
 
 if __name__ == "__main__":
