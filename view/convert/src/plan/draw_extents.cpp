@@ -74,15 +74,22 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
   const std::size_t na = s.animations.size();
   std::vector<double> start(na), end(na);
   for (std::size_t a = 0; a < na; ++a) start[a] = s.animations[a].start, end[a] = s.animations[a].end;
-  std::vector<glm::mat4> world;
+  std::vector<glm::mat4> world, last_world;
+  glm::mat4 last_vp(1.0f);
+  bool last_cam = false;
   auto accumulate = [&](const Pose& pose) {
     engine::world_matrices(s, pose, world);
     glm::mat4 vp(1.0f);
     const bool cam = camera_vp(s, world, vp);
     const float w = float(s.config.size[0]), h = float(s.config.size[1]);
+    // A draw whose world matrix and camera are bit for bit those of the pose accumulated last adds
+    // exactly the points it added then (min/max of the same values): skipped. An animation sweep
+    // moves a few nodes, so most draws are skipped (NaN never compares equal, so it is never skipped).
+    const bool same_camera = !last_world.empty() && cam == last_cam && vp == last_vp;
     for (auto& e : out) {
       const Primitive& prim = s.meshes[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(e.node)].mesh)].primitives[static_cast<std::size_t>(e.primitive)];
       const glm::mat4 m = world[static_cast<std::size_t>(e.node)];
+      if (same_camera && m == last_world[static_cast<std::size_t>(e.node)]) continue;
       for (int k = 0; k < 8; ++k) {
         glm::vec3 p((k & 1) ? prim.bounds_max.x : prim.bounds_min.x, (k & 2) ? prim.bounds_max.y : prim.bounds_min.y,
                     (k & 4) ? prim.bounds_max.z : prim.bounds_min.z);
@@ -110,6 +117,8 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
       const float key = cam ? (vp * m * glm::vec4(c, 1.0f)).w : 0.0f;
       e.key_min = std::min(e.key_min, key), e.key_max = std::max(e.key_max, key);
     }
+    last_world.swap(world);
+    last_vp = vp, last_cam = cam;
   };
   for (int others = 0; others < 2; ++others) {
     Pose base = Pose::rest(s);
