@@ -10,9 +10,12 @@
 
 namespace meter::preview {
 
-std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files, const protocol::Catalog& catalog) {
+std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files, const protocol::Catalog& catalog,
+                                             shadergen::ProgramCache* programs) {
   const auto config = bridge::load_scene_config(files.config, catalog);
-  const auto result = convert::convert_gltf(files.gltf, config);
+  convert::ConvertOptions options;
+  options.program_cache = programs;
+  const auto result = convert::convert_gltf(files.gltf, config, options);
   const auto bytes = convert::serialize_scene(result.scene);
   return std::make_unique<engine::Scene>(engine::deserialize_scene(bytes, files.gltf));
 }
@@ -40,8 +43,8 @@ void SceneReloader::begin() {
   job_change_ = first_change_;
   job_began_ = Clock::now();
   // The catalog is taken here, on the caller's thread: the worker sees the one active at the save.
-  job_ = std::async(std::launch::async, [files = files_, catalog = protocol::active_catalog()] {
-    return convert_scene(files, *catalog);
+  job_ = std::async(std::launch::async, [files = files_, catalog = protocol::active_catalog(), programs = programs_] {
+    return convert_scene(files, *catalog, programs.get());
   });
 }
 

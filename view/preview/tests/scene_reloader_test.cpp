@@ -61,6 +61,29 @@ TEST(SceneReloader, ConvertsTheArtistsFiles) {
   EXPECT_GT(r.last_convert_ms(), 0.0);
 }
 
+TEST(SceneReloader, AConfigSaveReusesTheOptimizedProgramsAndDrawsTheSame) {
+  const auto files = gauge_copy(scratch_dir());
+  SceneReloader r(files);
+  ASSERT_TRUE(r.reload()) << r.error();
+  const std::size_t programs = r.programs().size();
+  EXPECT_GT(programs, 0u);
+  EXPECT_EQ(r.programs().hits(), 0u);
+  // A colour of the config that no program folds: every program comes from the cache.
+  save_by_rename(files.config, replaced(read_text(files.config), "\"clear_color\": [0.0, 0.0, 0.0, 1.0]",
+                                        "\"clear_color\": [0.0, 0.2, 0.5, 1.0]"));
+  ASSERT_TRUE(r.reload()) << r.error();
+  EXPECT_EQ(r.programs().hits(), programs);
+  EXPECT_EQ(r.programs().size(), programs);
+  // ... and they are the programs a conversion without the cache makes.
+  const auto fresh = convert_scene(files, *protocol::active_catalog());
+  ASSERT_EQ(r.scene()->programs.size(), fresh->programs.size());
+  for (std::size_t i = 0; i < fresh->programs.size(); ++i) {
+    EXPECT_EQ(r.scene()->programs[i].program.vertex_source, fresh->programs[i].program.vertex_source) << i;
+    EXPECT_EQ(r.scene()->programs[i].program.fragment_source, fresh->programs[i].program.fragment_source) << i;
+    EXPECT_EQ(shadergen::describe(r.scene()->programs[i].program), shadergen::describe(fresh->programs[i].program)) << i;
+  }
+}
+
 TEST(SceneReloader, ABadSaveKeepsTheLastGoodSceneAndGivesTheConvertersMessage) {
   const auto files = gauge_copy(scratch_dir());
   const std::string good = read_text(files.config);

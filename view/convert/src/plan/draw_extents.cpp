@@ -74,11 +74,12 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
   const std::size_t na = s.animations.size();
   std::vector<double> start(na), end(na);
   for (std::size_t a = 0; a < na; ++a) start[a] = s.animations[a].start, end[a] = s.animations[a].end;
+  const engine::NodeOrder order = engine::NodeOrder::of(s);  // the same for every pose
   std::vector<glm::mat4> world, last_world;
   glm::mat4 last_vp(1.0f);
   bool last_cam = false;
   auto accumulate = [&](const Pose& pose) {
-    engine::world_matrices(s, pose, world);
+    engine::world_matrices(s, order, pose, world);
     glm::mat4 vp(1.0f);
     const bool cam = camera_vp(s, world, vp);
     const float w = float(s.config.size[0]), h = float(s.config.size[1]);

@@ -12,6 +12,7 @@
 
 #include "meter/engine/scene.hpp"
 #include "meter/protocol/catalog.hpp"
+#include "meter/shadergen/program_cache.hpp"
 
 namespace meter::preview {
 
@@ -22,8 +23,10 @@ struct SceneFiles {
 
 // Converts the files as meter-convert does and reads the result back through the package format,
 // so the scene is exactly the one meter-view loads from the .msp. Bindings are checked against
-// `catalog`. Throws (SceneError and its kinds) with the converter's text.
-std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files, const protocol::Catalog& catalog);
+// `catalog`. Programs optimized before come from `programs` (null: none kept), byte-identical to
+// fresh ones. Throws (SceneError and its kinds) with the converter's text.
+std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files, const protocol::Catalog& catalog,
+                                             shadergen::ProgramCache* programs = nullptr);
 
 class SceneReloader {
  public:
@@ -62,6 +65,9 @@ class SceneReloader {
   std::uint64_t generation() const { return generation_; }
   const std::string& error() const { return error_; }
   double last_convert_ms() const { return convert_ms_; }
+  // The optimized programs kept across reloads: a save that leaves a material's features and
+  // constants alone reuses its program instead of optimizing it again.
+  const shadergen::ProgramCache& programs() const { return *programs_; }
   const SceneFiles& files() const { return files_; }
 
  private:
@@ -73,6 +79,7 @@ class SceneReloader {
   std::uint64_t generation_ = 0;
   std::string error_;
   double convert_ms_ = 0.0;
+  std::shared_ptr<shadergen::ProgramCache> programs_ = std::make_shared<shadergen::ProgramCache>();
   std::future<std::unique_ptr<engine::Scene>> job_;
   Clock::time_point job_began_{}, job_change_{};
 };
