@@ -152,8 +152,7 @@ class PreviewLoop {
     if (!watcher_.poll().empty()) reloader_.changed(now);
     if (!reloader_.converting() && reloader_.due(now)) {
       reload_cpu_began_ = std::clock();
-      reloader_.begin();
-      ui_changed_ = true;
+      reloader_.begin();  // nothing new on the panel until it finishes: no window frame for it
     }
     const auto done = reloader_.finish();
     if (!done) return;

@@ -75,11 +75,10 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
   std::vector<double> start(na), end(na);
   for (std::size_t a = 0; a < na; ++a) start[a] = s.animations[a].start, end[a] = s.animations[a].end;
   const engine::NodeOrder order = engine::NodeOrder::of(s);  // the same for every pose
-  std::vector<glm::mat4> world, last_world;
+  std::vector<glm::mat4> world, last_world;  // a pose's world matrices; the last accumulated pose's
   glm::mat4 last_vp(1.0f);
   bool last_cam = false;
-  auto accumulate = [&](const Pose& pose) {
-    engine::world_matrices(s, order, pose, world);
+  auto accumulate = [&](const std::vector<glm::mat4>& world) {
     glm::mat4 vp(1.0f);
     const bool cam = camera_vp(s, world, vp);
     const float w = float(s.config.size[0]), h = float(s.config.size[1]);
@@ -118,18 +117,44 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
       const float key = cam ? (vp * m * glm::vec4(c, 1.0f)).w : 0.0f;
       e.key_min = std::min(e.key_min, key), e.key_max = std::max(e.key_max, key);
     }
-    last_world.swap(world);
+    last_world = world;
     last_vp = vp, last_cam = cam;
+  };
+  // World matrices of a pose that differs from `base` (whose matrices are base_world) only in the
+  // nodes animation a moves: those nodes and their descendants are recomputed as world_matrices
+  // computes them (parent first, the same products), the rest are base_world's.
+  std::vector<glm::mat4> base_world;
+  std::vector<std::vector<char>> moved(na, std::vector<char>(s.nodes.size(), 0));
+  for (std::size_t a = 0; a < na; ++a) {
+    for (const auto& ch : s.animations[a].channels) {
+      if (ch.node >= 0) moved[a][static_cast<std::size_t>(ch.node)] = 1;
+    }
+    for (const int n : order.preorder) {
+      const int parent = order.parent[static_cast<std::size_t>(n)];
+      if (parent >= 0 && moved[a][static_cast<std::size_t>(parent)]) moved[a][static_cast<std::size_t>(n)] = 1;
+    }
+  }
+  auto moved_world = [&](std::size_t a, const Pose& pose) -> const std::vector<glm::mat4>& {
+    world = base_world;
+    for (const int n : order.preorder) {
+      const auto i = static_cast<std::size_t>(n);
+      if (!moved[a][i]) continue;
+      const int parent = order.parent[i];
+      const glm::mat4 local = engine::local_matrix(pose.translation[i], pose.rotation[i], pose.scale[i]);
+      world[i] = parent >= 0 ? world[static_cast<std::size_t>(parent)] * local : glm::mat4(1.0f) * local;
+    }
+    return world;
   };
   for (int others = 0; others < 2; ++others) {
     Pose base = Pose::rest(s);
     for (std::size_t a = 0; a < na; ++a) engine::apply_animation(s, static_cast<int>(a), others ? end[a] : start[a], base);
-    if (na == 0 || others == 0) accumulate(base);
+    engine::world_matrices(s, order, base, base_world);
+    if (na == 0 || others == 0) accumulate(base_world);
     for (std::size_t a = 0; a < na; ++a) {
       for (double t : sample_times(s.animations[a])) {
         Pose p = base;
         engine::apply_animation(s, static_cast<int>(a), t, p);
-        accumulate(p);
+        accumulate(moved_world(a, p));
       }
     }
   }
