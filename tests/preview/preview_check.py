@@ -13,6 +13,9 @@ Cases:
   reload_on_save: edits of the scene config saved by rename (a colour, then a binding) and a
       re-export of the .glb (a material recoloured) are on screen within 1 s of the save, with the
       signal values kept;
+  reload_on_save.cluster: the product scene's config colour edits and re-exports (a material
+      recoloured) within a CPU bound per reload and a wall bound, the X screen afterwards against
+      meter-view's render of the edited files;
   bad_save: a save that does not convert shows the error in the panel and the scene area keeps the
       last good scene; the fix replaces it;
   bad_start: a scene that does not convert at start opens the window with the error; the fix shows it;
@@ -25,8 +28,10 @@ Pixels are read with ImageMagick (`convert ... rgb:`) and xwd's own format; no P
 """
 import json
 import os
+import re
 import select
 import shutil
+import statistics
 import struct
 import subprocess
 import sys
@@ -43,6 +48,23 @@ import time
 SAME_PIXELS_MIN_PSNR = 50.0
 # The artist's loop: a save must be on screen within a second (the preview's stated goal).
 RELOAD_BOUND_S = 1.0
+# The cluster (163 draws, 13 programs, 1280x480): CLUSTER_SAVES config edits and as many .glb
+# re-exports. A reload costs 0.20-0.31 s of CPU (conversion with the programs from the cache ~35 ms
+# of its thread, plus a re-exported material's program; renderer ~25 ms; the first frame ~110 ms of
+# llvmpipe rasterising the whole frame at MSAA 4, what meter-view's frame costs too); before the
+# program cache it was 0.60-0.64 s. The one-second goal is asserted load-independently as CPU time:
+# at most CLUSTER_CPU_S (1.5 times the slowest measured; it fails the reload without the cache),
+# which is on screen within the second whenever the preview gets half a core (about 0.3 s with a
+# core to spare). The wall time is printed against RELOAD_BOUND_S but bounded only by
+# CLUSTER_SLOWEST_S: on this 2-core machine shared with six other builds (load average 10-12) the
+# reloads took 0.64-1.44 s, medians of three 0.81-1.05 s, so the second holds only at the median
+# and not with a margin; what is left is the first frame (0.39-0.55 s of wall time here, the
+# rasteriser threads waiting for a core), then the conversion (0.10-0.22 s). ctest runs the case
+# alone (RUN_SERIAL): beside the other preview cases its medians were 1.2-1.3 s, slowest 1.44 s.
+CLUSTER_SAVES = 3
+CLUSTER_SLOWEST_S = 2.0
+CLUSTER_CPU_S = 0.45
+CLUSTER_RECOLOURED = ("Needle", "RedZone", "Chrome")
 
 PANEL_W = 380  # PreviewOptions::panel_width
 # Pause between two captures while waiting for an edit: the capture loop must not take the CPU
@@ -242,6 +264,19 @@ def glb_with_material(glb_bytes, name, base, emissive):
         struct.pack("<II", len(text), json_type) + text + rest
 
 
+def export_recoloured(glb, material):
+    """The .glb re-exported with `material` green, written beside it and renamed over it as an
+    exporter does; returns the time of the rename."""
+    with open(glb, "rb") as f:
+        exported = glb_with_material(f.read(), material, [0, 1, 0, 1], [0, 1, 0])
+    tmp = os.path.join(os.path.dirname(glb), "." + os.path.basename(glb) + ".saving")
+    with open(tmp, "wb") as f:
+        f.write(exported)
+    t0 = time.monotonic()
+    os.rename(tmp, glb)
+    return t0
+
+
 def replaced(text, old, new):
     if old not in text:
         fail(f"the config has no '{old}' to edit")
@@ -328,13 +363,7 @@ def case_reload_on_save(tools, scene_dir):
         if latency > RELOAD_BOUND_S:
             fail(f"the binding edit took {latency:.3f} s > {RELOAD_BOUND_S} s to appear")
         # A new export of the .glb: the needle recoloured green.
-        with open(glb, "rb") as f:
-            exported = glb_with_material(f.read(), "NeedleRed", [0, 1, 0, 1], [0, 1, 0])
-        tmp = os.path.join(os.path.dirname(glb), ".scene.glb.saving")
-        with open(tmp, "wb") as f:
-            f.write(exported)
-        t0 = time.monotonic()
-        os.rename(tmp, glb)
+        t0 = export_recoloured(glb, "NeedleRed")
         logged = live.wait_for("scene 4 on screen")
         latency = time.monotonic() - t0
         print(f"re-export of the .glb logged on screen {latency * 1000:.0f} ms after the save: {logged.strip()}",
@@ -352,6 +381,70 @@ def case_reload_on_save(tools, scene_dir):
     expect_same("minimal-gauge after the three edits, X screen", screen.crop(0, 0, want.w, want.h), want)
     if code != 0:
         fail(f"meter-preview exited with {code} on SIGTERM")
+
+
+def case_reload_on_save_cluster(tools, scene_dir):
+    """The product scene: config edits and re-exported .glb files on screen within the bounds, and
+    the X screen afterwards equal to meter-view's render of the edited files (the programs the
+    preview kept across the reloads are the ones a fresh conversion makes)."""
+    scene = Scene(scene_dir, "cluster")
+    glb, config, text = working_copy(tools, scene)
+    live = LivePreview(tools, glb, config, STATES["cluster"])
+    took = {"config edit": [], "re-export of the .glb": []}
+    cpu = []
+    generation = 1
+    try:
+        live.wait_for("scene 1 on screen")
+        time.sleep(0.5)
+        for i in range(CLUSTER_SAVES):
+            # A colour edit of the config: the background behind the panels.
+            text = replaced(text, f'"clear_color": [0.0, {i / 10:.1f}, 0.5, 1.0]' if i else '"clear_color": [0.0, 0.0, 0.0, 1.0]',
+                            f'"clear_color": [0.0, {(i + 1) / 10:.1f}, 0.5, 1.0]')
+            t0 = time.monotonic()
+            save_by_rename(config, text)
+            generation += 1
+            logged = live.wait_for(f"scene {generation} on screen")
+            took["config edit"].append(time.monotonic() - t0)
+            cpu.append(logged_cpu_s(logged))
+            time.sleep(0.5)
+            # A new export of the .glb: a material recoloured green (its program optimized afresh,
+            # the others from the cache).
+            t0 = export_recoloured(glb, CLUSTER_RECOLOURED[i % len(CLUSTER_RECOLOURED)])
+            generation += 1
+            logged = live.wait_for(f"scene {generation} on screen")
+            took["re-export of the .glb"].append(time.monotonic() - t0)
+            cpu.append(logged_cpu_s(logged))
+            time.sleep(0.5)
+        screen = xwd_screen()
+    finally:
+        code = live.stop()
+    for what, seconds in took.items():
+        print(f"cluster {what}: on screen (the preview's log line read) "
+              f"{', '.join(f'{t * 1000:.0f}' for t in seconds)} ms after the save; median "
+              f"{statistics.median(seconds) * 1000:.0f} ms (the goal {RELOAD_BOUND_S * 1000:.0f} ms), "
+              f"slowest {max(seconds) * 1000:.0f} ms (bound {CLUSTER_SLOWEST_S * 1000:.0f} ms)", flush=True)
+    print(f"cluster reloads' CPU time: {', '.join(f'{c * 1000:.0f}' for c in cpu)} ms "
+          f"(bound {CLUSTER_CPU_S * 1000:.0f} ms)", flush=True)
+    want = tools.offscreen(glb, config, STATES["cluster"], "edited")
+    before = tools.offscreen(scene.glb, scene.config, STATES["cluster"], "original")
+    if psnr(want, before) > 40:
+        fail("the edited cluster looks like the original; the check would prove nothing")
+    expect_same("cluster after the edits and re-exports, X screen", screen.crop(0, 0, want.w, want.h), want)
+    if code != 0:
+        fail(f"meter-preview exited with {code} on SIGTERM")
+    for what, seconds in took.items():
+        if max(seconds) > CLUSTER_SLOWEST_S:
+            fail(f"a cluster {what} took {max(seconds):.3f} s > {CLUSTER_SLOWEST_S} s to appear")
+    if max(cpu) > CLUSTER_CPU_S:
+        fail(f"a cluster reload took {max(cpu):.3f} s of CPU > {CLUSTER_CPU_S} s")
+
+
+def logged_cpu_s(line):
+    """The CPU seconds of a reload from the preview's 'scene N on screen ...; C ms of CPU)' line."""
+    m = re.search(r"; (\d+) ms of CPU\)", line)
+    if not m:
+        fail("the preview's reload line gives no CPU time: " + line.strip())
+    return int(m.group(1)) / 1000.0
 
 
 def error_pixels(screen, x0, w, h):
@@ -546,7 +639,8 @@ def main():
 
 
 def run_case(tools, scene_dir, case):
-    cases = {"reload_on_save": case_reload_on_save, "bad_save": case_bad_save, "bad_start": case_bad_start,
+    cases = {"reload_on_save": case_reload_on_save, "reload_on_save.cluster": case_reload_on_save_cluster,
+             "bad_save": case_bad_save, "bad_start": case_bad_start,
              "playback": case_playback, "link": case_link}
     if case.startswith("same_pixels."):
         case_same_pixels(tools, scene_dir, case.split(".", 1)[1])
