@@ -124,21 +124,22 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
   // nodes animation a moves: those nodes and their descendants are recomputed as world_matrices
   // computes them (parent first, the same products), the rest are base_world's.
   std::vector<glm::mat4> base_world;
-  std::vector<std::vector<char>> moved(na, std::vector<char>(s.nodes.size(), 0));
-  for (std::size_t a = 0; a < na; ++a) {
+  std::vector<char> moved;  // per node: animation a moves it or an ancestor
+  auto mark_moved = [&](std::size_t a) {
+    moved.assign(s.nodes.size(), 0);
     for (const auto& ch : s.animations[a].channels) {
-      if (ch.node >= 0) moved[a][static_cast<std::size_t>(ch.node)] = 1;
+      if (ch.node >= 0) moved[static_cast<std::size_t>(ch.node)] = 1;
     }
     for (const int n : order.preorder) {
       const int parent = order.parent[static_cast<std::size_t>(n)];
-      if (parent >= 0 && moved[a][static_cast<std::size_t>(parent)]) moved[a][static_cast<std::size_t>(n)] = 1;
+      if (parent >= 0 && moved[static_cast<std::size_t>(parent)]) moved[static_cast<std::size_t>(n)] = 1;
     }
-  }
-  auto moved_world = [&](std::size_t a, const Pose& pose) -> const std::vector<glm::mat4>& {
+  };
+  auto moved_world = [&](const Pose& pose) -> const std::vector<glm::mat4>& {
     world = base_world;
     for (const int n : order.preorder) {
       const auto i = static_cast<std::size_t>(n);
-      if (!moved[a][i]) continue;
+      if (!moved[i]) continue;
       const int parent = order.parent[i];
       const glm::mat4 local = engine::local_matrix(pose.translation[i], pose.rotation[i], pose.scale[i]);
       world[i] = parent >= 0 ? world[static_cast<std::size_t>(parent)] * local : glm::mat4(1.0f) * local;
@@ -151,10 +152,11 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
     engine::world_matrices(s, order, base, base_world);
     if (na == 0 || others == 0) accumulate(base_world);
     for (std::size_t a = 0; a < na; ++a) {
+      mark_moved(a);
       for (double t : sample_times(s.animations[a])) {
         Pose p = base;
         engine::apply_animation(s, static_cast<int>(a), t, p);
-        accumulate(moved_world(a, p));
+        accumulate(moved_world(p));
       }
     }
   }
