@@ -153,4 +153,9 @@ const platform::Image& Renderer::read() {
   return image_;
 }
 
+const platform::RenderTarget& Renderer::resolved_target() {
+  resolve_pending();
+  return *target_;
+}
+
 }  // namespace meter::engine

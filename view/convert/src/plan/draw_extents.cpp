@@ -74,15 +74,22 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
   const std::size_t na = s.animations.size();
   std::vector<double> start(na), end(na);
   for (std::size_t a = 0; a < na; ++a) start[a] = s.animations[a].start, end[a] = s.animations[a].end;
-  std::vector<glm::mat4> world;
-  auto accumulate = [&](const Pose& pose) {
-    engine::world_matrices(s, pose, world);
+  const engine::NodeOrder order = engine::NodeOrder::of(s);  // the same for every pose
+  std::vector<glm::mat4> world, last_world;  // a pose's world matrices; the last accumulated pose's
+  glm::mat4 last_vp(1.0f);
+  bool last_cam = false;
+  auto accumulate = [&](const std::vector<glm::mat4>& world) {
     glm::mat4 vp(1.0f);
     const bool cam = camera_vp(s, world, vp);
     const float w = float(s.config.size[0]), h = float(s.config.size[1]);
+    // A draw whose world matrix and camera are bit for bit those of the pose accumulated last adds
+    // exactly the points it added then (min/max of the same values): skipped. An animation sweep
+    // moves a few nodes, so most draws are skipped (NaN never compares equal, so it is never skipped).
+    const bool same_camera = !last_world.empty() && cam == last_cam && vp == last_vp;
     for (auto& e : out) {
       const Primitive& prim = s.meshes[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(e.node)].mesh)].primitives[static_cast<std::size_t>(e.primitive)];
       const glm::mat4 m = world[static_cast<std::size_t>(e.node)];
+      if (same_camera && m == last_world[static_cast<std::size_t>(e.node)]) continue;
       for (int k = 0; k < 8; ++k) {
         glm::vec3 p((k & 1) ? prim.bounds_max.x : prim.bounds_min.x, (k & 2) ? prim.bounds_max.y : prim.bounds_min.y,
                     (k & 4) ? prim.bounds_max.z : prim.bounds_min.z);
@@ -110,16 +117,46 @@ std::vector<DrawExtent> draw_extents(const Scene& s) {
       const float key = cam ? (vp * m * glm::vec4(c, 1.0f)).w : 0.0f;
       e.key_min = std::min(e.key_min, key), e.key_max = std::max(e.key_max, key);
     }
+    last_world = world;
+    last_vp = vp, last_cam = cam;
+  };
+  // World matrices of a pose that differs from `base` (whose matrices are base_world) only in the
+  // nodes animation a moves: those nodes and their descendants are recomputed as world_matrices
+  // computes them (parent first, the same products), the rest are base_world's.
+  std::vector<glm::mat4> base_world;
+  std::vector<char> moved;  // per node: animation a moves it or an ancestor
+  auto mark_moved = [&](std::size_t a) {
+    moved.assign(s.nodes.size(), 0);
+    for (const auto& ch : s.animations[a].channels) {
+      if (ch.node >= 0) moved[static_cast<std::size_t>(ch.node)] = 1;
+    }
+    for (const int n : order.preorder) {
+      const int parent = order.parent[static_cast<std::size_t>(n)];
+      if (parent >= 0 && moved[static_cast<std::size_t>(parent)]) moved[static_cast<std::size_t>(n)] = 1;
+    }
+  };
+  auto moved_world = [&](const Pose& pose) -> const std::vector<glm::mat4>& {
+    world = base_world;
+    for (const int n : order.preorder) {
+      const auto i = static_cast<std::size_t>(n);
+      if (!moved[i]) continue;
+      const int parent = order.parent[i];
+      const glm::mat4 local = engine::local_matrix(pose.translation[i], pose.rotation[i], pose.scale[i]);
+      world[i] = parent >= 0 ? world[static_cast<std::size_t>(parent)] * local : glm::mat4(1.0f) * local;
+    }
+    return world;
   };
   for (int others = 0; others < 2; ++others) {
     Pose base = Pose::rest(s);
     for (std::size_t a = 0; a < na; ++a) engine::apply_animation(s, static_cast<int>(a), others ? end[a] : start[a], base);
-    if (na == 0 || others == 0) accumulate(base);
+    engine::world_matrices(s, order, base, base_world);
+    if (na == 0 || others == 0) accumulate(base_world);
     for (std::size_t a = 0; a < na; ++a) {
+      mark_moved(a);
       for (double t : sample_times(s.animations[a])) {
         Pose p = base;
         engine::apply_animation(s, static_cast<int>(a), t, p);
-        accumulate(p);
+        accumulate(moved_world(p));
       }
     }
   }

@@ -6,6 +6,7 @@
 
 #include "convert_context.hpp"
 #include "meter/shadergen/glsl.hpp"
+#include "meter/shadergen/program_cache.hpp"
 #include "programs/program_features.hpp"
 
 namespace meter::convert {
@@ -40,6 +41,11 @@ void generate_programs(const ConvertContext& ctx, Scene& s) {
     for (const auto& o : sc.outputs)
       if (targets_material(o.kind)) bound_materials.insert(s.find_material(o.target));
   const auto dyn = dynamic_nodes(s);
+  // Draws of one feature set (and folded material) share a program; programs equal to one
+  // optimized before (another material with the same constants, an earlier conversion) come
+  // from the optimizer's cache.
+  shadergen::ProgramCache own_cache;
+  shadergen::ProgramCache& optimized = ctx.opt.program_cache ? *ctx.opt.program_cache : own_cache;
   std::map<std::string, int> cache;
   for (const int n : node_preorder(s)) {
     const Node& node = s.nodes[static_cast<std::size_t>(n)];
@@ -64,7 +70,7 @@ void generate_programs(const ConvertContext& ctx, Scene& s) {
           e.program = shadergen::generate(f);
           if (ctx.opt.optimize) {
             const shadergen::ConstantValues cv = folding_constants(s, mat, fold_material, light_nodes, dyn);
-            e.program = shadergen::optimize(e.program, cv, &e.optimize_report);
+            e.program = optimized.optimize(e.program, cv, &e.optimize_report);
           } else {
             measure_unoptimized(e);
           }

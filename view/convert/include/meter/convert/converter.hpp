@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "meter/convert/scene.hpp"
+#include "meter/shadergen/program_cache.hpp"
 
 namespace meter::convert {
 
@@ -28,6 +29,9 @@ struct ConvertError : SceneError {
 struct ConvertOptions {
   bool optimize = true;         // shader optimizer: shadergen::optimize() with the scene's constants
   bool propose_groups = false;  // mesh concatenation: also group ungrouped objects automatically
+  // Optimized programs from earlier conversions (the preview keeps one across reloads); null: a
+  // cache for this conversion only. Hits are byte-identical to fresh programs (program_cache.hpp).
+  shadergen::ProgramCache* program_cache = nullptr;
 };
 
 struct ConvertResult {

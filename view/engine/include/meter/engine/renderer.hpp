@@ -112,6 +112,9 @@ class Renderer {
   const platform::Image& last_image() const { return image_; }
   // Resolves and reads the current contents of the target (the last drawn frame).
   const platform::Image& read();
+  // Resolves the last drawn frame and returns the target holding it, for a caller that shows the
+  // frame on the GPU without reading it back (a window samples its color_texture()).
+  const platform::RenderTarget& resolved_target();
 
   const RendererStats& stats() const { return stats_; }
   int width() const { return width_; }

@@ -1,0 +1,31 @@
+// Shows the engine's frame in the window: the renderer's resolved colour texture drawn 1:1 into a
+// box of the default framebuffer, without a CPU readback. The texture is sRGB (GL decodes it to
+// linear when sampled), so the shader encodes back to sRGB and the window holds the same 8-bit
+// values the offscreen render writes to its PNG.
+#pragma once
+
+#include "meter/platform/gl_api.hpp"
+#include "meter/platform/render_target.hpp"
+
+namespace meter::preview {
+
+class FrameBlit {
+ public:
+  // Compiles the copy program in the current context (platform::GlError on failure).
+  explicit FrameBlit(const platform::Gl& gl);
+  ~FrameBlit();
+  FrameBlit(const FrameBlit&) = delete;
+  FrameBlit& operator=(const FrameBlit&) = delete;
+
+  // Draws `frame`'s colour texture into the default framebuffer at (x, y) from its top-left corner,
+  // 1:1 pixels; `framebuffer_height` is the default framebuffer's height.
+  void draw(const platform::RenderTarget& frame, int x, int y, int framebuffer_height);
+
+ private:
+  const platform::Gl& gl_;
+  GLuint program_ = 0;
+  GLuint vao_ = 0;
+  GLint origin_loc_ = -1, encode_loc_ = -1, frame_loc_ = -1;
+};
+
+}  // namespace meter::preview
