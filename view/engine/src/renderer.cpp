@@ -147,6 +147,11 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   return t;
 }
 
+GLuint Renderer::resolved_framebuffer() {
+  resolve_pending();
+  return target_->resolved_framebuffer();
+}
+
 const platform::Image& Renderer::read() {
   resolve_pending();
   image_ = target_->read_resolved();

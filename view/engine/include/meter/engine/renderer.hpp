@@ -112,6 +112,9 @@ class Renderer {
   const platform::Image& last_image() const { return image_; }
   // Resolves and reads the current contents of the target (the last drawn frame).
   const platform::Image& read();
+  // Resolves the last drawn frame and returns the single-sample RGBA8 framebuffer holding it
+  // (width() x height()), for a caller reading it asynchronously (pixel-pack buffers).
+  GLuint resolved_framebuffer();
 
   const RendererStats& stats() const { return stats_; }
   int width() const { return width_; }
