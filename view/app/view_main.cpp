@@ -76,6 +76,10 @@ int main(int argc, char** argv) {
       ->needs(link_opt);
   app.add_option("--stats-interval", o.stats_interval_s, "live: seconds between --stats lines")
       ->check(CLI::Range(0.1, 3600.0))->capture_default_str();
+  app.add_option("--trace-on-overrun", o.trace_on_overrun_ms,
+                 "live: keep the last 5 s of trace events in memory and write them to <out>/overrun_<frame>.json "
+                 "when a frame takes longer than MS milliseconds (at most one file per 5 s)")
+      ->check(CLI::PositiveNumber)->needs(link_opt);
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
   CLI11_PARSE(app, argc, argv);
   return run_view(o, std::cerr);

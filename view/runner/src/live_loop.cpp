@@ -17,6 +17,7 @@
 #include "meter/view/pixel_pack_readback.hpp"
 #include "meter/view/png_writer.hpp"
 #include "meter/view/process_signals.hpp"
+#include "meter/view/trace_ring.hpp"
 #include "meter/view/view_error.hpp"
 #include "meter/view/view_health.hpp"
 
@@ -47,7 +48,7 @@ protocol::LinkOptions view_link_options(const ViewOptions& options) {
 
 // The frame's slices: evaluate (bindings, outputs applied), render, and inside render the
 // renderer's own measured parts laid end to end from its start (update, submit, readback).
-void trace_frame_events(protocol::TraceEventFile& events, std::uint64_t frame, std::int64_t evaluate_began,
+void trace_frame_events(TraceEvents& events, std::uint64_t frame, std::int64_t evaluate_began,
                         std::int64_t render_began, std::int64_t render_ended, const engine::FrameTiming& timing) {
   if (!events.on()) return;
   const std::vector<std::pair<std::string, std::int64_t>> args = {{"frame", static_cast<std::int64_t>(frame)},
@@ -120,7 +121,8 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
   LatencyTrace trace(options.trace_csv);
   // --trace-json (docs/tracing.md): intake, evaluate, render (update, submit, readback) on the render
   // loop, encode on the PNG writer; CLOCK_MONOTONIC like the controller's file and the link's stamps.
-  protocol::TraceEventFile events(options.trace_json, "meter-view");
+  // --trace-on-overrun: the same slices kept for the last seconds, written when a frame overruns.
+  TraceEvents events(options.trace_json, options.trace_on_overrun_ms, ctx.out_dir);
   events.thread_name(1, "render loop");
   events.thread_name(2, "png writer");
   // A link poll that applied changes is an intake slice, from the poll's start (so a poll that
@@ -223,7 +225,10 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
       csv.row(n, r.t, name, r.link_up, r.drawn, r.states);
     }
     rows.erase(n);
-    waited(stats.readback, true, "wait for output space", began);
+    // Always inside the readback stage's busy span (collect or issue): the wait is moved out of it.
+    const std::int64_t end = protocol::monotonic_now_ns();
+    stats.readback.busy_was_output_wait(end - began);
+    if (end - began > 100'000) events.complete("wait for output space", "wait", began, end, 1);
   };
   auto collect = [&](bool wait) {
     BusyScope busy(stats.readback, false);
@@ -293,6 +298,11 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
       dump(frame, ft.t, timing.drawn);
     }
     if (concurrent) collect(false);
+    const std::int64_t frame_ns = protocol::monotonic_now_ns() - evaluate_began;
+    if (const std::string file = events.frame_ended(frame, frame_ns); !file.empty()) {
+      log << "meter-view: frame " << frame << " took " << frame_ns / 1'000'000 << " ms (--trace-on-overrun "
+          << options.trace_on_overrun_ms << "): the last seconds of trace in " << file << "\n";
+    }
     ++frame;
     const auto ended = Clock::now();
     if (pacer.end_frame(ended)) health.report(protocol::kViewFaultFrameDeadline, ended);

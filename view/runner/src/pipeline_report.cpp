@@ -55,7 +55,7 @@ Bottleneck find_bottleneck(const PipelineWindow& w) {
   } else if (share(lane_busy[w.stages[top].lane]) < kSaturated && w.dropped == 0) {
     const StageTimes& first = w.stages.front();
     b.text = "no bottleneck: " + first.name + " waited " + pct(first.wait_in_ns, w.wall_ns) +
-             " for input (the frame clock, the link); busiest " + w.stages[top].name + " " +
+             " for input (the frame clock, the link), busiest " + w.stages[top].name + " " +
              pct(w.stages[top].busy_ns, w.wall_ns);
     return b;
   }

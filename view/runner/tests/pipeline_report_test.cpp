@@ -40,7 +40,7 @@ TEST(PipelineReport, AClockPacedPipelineHasNoBottleneck) {
                          stage("encode", 2, 60, 0, 0)});
   const auto b = find_bottleneck(w);
   EXPECT_TRUE(b.stage.empty());
-  EXPECT_EQ(b.text, "no bottleneck: intake waited 85 % for input (the frame clock, the link); busiest render 9 %");
+  EXPECT_EQ(b.text, "no bottleneck: intake waited 85 % for input (the frame clock, the link), busiest render 9 %");
 }
 
 TEST(PipelineReport, DroppedFramesNameTheBottleneckEvenBelowSaturation) {

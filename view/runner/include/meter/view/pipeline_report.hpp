@@ -30,7 +30,7 @@ struct Bottleneck {
 // is held back by the threads after it, and the busiest stage there is the bottleneck. Otherwise
 // the busiest stage is, when its thread was busy at least kSaturated of the window or frames were
 // dropped at a buffer; else none is ("no bottleneck: intake waited 88 % for input (the frame
-// clock, the link); busiest render 9 %"). The wait quoted is the nearest upstream stage on another
+// clock, the link), busiest render 9 %"). The wait quoted is the nearest upstream stage on another
 // thread waiting for output space (it waited on the bottleneck), or, when the bottleneck's
 // producer shares its thread, the next downstream stage on another thread waiting for input.
 Bottleneck find_bottleneck(const PipelineWindow& window);

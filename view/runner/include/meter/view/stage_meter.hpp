@@ -31,6 +31,11 @@ class StageMeter {
   void waited_input(std::int64_t ns) { wait_in_.fetch_add(ns, std::memory_order_relaxed); }
   void waited_output(std::int64_t ns) { wait_out_.fetch_add(ns, std::memory_order_relaxed); }
   void item() { items_.fetch_add(1, std::memory_order_relaxed); }
+  // Time already counted busy (inside a BusyScope) that was a wait for output space after all.
+  void busy_was_output_wait(std::int64_t ns) {
+    busy_.fetch_sub(ns, std::memory_order_relaxed);
+    wait_out_.fetch_add(ns, std::memory_order_relaxed);
+  }
   StageTimes read() const;
   const std::string& name() const { return name_; }
 

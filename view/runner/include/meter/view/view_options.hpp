@@ -48,6 +48,7 @@ struct ViewOptions {
   std::string dump_policy;        // drop | block; empty = drop when concurrent, block when sequential
   bool stats = false;             // print the stage shares and the bottleneck every stats_interval_s
   double stats_interval_s = 1.0;
+  double trace_on_overrun_ms = 0.0;  // > 0: keep the last seconds of trace; write them when a frame takes longer
 };
 
 }  // namespace meter::view
