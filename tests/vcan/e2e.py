@@ -35,6 +35,9 @@ FPS = 10            # the view's render rate in these runs: enough samples, litt
 # Half-size, no MSAA: the view shares 2 cores with the TCG guest; a frame (and its PNG) must stay
 # well inside the link's 300 ms heartbeat-loss window. Offline renders use the same options.
 VIEW_RENDER_OPTS = ["--size", "640x240", "--msaa", "1"]
+# Every frame is judged: a PNG writer that is behind makes the render loop wait (--dump-policy
+# block) rather than drop frames the judge would miss (the view's default drops them, counted).
+VIEW_PIPELINE_OPTS = ["--dump-policy", "block"]
 # Guest vCPUs for the end-to-end runs ($METER_E2E_CPUS, default 2): the controller, canplayer and
 # the guest's network stack share them; the view runs on the host.
 E2E_CPUS = int(os.environ.get("METER_E2E_CPUS", "2"))
@@ -336,8 +339,9 @@ def live_frame(viewdir, row):
 class Run:
     # 150 s for the whole VM run: boot (12 s quiet, 60 s seen under heavy load), the longest
     # replay (40 s) and the waits around it.
-    def __init__(self, name, phases, log, dbc, mapping, timeout=150):
+    def __init__(self, name, phases, log, dbc, mapping, timeout=150, view_args=()):
         self.name, self.phases, self.log, self.dbc, self.mapping = name, phases, log, dbc, mapping
+        self.view_args = list(view_args)   # more meter-view options (--pipeline for the latency runs)
         self.timeout = timeout
         self.out = v.fresh_dir(name)
         self.port, self.go_port = v.free_port(), v.free_port()
@@ -353,7 +357,8 @@ class Run:
                                   "--out", outdir, "--fps", str(FPS), "--dump-every", "1", *VIEW_RENDER_OPTS,
                                   "--link-timeout", str(LINK_TIMEOUT_MS),
                                   "--trace", os.path.join(outdir, "view-trace.csv"),
-                                  "--duration", str(self.timeout)], stdout=log, stderr=subprocess.STDOUT)
+                                  "--duration", str(self.timeout), *VIEW_PIPELINE_OPTS, *self.view_args],
+                                 stdout=log, stderr=subprocess.STDOUT)
         self.views.append((outdir, p, time.monotonic()))
         return outdir, p
 
