@@ -372,7 +372,8 @@ class Run:
                                   "--out", outdir, "--fps", str(FPS), "--dump-every", "1", *VIEW_RENDER_OPTS,
                                   "--link-timeout", str(LINK_TIMEOUT_MS),
                                   "--trace", os.path.join(outdir, "view-trace.csv"),
-                                  "--duration", str(self.timeout), *VIEW_PIPELINE_OPTS, *self.view_args],
+                                  "--duration", str(self.timeout),
+                                  *([] if "--dump-policy" in self.view_args else VIEW_PIPELINE_OPTS), *self.view_args],
                                  stdout=log, stderr=subprocess.STDOUT)
         self.views.append((outdir, p, time.monotonic()))
         return outdir, p

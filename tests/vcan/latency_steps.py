@@ -75,12 +75,19 @@ def read_rows(path):
 
 
 def pct(x, q):
-    return float(np.percentile(np.asarray(x), q)) if len(x) else float("nan")
+    x = np.asarray(x, dtype=float)
+    x = x[~np.isnan(x)]
+    return float(np.percentile(x, q)) if len(x) else float("nan")
 
 
-def measure(run, viewdir, gears):
+def measure(run, viewdir, gears, dumped_only=True):
     """Per gear step the stage durations in ms, columns STAGES + [to frame drawn, to PNG];
-    returns (array, steps missed: coalesced in the controller or never seen in a dumped frame)."""
+    returns (array, steps missed: coalesced in the controller or never seen in a dumped frame).
+    dumped_only: the frame showing the step is the first DUMPED frame whose gear text is the new
+    gear (every frame must be dumped: --dump-policy block). Otherwise it is the first frame that
+    began after the change was applied (each frame draws the newest state), dumped or not (a
+    --dump-policy drop run; its frames.csv row, when it has one, must show the gear); its PNG
+    column is NaN when that frame was dropped."""
     ctrl = read_rows(os.path.join(run.out, "controller-trace-1.csv"))
     c = next(r for r in ctrl if r[0] == "c")
     real0, mono0 = int(c[1]), int(c[2])
@@ -121,12 +128,19 @@ def measure(run, viewdir, gears):
             missed += 1
             continue
         t_sent, t_applied = int(sent[k]), int(applied[a, 0]) - offset     # both on the guest clock now
-        shown = next((n for n in frame_order if renders[n][0] - offset >= t_applied and renders[n][2]
-                      and gear_text.get(n) == str(gear)), None)
+        if dumped_only:
+            shown = next((n for n in frame_order if renders[n][0] - offset >= t_applied and renders[n][2]
+                          and gear_text.get(n) == str(gear)), None)
+        else:
+            shown = next((n for n in frame_order if renders[n][0] - offset >= t_applied), None)
+            if shown is not None and gear_text.get(shown, str(gear)) != str(gear):
+                shown = None   # the frame after the change does not show it: not this step's
         if shown is None:
             missed += 1
             continue
         upd, rend, png = (x - offset for x in renders[shown])
+        if not renders[shown][2]:
+            png = float("nan")
         steps.append([decoded - kernel, s - decoded, t_sent - s, t_applied - t_sent, upd - t_applied,
                       rend - upd, png - rend, rend - kernel, png - kernel])
     return np.array(steps) / 1e6, missed
@@ -137,10 +151,10 @@ def report(st, label):
     lines = [f"{label}: {'stage':<16} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8} {'share of p50 sum':>17}"]
     p50s = [pct(st[:, j], 50) for j in range(len(STAGES))]
     for j, name in enumerate(STAGES):
-        lines.append(f"{label}: {name:<16} {p50s[j]:8.2f} {pct(st[:, j], 99):8.2f} {st[:, j].max():8.2f} "
+        lines.append(f"{label}: {name:<16} {p50s[j]:8.2f} {pct(st[:, j], 99):8.2f} {np.nanmax(st[:, j]):8.2f} "
                      f"{p50s[j] / sum(p50s):17.2f}")
     shown_ms, e2e_ms = st[:, -2], st[:, -1]
     # What a display would show (the frame drawn) and what the tests see (the PNG on disk).
     lines.append(f"{label}: {'to frame drawn':<16} {pct(shown_ms, 50):8.2f} {pct(shown_ms, 99):8.2f} {shown_ms.max():8.2f}")
-    lines.append(f"{label}: {'to PNG (e2e)':<16} {pct(e2e_ms, 50):8.2f} {pct(e2e_ms, 99):8.2f} {e2e_ms.max():8.2f}")
+    lines.append(f"{label}: {'to PNG (e2e)':<16} {pct(e2e_ms, 50):8.2f} {pct(e2e_ms, 99):8.2f} {np.nanmax(e2e_ms):8.2f}")
     return "\n".join(lines)
