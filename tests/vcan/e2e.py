@@ -205,9 +205,10 @@ def ft86_envelopes(frames):
 # unit, scale, signal or a stuck needle cannot be fitted away: no lag puts those inside the band.
 WINDOW_S = 5.0
 # The view never runs ahead by > 2 s, nor behind by more than LAG_BEHIND_S plus what the replay
-# fell behind real time since the judged log time began (REPLAY_SLIP of it). Behind: fitted lags
-# measured -1.04 to +0.1 s in windows whose plateau is narrow (vcan.e2e_ft86, 2026-12-02, and
-# docs/vcan.md; steady windows fit a wide plateau that includes those); the margin, 1.9 s, is the
+# fell behind real time since the judged log time began (REPLAY_SLIP of it). Fitted lags measured
+# 2026-12-02: vcan.e2e_ft86 -1.44 to -0.98 s, vcan.e2e_demo -0.48 to -0.02 s while it drives (1.86
+# and 4.0 s in its last two windows, the car coming to a stop: a wide plateau of equally good lags,
+# whose middle is reported), +0.1 s at most in docs/vcan.md's runs; the margin, 1.9 s, is the
 # longest host stall seen in these runs (the view's frame interval, max 1.1 s) plus 0.8 s. Replay
 # slip: 25 s of log took 30.8 s under TCG with six builds competing (23 %). The bound was a flat
 # 8 s while canplayer's start-up under TCG put the first frame 3.8 s late.
