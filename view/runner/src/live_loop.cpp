@@ -276,6 +276,8 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
     const auto timing = ctx.renderer.render(false, want && !concurrent);
     const std::int64_t t_rendered = LatencyTrace::now();
     const std::int64_t render_ended = protocol::monotonic_now_ns();
+    // Sequential: render() read the frame back itself; its glFinish + resolve + read time counts as
+    // readback. Concurrent: render()'s glFinish is render's, the pixel-pack read is metered below.
     const std::int64_t readback_ns = concurrent ? 0 : static_cast<std::int64_t>(timing.gpu_readback_ms * 1e6 * want);
     stats.render.busy(render_ended - render_began - readback_ns);
     stats.render.item();
