@@ -279,7 +279,11 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
     // Sequential: render() read the frame back itself; its glFinish + resolve + read time counts as
     // readback. Concurrent: render()'s glFinish is render's, the pixel-pack read is metered below.
     const std::int64_t readback_ns = concurrent ? 0 : static_cast<std::int64_t>(timing.gpu_readback_ms * 1e6 * want);
-    stats.render.busy(render_ended - render_began - readback_ns);
+    // The renderer evaluates and plans the frame, then executes it: plan and render, one call.
+    const auto plan_ns = static_cast<std::int64_t>(timing.plan_ms * 1e6);
+    stats.plan.busy(plan_ns);
+    stats.plan.item();
+    stats.render.busy(render_ended - render_began - readback_ns - plan_ns);
     stats.render.item();
     if (readback_ns > 0) stats.readback.busy(readback_ns);
     ctx.timing.row(frame, ft.t, timing);

@@ -66,6 +66,7 @@ struct RendererOptions {
 struct FrameTiming {
   double update_ms = 0.0;        // world matrices (bindings and pose sampling run in apply())
   double submit_ms = 0.0;        // CPU time issuing GL calls
+  double plan_ms = 0.0;          // part of submit_ms: the frame evaluated (draw states, texts) and planned
   double gpu_readback_ms = 0.0;  // glFinish (+ resolve and readback when the frame is read)
   bool drawn = false;            // false: frame skipped (inputs unchanged)
   double redrawn_fraction = 0.0; // share of the target's pixels redrawn (1 = a full frame)

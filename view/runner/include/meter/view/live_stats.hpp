@@ -21,7 +21,7 @@ class LiveStats {
   // interval_s <= 0: never printed while running (totals() still works).
   LiveStats(const PngWriter& writer, double interval_s, Clock::time_point start);
 
-  StageMeter intake{"intake", kLane}, evaluate{"evaluate", kLane}, render{"render", kLane},
+  StageMeter intake{"intake", kLane}, evaluate{"evaluate", kLane}, plan{"plan", kLane}, render{"render", kLane},
       readback{"readback", kLane};
 
   // The window since the previous print (or since start).
