@@ -5,8 +5,9 @@
 // to a callable taking the frame's top-down RGBA pixels and its FrameInfo; set
 // `every_drawn_frame` so that every drawn frame is read back, not only dumped ones. The callable
 // runs on the output thread (not the GL thread): it must not touch GL, and what it reports to the
-// render loop (faults for STATUS) it passes through something thread-safe. Its time is the
-// "check" stage's busy time in --stats and the trace.
+// render loop (faults for STATUS) it passes through something thread-safe. An exception from it
+// is counted as a failed dump (logged, STATUS dump-failed). Its time is the "check" stage's busy
+// time in --stats. The concurrent pipeline only: --pipeline sequential runs no check stage.
 #pragma once
 
 #include <cstdint>
