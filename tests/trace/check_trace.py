@@ -4,6 +4,9 @@ trace-event object format, every complete event with the fields Perfetto/chrome:
 the stages each process must show, and one time base across both processes.
 
 usage: check_trace.py CONTROLLER.json VIEW.json   (exit 0 when all checks pass; else the reasons)
+       check_trace.py --overrun VIEW_OVERRUN.json  (meter-view --trace-on-overrun's file: valid, the
+                                                    frame's stages present, the render loop named,
+                                                    every event within the ring's 5 s)
 """
 import json
 import sys
@@ -43,7 +46,37 @@ def load(path, problems):
     return events
 
 
+RING_US = 5_000_000
+OVERRUN_STAGES = {"evaluate", "render", "update", "submit", "readback"}
+
+
+def check_overrun(path):
+    problems = []
+    events = load(path, problems)
+    if not problems:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+        threads = {e["args"]["name"] for e in doc["traceEvents"] if e.get("ph") == "M" and e["name"] == "thread_name"}
+        if "render loop" not in threads:
+            problems.append(f"{path}: the render loop's thread is not named (has: {sorted(threads)})")
+        names = {e["name"] for e in events}
+        if OVERRUN_STAGES - names:
+            problems.append(f"{path}: no {', '.join(sorted(OVERRUN_STAGES - names))} events")
+        if events:
+            newest = max(e["ts"] + e["dur"] for e in events)
+            old = [e for e in events if e["ts"] + e["dur"] < newest - RING_US - 0.001]
+            if old:
+                problems.append(f"{path}: {len(old)} events ended more than 5 s before the newest")
+    for p in problems:
+        print(p)
+    if not problems:
+        print(f"ok: {len(events)} events in the overrun file")
+    return 1 if problems else 0
+
+
 def main(argv):
+    if len(argv) == 3 and argv[1] == "--overrun":
+        return check_overrun(argv[2])
     if len(argv) != 3:
         print(__doc__)
         return 2

@@ -85,6 +85,12 @@ class Judge(unittest.TestCase):
             r.time += 10.0
         self.assertGreater(self.judge(rows)[1], 0.2)
 
+    def test_view_seconds_behind_from_the_start_fails(self):   # 6 s of frame latency, not replay slip
+        rows = self.rows(lambda s: 3.6 * s, lambda r: r)
+        for r in rows:
+            r.time += 6.0
+        self.assertGreater(self.judge(rows)[1], 0.2)
+
     def test_frames_csv_reader(self):
         path = os.path.join(v.fresh_dir("judge_csv"), "frames.csv")
         with open(path, "w") as f:

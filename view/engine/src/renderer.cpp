@@ -119,6 +119,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   settings.partial_redraw = options_.partial_redraw;
   settings.static_layer = options_.static_layer && gl_.info.has_copy_image;
   const FramePlan plan = plan_frame(scene_, classes_, now, drawn_, layer_drawn_, settings);
+  t.plan_ms = ms_since(t1);
   dirty_ = false;
   if (!plan.draw) {
     t.submit_ms = ms_since(t1);
@@ -145,6 +146,11 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   ++stats_.drawn;
   stats_.redrawn_fraction_sum += t.redrawn_fraction;
   return t;
+}
+
+GLuint Renderer::resolved_framebuffer() {
+  resolve_pending();
+  return target_->resolved_framebuffer();
 }
 
 const platform::Image& Renderer::read() {

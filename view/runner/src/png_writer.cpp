@@ -4,34 +4,33 @@
 
 namespace meter::view {
 
-PngWriter::PngWriter(OnWritten on_written, OnStarted on_started)
-    : on_written_(std::move(on_written)), on_started_(std::move(on_started)), thread_([this] { run(); }) {}
+PngWriter::PngWriter(OnWritten on_written, OnStarted on_started, FrameCheckStage check)
+    : on_written_(std::move(on_written)),
+      on_started_(std::move(on_started)),
+      check_(std::move(check)),
+      thread_([this] { run(); }) {}
 
 PngWriter::~PngWriter() { finish(); }
 
 void PngWriter::write(const platform::Image& image, std::filesystem::path file, std::uint64_t frame,
                       const std::function<void()>& while_full) {
-  for (;;) {
-    {
-      std::lock_guard lock(mutex_);
-      if (queue_.size() < kMaxPending) {
-        queue_.push_back(Job{image, std::move(file), frame});
-        break;
-      }
-    }
-    while_full();
-  }
-  wake_.notify_one();
+  ReadbackFrame f;
+  f.info.frame = frame;
+  f.info.png = std::move(file);
+  f.image = image;
+  offer(std::move(f), false, DumpOverflow::Block, while_full);
+}
+
+bool PngWriter::offer(ReadbackFrame&& frame, bool bottom_up, DumpOverflow overflow,
+                      const std::function<void()>& while_full) {
+  Job job{std::move(frame), bottom_up};
+  if (overflow == DumpOverflow::Drop) return queue_.try_push(std::move(job));
+  return queue_.push(std::move(job), while_full);
 }
 
 void PngWriter::finish() {
-  {
-    std::lock_guard lock(mutex_);
-    if (done_) return;
-    done_ = true;
-  }
-  wake_.notify_one();
-  thread_.join();
+  queue_.close();
+  if (thread_.joinable()) thread_.join();
 }
 
 void PngWriter::check() {
@@ -55,25 +54,33 @@ void PngWriter::rethrow() {
 
 void PngWriter::run() {
   for (;;) {
-    Job job;
-    {
-      std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return done_ || !queue_.empty(); });
-      if (queue_.empty()) return;
-      job = std::move(queue_.front());
-    }
+    const auto began = std::chrono::steady_clock::now();
+    auto job = queue_.pop(true);  // held: the queue bound counts the image being written
+    check_meter_.waited_input(ns_since(began));
+    if (!job) return;
     try {
-      if (on_started_) on_started_(job.frame);
-      platform::write_png(job.image, job.file);
-      if (on_written_) on_written_(job.frame);
+      handle(*job);
     } catch (const std::exception& e) {
       std::lock_guard lock(mutex_);
       if (error_.empty()) error_ = e.what();
       ++failures_;
     }
-    std::lock_guard lock(mutex_);
-    queue_.pop_front();  // only now: the queue bound counts the image being written
+    queue_.release();
   }
+}
+
+void PngWriter::handle(Job& job) {
+  const FrameInfo& info = job.frame.info;
+  {
+    BusyScope busy(check_meter_);
+    if (job.bottom_up) flip_rows(job.frame.image);
+    if (check_.check) check_.check(job.frame.image, info);
+  }
+  if (info.png.empty()) return;
+  BusyScope busy(encode_meter_);
+  if (on_started_) on_started_(info.frame);
+  platform::write_png(job.frame.image, info.png);
+  if (on_written_) on_written_(info.frame);
 }
 
 }  // namespace meter::view

@@ -106,5 +106,62 @@ TEST(PngWriter, AFailedFileIsCountedAndTheNextOnesAreStillWritten) {
   EXPECT_TRUE(std::filesystem::exists(dir / "later.png"));
 }
 
+TEST(PngWriter, DropPolicyRefusesAFrameWhenFullWithoutWaiting) {
+  // --dump-policy drop: a slow encoder never holds the render loop; the frame is counted.
+  const auto dir = testing::scratch_dir();
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  PngWriter w([released](std::uint64_t) { released.wait(); });
+  auto frame = [&](std::uint64_t n) {
+    ReadbackFrame f;
+    f.info.frame = n;
+    f.info.png = dir / ("p" + std::to_string(n) + ".png");
+    f.image = platform::Image(8, 4);
+    return f;
+  };
+  int while_full_calls = 0;
+  for (std::uint64_t n = 0; n < PngWriter::kMaxPending; ++n)
+    EXPECT_TRUE(w.offer(frame(n), false, DumpOverflow::Drop, [&] { ++while_full_calls; })) << n;
+  EXPECT_FALSE(w.offer(frame(9), false, DumpOverflow::Drop, [&] { ++while_full_calls; })) << "full: dropped";
+  EXPECT_EQ(while_full_calls, 0) << "a drop never waits";
+  EXPECT_EQ(w.dropped(), 1U);
+  release.set_value();
+  w.finish();
+  EXPECT_FALSE(std::filesystem::exists(dir / "p9.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "p2.png"));
+}
+
+TEST(PngWriter, TheCheckStageSeesEveryFrameTopDownBeforeItIsEncoded) {
+  const auto dir = testing::scratch_dir();
+  std::vector<std::pair<std::uint64_t, int>> seen;  // frame, red value of the top-left pixel
+  std::vector<std::uint64_t> written;
+  std::mutex m;
+  FrameCheckStage check;
+  check.check = [&](const platform::Image& pixels, const FrameInfo& info) {
+    std::lock_guard lock(m);
+    seen.emplace_back(info.frame, pixels.rgba[0]);
+  };
+  {
+    PngWriter w(
+        [&](std::uint64_t n) {
+          std::lock_guard lock(m);
+          written.push_back(n);
+        },
+        {}, check);
+    for (std::uint64_t n = 0; n < 2; ++n) {
+      ReadbackFrame f;
+      f.info.frame = n;
+      if (n == 1) f.info.png = dir / "c1.png";  // frame 0: read back for the check only
+      f.image = platform::Image(4, 2, 10, 0, 0);
+      f.image.pixel(0, 1)[0] = 200;  // GL's first row is the image's bottom row
+      w.offer(std::move(f), true, DumpOverflow::Block, [] {});
+    }
+  }
+  EXPECT_EQ(seen, (std::vector<std::pair<std::uint64_t, int>>{{0, 200}, {1, 200}}))
+      << "bottom-up rows are flipped before the check";
+  EXPECT_EQ(written, (std::vector<std::uint64_t>{1})) << "only the frame with a file is encoded";
+  EXPECT_EQ(platform::read_png(dir / "c1.png").rgba[0], 200);
+}
+
 }  // namespace
 }  // namespace meter::view

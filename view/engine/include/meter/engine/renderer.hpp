@@ -66,6 +66,7 @@ struct RendererOptions {
 struct FrameTiming {
   double update_ms = 0.0;        // world matrices (bindings and pose sampling run in apply())
   double submit_ms = 0.0;        // CPU time issuing GL calls
+  double plan_ms = 0.0;          // part of submit_ms: the frame evaluated (draw states, texts) and planned
   double gpu_readback_ms = 0.0;  // glFinish (+ resolve and readback when the frame is read)
   bool drawn = false;            // false: frame skipped (inputs unchanged)
   double redrawn_fraction = 0.0; // share of the target's pixels redrawn (1 = a full frame)
@@ -115,6 +116,9 @@ class Renderer {
   // Resolves the last drawn frame and returns the target holding it, for a caller that shows the
   // frame on the GPU without reading it back (a window samples its color_texture()).
   const platform::RenderTarget& resolved_target();
+  // Resolves the last drawn frame and returns the single-sample RGBA8 framebuffer holding it
+  // (width() x height()), for a caller reading it asynchronously (pixel-pack buffers).
+  GLuint resolved_framebuffer();
 
   const RendererStats& stats() const { return stats_; }
   int width() const { return width_; }

@@ -84,6 +84,9 @@ class RenderTarget {
   DepthFormat depth() const { return depth_; }
   // The framebuffer draws go to (multisample one when samples() > 1).
   GLuint draw_framebuffer() const { return samples_ > 1 ? msaa_fbo_ : fbo_; }
+  // The single-sample framebuffer holding the last resolve (what read_resolved() reads; a caller
+  // may read it into a pixel-pack buffer itself).
+  GLuint resolved_framebuffer() const { return fbo_; }
   // The single-sample colour texture holding the last resolve (sampleable, e.g. for overlays).
   GLuint color_texture() const { return color_tex_; }
   // Non-empty when the requested options were adjusted (e.g. samples clamped).

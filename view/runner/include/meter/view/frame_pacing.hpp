@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 
 namespace meter::view {
 
@@ -23,8 +24,16 @@ class FramePacer {
     double t = 0.0;   // seconds since start
     double dt = 0.0;  // seconds since the previous frame began (since start for the first)
   };
-  // A frame begins at `now`.
-  FrameTime begin_frame(Clock::time_point now);
+  // Latency-aware frames (--pipeline concurrent): changed values waiting since `arrived` may be
+  // drawn by a frame starting at `arrived`, but not before one period after the previous frame
+  // that drew a change (the frame rate stays at most --fps) and never later than the next tick.
+  // A change is then drawn within one period plus the render time of its arrival.
+  Clock::time_point due_with_change(Clock::time_point arrived) const;
+
+  // A frame begins at `now`; `draws_change`: it draws changed values (due_with_change applies to
+  // the next one). A frame that begins before its tick (for a change) moves the tick grid: the
+  // next tick is a period after it.
+  FrameTime begin_frame(Clock::time_point now, bool draws_change = false);
   // The frame is done at `now`: the next one is due a period after the last due time, or at
   // `now` when that has passed already. Returns true when it had passed: this frame missed its
   // deadline (it ended after the next frame was due).
@@ -32,7 +41,7 @@ class FramePacer {
 
  private:
   Clock::duration period_;
-  Clock::time_point start_, next_, last_;
+  Clock::time_point start_, next_, last_, last_change_;
 };
 
 // Waits until the next frame is due, servicing the link meanwhile: `poll(timeout)` is called with
@@ -40,5 +49,13 @@ class FramePacer {
 // once `stop()` is true.
 void wait_for_frame(const FramePacer& pacer, const std::function<bool()>& stop,
                     const std::function<void(std::chrono::milliseconds)>& poll);
+
+// The latency-aware wait: as wait_for_frame, but returns as soon as changed values may be drawn
+// (FramePacer::due_with_change). `changed_since`: when the first change not yet drawn arrived (set
+// here when a `poll(timeout)` returns true, i.e. applied changes; the caller clears it when a frame
+// begins).
+void wait_for_change_or_frame(const FramePacer& pacer, std::optional<FramePacer::Clock::time_point>& changed_since,
+                              const std::function<bool()>& stop,
+                              const std::function<bool(std::chrono::milliseconds)>& poll);
 
 }  // namespace meter::view

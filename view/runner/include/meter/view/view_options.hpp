@@ -44,6 +44,15 @@ struct ViewOptions {
   bool catalog_from_controller = false;
   int catalog_wait_ms = 2000;
   std::string trace_json;         // Chrome trace-event JSON (docs/tracing.md); empty = none
+
+  // The live pipeline (docs/pipeline.md). concurrent: PNG check/encode on the writer thread fed
+  // through a bounded buffer, readback through pixel-pack buffers, latency-aware frame starts;
+  // sequential: the loop as it was (synchronous readback, frames on the --fps ticks only).
+  std::string pipeline = "concurrent";
+  std::string dump_policy;        // drop | block; empty = drop when concurrent, block when sequential
+  bool stats = false;             // print the stage shares and the bottleneck every stats_interval_s
+  double stats_interval_s = 1.0;
+  double trace_on_overrun_ms = 0.0;  // > 0: keep the last seconds of trace; write them when a frame takes longer
 };
 
 }  // namespace meter::view

@@ -1,0 +1,86 @@
+// --stats: stage shares and the bottleneck named by CUBE's rule, on synthetic windows.
+#include "meter/view/pipeline_report.hpp"
+
+#include <gtest/gtest.h>
+
+namespace meter::view {
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+StageTimes stage(const char* name, int lane, int busy, int in, int out, std::uint64_t items = 10) {
+  return StageTimes{name, lane, busy * kMs, in * kMs, out * kMs, items};
+}
+
+// A 1000 ms window: the percents below are the milliseconds given.
+PipelineWindow window(std::vector<StageTimes> stages, std::uint64_t dropped = 0) {
+  return PipelineWindow{std::move(stages), 1000 * kMs, dropped};
+}
+
+TEST(PipelineReport, ASlowEncoderThatTheRenderLoopWaitsOnIsTheBottleneck) {
+  const auto w = window({stage("intake", 1, 10, 5, 0), stage("render", 1, 300, 0, 0), stage("readback", 1, 50, 0, 410),
+                         stage("check", 2, 10, 0, 0), stage("encode", 2, 620, 0, 0)});
+  const auto b = find_bottleneck(w);
+  EXPECT_EQ(b.stage, "encode");
+  EXPECT_EQ(b.text, "encode busy 62 % (its thread 63 %), readback waited 41 % on it: encode is the bottleneck");
+}
+
+TEST(PipelineReport, ARenderBoundLoopNamesRenderAndTheStarvedWriter) {
+  const auto w = window({stage("intake", 1, 20, 10, 0), stage("evaluate", 1, 50, 0, 0), stage("render", 1, 800, 0, 0),
+                         stage("readback", 1, 60, 0, 0), stage("check", 2, 5, 700, 0), stage("encode", 2, 200, 0, 0)});
+  const auto b = find_bottleneck(w);
+  EXPECT_EQ(b.stage, "render");
+  EXPECT_EQ(b.text,
+            "render busy 80 % (its thread 93 %), check waited 70 % for its output: render is the bottleneck")
+      << "render's producer shares its thread, so the downstream wait is quoted";
+}
+
+TEST(PipelineReport, AClockPacedPipelineHasNoBottleneck) {
+  const auto w = window({stage("intake", 1, 5, 850, 0), stage("render", 1, 90, 0, 0), stage("check", 2, 1, 900, 0),
+                         stage("encode", 2, 60, 0, 0)});
+  const auto b = find_bottleneck(w);
+  EXPECT_TRUE(b.stage.empty());
+  EXPECT_EQ(b.text, "no bottleneck: intake waited 85 % for input (the frame clock, the link), busiest render 9 %");
+}
+
+TEST(PipelineReport, DroppedFramesNameTheBottleneckEvenBelowSaturation) {
+  // The writer is busy 60 % yet refuses frames: it is behind in bursts and the render loop, under
+  // --dump-policy drop, never waited on it.
+  const auto w = window({stage("render", 1, 100, 0, 0), stage("readback", 1, 20, 0, 0), stage("encode", 2, 600, 0, 0)}, 12);
+  const auto b = find_bottleneck(w);
+  EXPECT_EQ(b.stage, "encode");
+  EXPECT_EQ(b.text, "encode busy 60 %, readback waited 0 % on it, 12 frames dropped: encode is the bottleneck");
+}
+
+TEST(PipelineReport, SharesAreWholePercentsCappedAtTheWindow) {
+  const auto w = window({stage("render", 1, 333, 1, 0, 20), stage("encode", 2, 1040, 0, 0, 3)});
+  EXPECT_EQ(format_stage_shares(w),
+            "render busy 33 % in 0 % out 0 % (20) | encode busy 100 % in 0 % out 0 % (3)")
+      << "an encode ending in this window but begun in the previous one is not shown above 100 %";
+}
+
+TEST(PipelineReport, AnEmptyWindowNamesNothing) {
+  EXPECT_TRUE(find_bottleneck(PipelineWindow{}).text.empty());
+  EXPECT_TRUE(find_bottleneck(PipelineWindow{{stage("render", 1, 1, 0, 0)}, 0, 0}).stage.empty());
+}
+
+TEST(StageMeter, ReadsAndDifferencesItsCounters) {
+  StageMeter m("render", 1);
+  m.busy(5);
+  m.waited_input(3);
+  m.waited_output(2);
+  m.item();
+  const StageTimes a = m.read();
+  m.busy(10);
+  m.item();
+  const StageTimes d = since(m.read(), a);
+  EXPECT_EQ(d.name, "render");
+  EXPECT_EQ(d.lane, 1);
+  EXPECT_EQ(d.busy_ns, 10);
+  EXPECT_EQ(d.wait_in_ns, 0);
+  EXPECT_EQ(d.items, 1U);
+  EXPECT_EQ(a.wait_out_ns, 2);
+}
+
+}  // namespace
+}  // namespace meter::view
