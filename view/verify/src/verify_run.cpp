@@ -47,9 +47,21 @@ std::vector<SignalColumns> signal_columns(const engine::Scene& scene, const Fram
 // material then keeps its own colour). `ever_valid` carries over from row to row. `text_values`:
 // each readout formats the value in its own <node>.value column (the needle of the same signal
 // may lag behind it while smoothing).
+// Needles: the value column is the value the needle drew, smoothed, also while it swings to its
+// failsafe value, so a needle's state is that value as Valid (first step only) for every signal
+// that was Valid before or whose needle has a failsafe value (else the needle rests).
+enum class Replay { Drawn, Needles, Texts };
+
+bool has_failsafe_needle(const engine::Scene& scene, const std::string& signal) {
+  for (const auto& b : scene.config.bindings)
+    if (b.kind == bridge::BindingKind::Animation && b.signal == signal && b.failsafe_value) return true;
+  return false;
+}
+
 void replay_row(engine::BindingEvaluator& ev, const FramesTable& t, const FrameRow& row,
-                const std::vector<SignalColumns>& signals, const engine::Scene& scene, bool text_values,
+                const std::vector<SignalColumns>& signals, const engine::Scene& scene, Replay mode,
                 std::set<protocol::SignalId>& ever_valid) {
+  const bool text_values = mode == Replay::Texts;
   protocol::SignalTable valid, as_drawn;
   for (const auto& s : signals) {
     double v = number_cell(t, row, s.signal);
@@ -65,11 +77,13 @@ void replay_row(engine::BindingEvaluator& ev, const FramesTable& t, const FrameR
                         status_text + "\" is not a signal status");
     }
     if (*status == protocol::SignalStatus::Valid && row.link_up) ever_valid.insert(s.id);
-    if (ever_valid.count(s.id)) valid.set(s.id, {v, protocol::SignalStatus::Valid, ""});
+    if (ever_valid.count(s.id) || (mode == Replay::Needles && has_failsafe_needle(scene, s.signal))) {
+      valid.set(s.id, {v, protocol::SignalStatus::Valid, ""});
+    }
     as_drawn.set(s.id, {v, *status, ""});
   }
   ev.update(valid, true, -1.0);
-  ev.update(as_drawn, row.link_up, -1.0);
+  if (mode != Replay::Needles) ev.update(as_drawn, row.link_up, -1.0);
 }
 
 engine::RgbaView view_of(const platform::Image& img) { return {img.rgba.data(), img.width, img.height, 0, 0, 0}; }
@@ -112,8 +126,8 @@ VerifyReport verify_run(const VerifyOptions& o) {
     ro.msaa = o.msaa;
     reference = std::make_unique<engine::Renderer>(*backend, scene, ro);
   }
-  engine::BindingEvaluator drawn(scene), texts(scene);
-  std::set<protocol::SignalId> ever_valid, ever_valid_texts;
+  engine::BindingEvaluator drawn(scene), needles(scene), texts(scene);
+  std::set<protocol::SignalId> ever_valid, ever_valid_needles, ever_valid_texts;
   VerifyReport report;
   report.package = o.package, report.run_dir = o.run_dir, report.frames = frames.rows.size();
   for (const auto& row : frames.rows) {
@@ -123,14 +137,20 @@ VerifyReport verify_run(const VerifyOptions& o) {
                         ", the package's integrity table is for " + std::to_string(table.width) + "x" +
                         std::to_string(table.height) + " (the run used meter-view --size)");
     }
-    replay_row(drawn, frames, row, signals, scene, false, ever_valid);
+    replay_row(drawn, frames, row, signals, scene, Replay::Drawn, ever_valid);
+    replay_row(needles, frames, row, signals, scene, Replay::Needles, ever_valid_needles);
     auto expected = engine::expected_states(table, scene, drawn);
+    const auto needle_expected = engine::expected_states(table, scene, needles);
+    for (std::size_t i = 0; i < table.regions.size(); ++i) {
+      if (table.regions[i].kind == bridge::SafetyKind::Needle) expected[i] = needle_expected[i];
+    }
     const platform::Image* ref = nullptr;
     if (readouts) {
-      replay_row(texts, frames, row, signals, scene, true, ever_valid_texts);
+      replay_row(texts, frames, row, signals, scene, Replay::Texts, ever_valid_texts);
       const auto with_texts = engine::expected_states(table, scene, texts);
       auto outputs = drawn.outputs();
       outputs.texts = texts.outputs().texts;
+      outputs.animation_time = needles.outputs().animation_time;
       reference->apply(outputs);
       reference->render(false, true);
       ref = &reference->last_image();
