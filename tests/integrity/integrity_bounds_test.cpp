@@ -10,8 +10,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include "bound_signals.hpp"
+#include "process.hpp"
+#include "meter/engine/package_reader.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/integrity.hpp"
@@ -74,6 +77,25 @@ TEST_P(IntegrityBounds, CorrectFramesPassEveryCheck) {
       }
     }
     ASSERT_FALSE(scene.integrity.empty()) << files.name;
+    // Every safety binding has its region: one telltale per signal of the visibility / emissive /
+    // colour bindings, one needle per animation binding (each rotates one node in these scenes),
+    // one readout per text binding; nothing left out.
+    std::set<std::string> telltale_signals;
+    std::size_t needles = 0, readouts = 0;
+    for (const auto& b : scene.config.bindings) {
+      if (b.kind == bridge::BindingKind::Visibility || b.kind == bridge::BindingKind::Emissive ||
+          b.kind == bridge::BindingKind::Color) {
+        telltale_signals.insert(b.signal);
+      }
+      needles += b.kind == bridge::BindingKind::Animation;
+      readouts += b.kind == bridge::BindingKind::Text;
+    }
+    std::map<bridge::SafetyKind, std::size_t> kinds;
+    for (const auto& r : scene.integrity.regions) ++kinds[r.kind];
+    EXPECT_EQ(kinds[bridge::SafetyKind::Telltale], telltale_signals.size()) << files.name;
+    EXPECT_EQ(kinds[bridge::SafetyKind::Needle], needles) << files.name;
+    EXPECT_EQ(kinds[bridge::SafetyKind::Readout], readouts) << files.name;
+    EXPECT_TRUE(measured.skipped.empty()) << files.name << ": " << measured.skipped.front();
     std::printf("%s: %zu regions, %zu not monitored, needle interpolation %.3f deg\n", files.name.c_str(),
                 scene.integrity.regions.size(), measured.skipped.size(), measured.needle_interpolation_deg);
     for (const auto& s : measured.skipped) std::printf("  not monitored: %s\n", s.c_str());
@@ -110,6 +132,25 @@ TEST_P(IntegrityBounds, CorrectFramesPassEveryCheck) {
                   worst[bridge::SafetyKind::Needle], worst[bridge::SafetyKind::Readout]);
     }
   }
+}
+
+// meter-convert --report lists the table it stored.
+TEST(IntegrityReport, MeterConvertListsTheRegions) {
+  const fs::path dir = fs::path(METER_BINARY_DIR) / "tests" / "integrity" / "report";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  meter::testing::ChildProcess p({meter::testing::built_executable("meter-convert"), kScenes[1].glb.string(), "--config",
+                                  kScenes[1].config.string(), "-o", (dir / "gauge.msp").string(), "--report"},
+                                 (dir / "convert.log").string());
+  const auto rc = p.wait_for(std::chrono::seconds(120));
+  ASSERT_TRUE(rc.has_value()) << p.log();
+  ASSERT_EQ(*rc, 0) << p.log();
+  EXPECT_NE(p.log().find("integrity: 1 safety regions at 640x480"), std::string::npos) << p.log();
+  EXPECT_NE(p.log().find("  needle   Needle                 Vehicle.Speed"), std::string::npos) << p.log();
+  EXPECT_NE(p.log().find("1 safety regions, 0 repairs"), std::string::npos) << p.log();
+  const auto table = engine::read_package((dir / "gauge.msp").string()).integrity;
+  ASSERT_EQ(table.regions.size(), 1u);
+  EXPECT_EQ(table.regions[0].needle.samples.size(), 25u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, IntegrityBounds, ::testing::Values("egl", "osmesa"),
