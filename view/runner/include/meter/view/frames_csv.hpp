@@ -1,6 +1,7 @@
 // frames.csv: one line per dumped PNG with the bound signals as drawn. Columns: frame, time_s,
 // png, link_up, drawn; per bound signal (first binding of each) <signal>, <signal>.status,
-// <signal>.failsafe; per text binding <node>.text, the exact text drawn, quoted (RFC 4180).
+// <signal>.failsafe; per text binding <node>.text, the exact text drawn, quoted (RFC 4180); then
+// per text binding <node>.value, the value it formatted.
 #pragma once
 
 #include <cstdint>
