@@ -30,8 +30,10 @@ BindingOutputs resting_outputs(const Scene& scene) {
   return o;
 }
 
-BindingEvaluator::BindingEvaluator(const Scene& scene) : scene_(scene), bindings_(scene.config.bindings) {
+BindingEvaluator::BindingEvaluator(const Scene& scene)
+    : scene_(scene), bindings_(scene.config.bindings), features_(scene) {
   for (const auto& b : bindings_) {
+    imperial_.push_back(b.units.quantity == Quantity::None ? b : imperial_binding(b));
     Resolved r;
     switch (b.kind) {
       case BindingKind::Animation: r.animation = scene.find_animation(b.animation); break;
@@ -59,6 +61,8 @@ std::vector<std::string> BindingEvaluator::rebind(const protocol::Catalog& catal
     b.signal_id = info ? info->id : -1;
     if (!info) missing.push_back(b.signal);
   }
+  for (std::size_t i = 0; i < bindings_.size(); ++i) imperial_[i].signal_id = bindings_[i].signal_id;
+  for (auto& name : features_.rebind(catalog)) missing.push_back(std::move(name));
   return missing;
 }
 
@@ -76,10 +80,22 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
   BindingOutputs next = resting_outputs(scene_);
   next.link_lost = !link_up;
   animating_ = false;
+  features_.update(features_.read_inputs(signals, link_up), dt);
   for (std::size_t i = 0; i < bindings_.size(); ++i) {
-    const Binding& b = bindings_[i];
+    const Quantity quantity = bindings_[i].units.quantity;
+    const bool imperial = shows_imperial(features_.state().units, quantity);
+    const Binding& b = imperial ? imperial_[i] : bindings_[i];
     const Resolved& r = resolved_[i];
     BindingState& st = state_[i];
+    if (st.imperial != imperial) {  // the unit switched: what is drawn switches with it, no smoothing
+      auto conv = [&](double v) { return imperial ? to_imperial(quantity, v) : to_metric(quantity, v); };
+      st.value = conv(st.value), st.target = conv(st.target), st.imperial = imperial;
+    }
+    // The sweep leaves its needles at rest: from there they move to their value as smoothed.
+    if (features_.sweep_just_ended() && b.kind == BindingKind::Animation && st.has_value &&
+        features_.sweeps(r.animation)) {
+      st.value = b.input[0];
+    }
     // Absent (no such id) and present-but-NotAvailable read the same: status NotAvailable, and the
     // entry's value and text are only ever read when it is Valid.
     const auto id = bound_signal_id(b);
@@ -91,7 +107,7 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
     bool have_target = false;
     double target = st.target;
     if (valid) {
-      target = sv->value, have_target = true;
+      target = imperial ? to_imperial(quantity, sv->value) : sv->value, have_target = true;
     } else if (b.failsafe_value) {
       target = *b.failsafe_value, have_target = true;
     }
@@ -156,6 +172,8 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
       }
     }
   }
+  features_.apply(next, bindings_);
+  animating_ = animating_ || features_.active();
   if (!link_up && link_loss_node_ >= 0) {
     const auto& l = scene_.config.link_loss;
     next.texts.push_back({link_loss_node_, l.text, static_cast<int>(std::lround(l.size_px)),

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "meter/bridge/scene_features.hpp"
+
 namespace meter::bridge {
 
 enum class BindingKind { Animation, Visibility, Emissive, Color, Morph, Text };
@@ -43,6 +45,7 @@ struct Binding {
   std::optional<double> failsafe_value;
   std::optional<bool> failsafe_visible;
   std::optional<std::string> failsafe_text;
+  BindingUnits units;  // quantity and imperial look (scene_features.hpp)
 };
 
 struct LinkLossConfig {
@@ -73,6 +76,7 @@ struct SceneConfig {
   LinkLossConfig link_loss;
   std::vector<Group> groups;
   std::map<std::string, MaterialOverride> materials;
+  SceneFeaturesConfig features;  // pages, theme, units, sweep (scene_features.hpp)
   std::string source_json;  // the original text, stored in the package
 };
 

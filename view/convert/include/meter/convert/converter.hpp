@@ -44,6 +44,8 @@ ConvertResult convert_gltf(const std::string& gltf_path, const SceneConfig& conf
 
 // Checks that every name the config refers to exists in the scene. Throws SceneError.
 void resolve_config(const Scene& scene, const SceneConfig& config, const std::string& origin);
+// The display features' names (pages, theme, units; resolve_features.cpp), called by resolve_config.
+void resolve_features(const Scene& scene, const SceneConfig& config, const std::string& origin);
 
 // The `meter-convert --report` text: one block per program (features, instruction and uniform
 // counts, draws using it).

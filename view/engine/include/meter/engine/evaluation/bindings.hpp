@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meter/engine/evaluation/scene_features.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
@@ -44,6 +45,7 @@ struct BindingOutputs {
   std::vector<MorphOverride> morph;
   std::vector<TextItem> texts;
   bool link_lost = false;
+  std::optional<double> exposure;  // stops, when the brightness changes the config's (scene_features.hpp)
   bool operator==(const BindingOutputs&) const = default;
 };
 
@@ -58,6 +60,7 @@ struct BindingState {
   bool failsafe = false;     // the failsafe look is applied
   bool has_value = false;    // false until the first value (or failsafe) arrived
   std::string text;          // text bindings: the text drawn
+  bool imperial = false;     // value and effect are in the imperial unit (mph, mi, °F)
 };
 
 class BindingEvaluator {
@@ -82,6 +85,8 @@ class BindingEvaluator {
   const std::vector<Binding>& bindings() const { return bindings_; }
   // True while some smoothed value is still moving towards its target.
   bool animating() const { return animating_; }
+  // Pages, theme, units and the sweep (scene_features.hpp), advanced by update().
+  const SceneFeatures& features() const { return features_; }
 
  private:
   struct Resolved {
@@ -89,6 +94,8 @@ class BindingEvaluator {
   };
   const Scene& scene_;
   std::vector<Binding> bindings_;
+  std::vector<Binding> imperial_;  // each binding's imperial look (the same for one without a quantity)
+  SceneFeatures features_;
   std::vector<Resolved> resolved_;
   std::vector<BindingState> state_;
   BindingOutputs out_;
