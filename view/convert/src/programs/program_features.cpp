@@ -84,7 +84,9 @@ shadergen::ConstantValues folding_constants(const Scene& s, const Material& m, b
   cv.set(U::SpecularColor, {m.specular_color.r, m.specular_color.g, m.specular_color.b});
   cv.set(U::Shininess, {m.shininess});
   cv.set(U::AmbientLight, {s.ambient.r, s.ambient.g, s.ambient.b});
-  cv.set(U::Exposure, {static_cast<float>(std::exp2(s.config.exposure))});
+  // A brightness signal changes the exposure at runtime: then it stays a uniform.
+  const bool dimmable = s.config.features.theme && !s.config.features.theme->brightness_signal.empty();
+  if (!dimmable) cv.set(U::Exposure, {static_cast<float>(std::exp2(s.config.exposure))});
   cv.set(U::EnvironmentIntensity, {s.environment.strength});
   for (int a = 0; a < 6; ++a) {
     const glm::vec3& e = s.environment.irradiance[std::size_t(a)];

@@ -36,6 +36,9 @@ void generate_programs(const ConvertContext& ctx, Scene& s) {
   for (const auto& b : ctx.cfg.bindings) {
     if (b.kind == BindingKind::Emissive || b.kind == BindingKind::Color) bound_materials.insert(s.find_material(b.material));
   }
+  // The theme mixes its day materials' colours at runtime: they stay uniforms too.
+  if (ctx.cfg.features.theme)
+    for (const auto& p : ctx.cfg.features.theme->pairs) bound_materials.insert(s.find_material(p.day));
   const auto dyn = dynamic_nodes(s);
   std::map<std::string, int> cache;
   for (const int n : node_preorder(s)) {
