@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 #include <stdexcept>
 
 #include "meter/bridge/scene_config_parser.hpp"
@@ -325,4 +327,38 @@ TEST(FeatureConfig, ConverterRefusesNamesTheSceneLacks) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("$.pages.nodes: no node named \"Trip\" in the scene"), std::string::npos) << e.what();
   }
+}
+
+// ---- programs of themed materials
+
+TEST(FeaturePrograms, ProgramsSharedByMaterialsKeepTheirDifferingParametersAsUniforms) {
+  // Themed materials keep their colours as uniforms, so the converter shares one program between
+  // materials with equal features: a material parameter in which they differ (the chrome's
+  // metallic 1 / roughness 0.12 against the print's 0 / 0.6) must then be a uniform set per draw,
+  // never a constant folded from whichever material made the program first.
+  using meter::bridge::UniformSemantic;
+  const Scene& s = meter::engine::test::cluster_scene();
+  std::map<int, std::set<int>> materials_of_program;
+  for (const auto& d : s.draws) {
+    const auto& prim = s.meshes[static_cast<std::size_t>(d.mesh)].primitives[static_cast<std::size_t>(d.primitive)];
+    materials_of_program[d.program].insert(prim.material);
+  }
+  int shared = 0;
+  for (const auto& [program, mats] : materials_of_program) {
+    if (mats.size() < 2) continue;
+    ++shared;
+    const auto& p = s.programs[static_cast<std::size_t>(program)].program;
+    const auto& first = s.materials[static_cast<std::size_t>(*mats.begin())];
+    for (int m : mats) {
+      const auto& mat = s.materials[static_cast<std::size_t>(m)];
+      const bool metallic_used = p.features.shading == meter::bridge::ShadingModel::PbrMetallicRoughness;
+      if (metallic_used && mat.metallic != first.metallic) {
+        EXPECT_NE(p.find_uniform(UniformSemantic::MetallicFactor), nullptr) << mat.name << " vs " << first.name;
+      }
+      if (metallic_used && mat.roughness != first.roughness) {
+        EXPECT_NE(p.find_uniform(UniformSemantic::RoughnessFactor), nullptr) << mat.name << " vs " << first.name;
+      }
+    }
+  }
+  EXPECT_GT(shared, 0);  // the cluster's themed and lamp materials do share programs
 }
