@@ -580,6 +580,7 @@ def build():
 
     if render:
         # Preview only (docs): frame 100 puts the speedometer at 100 km/h.
+        fx.hide_in_preview()
         scene.frame_set(100)
         scene.render.engine = "BLENDER_EEVEE"
         scene.eevee.taa_render_samples = 32

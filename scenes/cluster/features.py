@@ -1,7 +1,7 @@
 # The cluster's display features, built by build.py: the shift light, the two centre pages with
 # their slide-in clips, the night material set (the scene carries both looks), the mph scale of
 # the speedometer, and the config keys that drive them (docs/scene-config.md, docs/scenes.md).
-import bpy  # noqa: F401  (bscene needs it loaded)
+import bpy
 import bscene as b
 
 # Shift light: lit above this engine speed. The demo drive reaches it only cruising at 130 km/h
@@ -139,3 +139,12 @@ def feature_config(needle_animations):
         "sweep": {"signal": "Vehicle.LowVoltageSystemState", "on_at_least": 4, "rise_ms": 1000,
                   "hold_ms": 200, "fall_ms": 1000, "animations": needle_animations},
     }
+
+
+def hide_in_preview():
+    """Blender's preview render (after the export) shows the authored look: page 1, km/h, day.
+    The other looks' objects are left out of it, as the engine never shows them together."""
+    for root in ("Speedo_Scale_Mph", "Label_SpeedUnit_Mph", "Page_Trip", "Theme_NightSwatches"):
+        obj = bpy.data.objects[root]
+        for o in [obj] + list(obj.children_recursive):
+            o.hide_render = True

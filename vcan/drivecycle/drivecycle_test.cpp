@@ -27,6 +27,21 @@ std::string read_file(const std::string& p) {
   return ss.str();
 }
 Database demo_db() { return load_dbc(kSrc + "/controller/vehicles/demo/demo.dbc"); }
+// Feeds the replayed frames to the model.
+struct ModelSink : InputSink {
+  Model& m;
+  explicit ModelSink(Model& mm) : m(mm) {}
+  void on_frame(const CanFrame& f) override { m.on_frame(f); }
+  void on_value(std::string_view, double, bool, std::int64_t) override {}
+};
+// The controller model over the demo log, replayed as fast as it goes.
+struct DemoRun {
+  Database db = demo_db();
+  Mapping map = load_mapping(kSrc + "/controller/vehicles/demo/demo.map");
+  Model model{&db, map};
+  LogReplay replay{load_candump_log(kSrc + "/vcan/logs/demo-drive.log"), parse_replay("fast")};
+  ModelSink sink{model};
+};
 }  // namespace
 
 TEST(DriveCycle, RegeneratingGivesTheCommittedBytes) {
@@ -92,16 +107,10 @@ TEST(DriveCycle, DecodedLogFollowsTheIntendedProfile) {
 }
 
 TEST(DriveCycle, ControllerModelShowsTheScenario) {
-  Database db = demo_db();
-  Mapping map = load_mapping(kSrc + "/controller/vehicles/demo/demo.map");
-  Model model(&db, map);
-  LogReplay replay(load_candump_log(kSrc + "/vcan/logs/demo-drive.log"), parse_replay("fast"));
-  struct Sink : InputSink {
-    Model& m;
-    explicit Sink(Model& mm) : m(mm) {}
-    void on_frame(const CanFrame& f) override { m.on_frame(f); }
-    void on_value(std::string_view, double, bool, std::int64_t) override {}
-  } sink(model);
+  DemoRun run;
+  Model& model = run.model;
+  LogReplay& replay = run.replay;
+  ModelSink& sink = run.sink;
   model.start(replay.now_ns());
   bool more = true;
   int left_toggles = 0, belt_lit_at_start = 0, bulb_all_lit = 0;
@@ -185,16 +194,10 @@ TEST(DriveCycle, OdometerFromThePulseCounterAgreesWithSpeedIntegration) {
 TEST(DriveCycle, ClusterSettingsReachTheCatalogAtTheirTimes) {
   // The display features' signals, as the controller publishes them from the demo log: checked
   // well inside each interval (the message comes every 200 ms).
-  Database db = demo_db();
-  Mapping map = load_mapping(kSrc + "/controller/vehicles/demo/demo.map");
-  Model model(&db, map);
-  LogReplay replay(load_candump_log(kSrc + "/vcan/logs/demo-drive.log"), parse_replay("fast"));
-  struct Sink : InputSink {
-    Model& m;
-    explicit Sink(Model& mm) : m(mm) {}
-    void on_frame(const CanFrame& f) override { m.on_frame(f); }
-    void on_value(std::string_view, double, bool, std::int64_t) override {}
-  } sink(model);
+  DemoRun run;
+  Model& model = run.model;
+  LogReplay& replay = run.replay;
+  ModelSink& sink = run.sink;
   auto id = [](const char* name) { return protocol::find_signal(name)->id; };
   const auto page = id("Cluster.Page"), units = id("Vehicle.Cabin.Infotainment.HMI.DistanceUnit"),
              temp = id("Vehicle.Cabin.Infotainment.HMI.TemperatureUnit"),
