@@ -237,6 +237,20 @@ TEST_F(Features, PageSignalShowsOnePageSubtree) {
   EXPECT_EQ(ev.features().state().page, 1);
 }
 
+TEST_F(Features, AScriptCanSetThePageInsteadOfTheSignal) {
+  BindingEvaluator ev(scene());
+  set("Cluster.Page", 0);
+  FeatureOverrides o;
+  o.page = 1;
+  ev.set_feature_overrides(o);
+  ev.update(values, true, -1.0);
+  EXPECT_EQ(ev.features().state().page, 1);
+  EXPECT_EQ(ev.outputs().node_visible[static_cast<std::size_t>(scene().find_node("FuelBar"))], 1);
+  ev.set_feature_overrides({});
+  ev.update(values, true, -1.0);
+  EXPECT_EQ(ev.features().state().page, 0);
+}
+
 // ---- sweep
 
 TEST(Sweep, PositionRisesHoldsAndFalls) {

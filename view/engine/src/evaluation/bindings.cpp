@@ -80,7 +80,9 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
   BindingOutputs next = resting_outputs(scene_);
   next.link_lost = !link_up;
   animating_ = false;
-  features_.update(features_.read_inputs(signals, link_up), dt);
+  FeatureInputs feature_inputs = features_.read_inputs(signals, link_up);
+  overrides_.apply(feature_inputs);
+  features_.update(feature_inputs, dt);
   for (std::size_t i = 0; i < bindings_.size(); ++i) {
     const Quantity quantity = bindings_[i].units.quantity;
     const bool imperial = shows_imperial(features_.state().units, quantity);

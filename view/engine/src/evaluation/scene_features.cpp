@@ -111,6 +111,13 @@ FeatureInputs SceneFeatures::read_inputs(const protocol::SignalTable& signals, b
   return in;
 }
 
+void FeatureOverrides::apply(FeatureInputs& in) const {
+  if (page) in.page = page;
+  if (theme) in.theme = theme;
+  if (brightness) in.brightness = brightness;
+  if (units) in.units = *units;
+}
+
 void SceneFeatures::update(const FeatureInputs& in, double dt) {
   if (pages_) {
     pages_->update(in.page, dt);

@@ -87,6 +87,9 @@ class BindingEvaluator {
   bool animating() const { return animating_; }
   // Pages, theme, units and the sweep (scene_features.hpp), advanced by update().
   const SceneFeatures& features() const { return features_; }
+  // Feature requests that replace the feature signals from the next update() on (a script sets
+  // the page, theme, brightness or units); an empty FeatureOverrides goes back to the signals.
+  void set_feature_overrides(const FeatureOverrides& o) { overrides_ = o; }
 
  private:
   struct Resolved {
@@ -96,6 +99,7 @@ class BindingEvaluator {
   std::vector<Binding> bindings_;
   std::vector<Binding> imperial_;  // each binding's imperial look (the same for one without a quantity)
   SceneFeatures features_;
+  FeatureOverrides overrides_;
   std::vector<Resolved> resolved_;
   std::vector<BindingState> state_;
   BindingOutputs out_;

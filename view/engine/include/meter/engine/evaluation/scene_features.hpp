@@ -3,7 +3,7 @@
 // feature signals, advances the timelines on the render clock and writes its effects into the
 // binding outputs. No GL.
 //
-// Inputs come in as FeatureInputs (read from the signal table by read_feature_inputs): a script
+// Inputs come in as FeatureInputs (read from the signal table by read_inputs()): a script
 // or a test can set them directly instead. What the features show is FeatureState: the current
 // page, the theme mix, the exposure, the unit systems and the sweep, readable as properties.
 #pragma once
@@ -97,6 +97,15 @@ struct FeatureInputs {
   std::optional<double> brightness;  // percent
   UnitSystem units;
   std::optional<double> ignition;
+};
+
+// What a script (or any caller) requests instead of the feature signals: each engaged field
+// replaces what read_inputs() found.
+struct FeatureOverrides {
+  std::optional<int> page;
+  std::optional<double> theme, brightness;
+  std::optional<UnitSystem> units;
+  void apply(FeatureInputs& in) const;
 };
 
 struct FeatureState {
