@@ -71,6 +71,12 @@ TEST(Catalog, ShippedFileKeepsEveryCompiledEntry) {
       {sig::kEsc, "Cluster.Telltale.ESC", "", 0.0, 1.0, K::Telltale},
       {sig::kTpms, "Cluster.Telltale.TPMS", "", 0.0, 1.0, K::Telltale},
       {sig::kFuelLow, "Cluster.Telltale.FuelLow", "", 0.0, 1.0, K::Telltale},
+      // The display settings (units, theme, brightness, page): looked up by name, no constants.
+      {37, "Vehicle.Cabin.Infotainment.HMI.DistanceUnit", "", 0.0, 1.0, K::Enum},
+      {38, "Vehicle.Cabin.Infotainment.HMI.TemperatureUnit", "", 0.0, 1.0, K::Enum},
+      {39, "Vehicle.Cabin.Infotainment.HMI.DayNightMode", "", 0.0, 1.0, K::Enum},
+      {40, "Vehicle.Cabin.Infotainment.HMI.Brightness", "percent", 0.0, 100.0, K::Gauge},
+      {41, "Cluster.Page", "", 0.0, 7.0, K::Enum},
   };
   const auto shipped = default_catalog()->signals();
   ASSERT_EQ(shipped.size(), expected.size());

@@ -16,6 +16,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 import bscene as b  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import features as fx  # noqa: E402
 
 WIDTH, HEIGHT, FPS = 1280, 480, 24
 CAM_Z = 20.0
@@ -179,30 +181,40 @@ def main_dial(d, mats, normal_mat):
         b.annulus(f"{d['name']}_RedZone", R - 0.34, R - 0.16, 24, z=0.005, mat=mats["redzone"],
                   location=(cx, cy, 0.0),
                   a0=math.radians(90 - angle(d["vmax"])), a1=math.radians(90 - angle(d["red_from"])))
+    scale_print(d, mats, parent=d.get("scale_parent"))
+    step = d["vmax"] // (RPM_PER_FRAME if d["name"] == "Tacho" else 1)
+    frames_values = [(0, 0), (step, d["vmax"])]
+    needle(f"{d['name']}_Needle", (cx, cy), R - 0.2, 0.35, 0.09, 0.12, mats["needle"],
+           d["anim"], frames_values, angle)
+    hub(f"{d['name']}_Hub", (cx, cy), 0.16, 0.17, mats["hubcap"])
+
+
+def scale_print(d, mats, parent=None, prefix=None):
+    """The printed scale of a main dial: ticks, numerals and the unit label (under `parent`, so a
+    unit system can switch a whole scale); `prefix` names its objects (default: the dial's name)."""
+    cx, cy = d["center"]
+    R = d["radius"]
+    angle = lambda v: d["start"] + d["sweep"] * v / d["vmax"]  # noqa: E731
+    prefix = prefix or d["name"]
     v = 0
     while v <= d["vmax"]:
         major = v % d["major"] == 0
         r0, r1 = (R - 0.36, R - 0.12) if major else (R - 0.36, R - 0.22)
         w = 0.028 if major else 0.014
         red = d["red_from"] is not None and v >= d["red_from"]
-        t = b.box(f"{d['name']}_Tick_{v:05d}", -w, w, r0, r1, 0.0, 0.012,
-                  mat=mats["redprint" if red else "print"])
+        t = b.box(f"{prefix}_Tick_{v:05d}", -w, w, r0, r1, 0.0, 0.012,
+                  mat=mats["redprint" if red else "print"], parent=parent)
         t.location = (cx, cy, 0.004)
         t.rotation_euler = (0.0, 0.0, screen_rot(angle(v)))
         if v % d["label_every"] == 0:
             label = str(v // d["label_scale"])
             pos = polar((cx, cy), R - 0.66, angle(v))
-            b.text_object(f"{d['name']}_Num_{v:05d}", label, 0.26,
+            b.text_object(f"{prefix}_Num_{v:05d}", label, 0.26,
                           mat=mats["redprint" if red else "print"],
-                          location=(pos[0], pos[1], 0.006))
+                          location=(pos[0], pos[1], 0.006), parent=parent)
         v += d["minor"]
-    b.text_object(f"{d['name']}_Unit", d["unit"], 0.16, mat=mats["print_dim"],
-                  location=(cx, cy + 0.62, 0.006))
-    step = d["vmax"] // (RPM_PER_FRAME if d["name"] == "Tacho" else 1)
-    frames_values = [(0, 0), (step, d["vmax"])]
-    needle(f"{d['name']}_Needle", (cx, cy), R - 0.2, 0.35, 0.09, 0.12, mats["needle"],
-           d["anim"], frames_values, angle)
-    hub(f"{d['name']}_Hub", (cx, cy), 0.16, 0.17, mats["hubcap"])
+    b.text_object(f"{prefix}_Unit", d["unit"], 0.16, mat=mats["print_dim"],
+                  location=(cx, cy + 0.62, 0.006), parent=parent)
 
 
 def small_gauge(g, mats):
@@ -459,7 +471,8 @@ def write_config(path, scene):
         bindings.append({"signal": f"Cluster.Telltale.{sig}", "kind": "emissive",
                          "material": f"TT_{node}_On", "off": [0.0, 0.0, 0.0],
                          "on": [round(c, 4) for c in colour]})
-    names = [o.name for o in scene.objects]
+    bindings += fx.feature_bindings()
+    fx.add_units(bindings)
     # Mesh-concatenation groups: checked by meter-convert (one material, no overlap,
     # no draw-order change over the animation ranges); kept in cluster.groups.json, which
     # `meter-convert --propose-groups --report` helps maintain when the scene changes.
@@ -476,6 +489,7 @@ def write_config(path, scene):
         "bindings": bindings,
         "link_loss": {"text_node": "Text_Status", "text": "NO SIGNAL"},
         "groups": groups,
+        **fx.feature_config([SPEEDO["anim"], TACHO["anim"], FUEL["anim"], COOLANT["anim"]]),
     }
     b.write_scene_config(path, config)
 
@@ -513,6 +527,8 @@ def build():
     b.box("BackPanel", -6.6, 6.6, -2.6, 2.6, -0.06, -0.02, mat=mats["panel"])
     b.box("CentreDisplay", -1.5, 1.5, -1.35, 1.7, -0.015, -0.005, mat=mats["centre"])
 
+    # Both speedometer scales: km/h (the authored one) and mph, switched by the unit system.
+    SPEEDO["scale_parent"] = fx.mph_scale(SPEEDO, mats, scale_print)
     main_dial(SPEEDO, mats, normal_mat)
     main_dial(TACHO, mats, normal_mat)
     small_gauge(FUEL, mats)
@@ -530,14 +546,15 @@ def build():
 
     # Text anchors: the engine draws text with its own font at these origins.
     b.empty("Text_Gear", (0.0, 0.95, 0.01))
-    b.empty("Text_Speed", (0.0, 0.25, 0.01))
     b.empty("Text_Odometer", (1.3, -0.55, 0.01))
     b.empty("Text_Trip", (1.3, -0.95, 0.01))
     b.empty("Text_OutsideTemp", (-1.3, -0.55, 0.01))
     # Above the gear letter: the link-loss text must not cover odometer / trip / temperature.
     b.empty("Text_Status", (0.0, 1.36, 0.01))
-    b.text_object("Label_SpeedUnit", "km/h", 0.13, mat=mats["print_dim"],
-                  location=(0.0, -0.05, 0.002))
+    # Display features: the two centre pages, the shift light, the night materials.
+    fx.pages(mats)
+    fx.shift_light(mats)
+    fx.night_swatches()
     b.text_object("Label_Odo", "ODO", 0.11, mat=mats["print_dim"], location=(0.0, -0.55, 0.002))
     b.text_object("Label_Trip", "TRIP", 0.11, mat=mats["print_dim"], location=(0.0, -1.05, 0.002),
                   align="CENTER")
@@ -563,6 +580,7 @@ def build():
 
     if render:
         # Preview only (docs): frame 100 puts the speedometer at 100 km/h.
+        fx.hide_in_preview()
         scene.frame_set(100)
         scene.render.engine = "BLENDER_EEVEE"
         scene.eevee.taa_render_samples = 32

@@ -313,6 +313,21 @@ def text_bindings():
             for b in cfg.get("bindings", []) if b.get("kind") == "text"}
 
 
+def sweep_seconds():
+    """How long the cluster sweeps its needles when the ignition turns on (scene config "sweep"),
+    plus 1 s for the ignition arriving after the speed (its message comes every 100 ms) and the
+    link's latency: during the sweep a frame shows the sweep, not its csv row's values."""
+    with open(SCENE_CFG) as f:
+        sw = json.load(f).get("sweep")
+    return 0.0 if not sw else (sw.get("rise_ms", 1000) + sw.get("hold_ms", 200) + sw.get("fall_ms", 1000)) / 1000 + 1.0
+
+
+def after_sweep(rows):
+    """The rows after the start-up sweep: from the first live valid speed on, sweep_seconds() later."""
+    first = next((r.time for r in rows if r.link is not False and r.valid(SPEED)), None)
+    return [] if first is None else [r for r in rows if r.time >= first + sweep_seconds()]
+
+
 def texts_match_values(row, bindings):
     """True when every live readout of the row drew the text its signal's csv value formats to.
     The csv holds a needle's smoothed value while its readout draws the newest value, so while a

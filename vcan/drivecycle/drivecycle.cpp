@@ -68,6 +68,12 @@ VehicleState state_at(double t) {
   s.coolant_c = 60 + 28 * smoothstep(0, 60, t);
   s.outside_c = 18.5;
   s.fuel_percent = 34.0 - 0.02 * t;
+  // After 40 s: the vcan end-to-end test replays 0..40 s and judges the km/h day drive page.
+  s.page = t >= 41 && t < 46 ? 1 : 0;
+  s.units = t >= 46 && t < 52 ? 2 : 1;
+  s.fahrenheit = s.units == 2;
+  s.night = t >= 52;
+  s.brightness = t >= 56 ? 40 : 100;
   return s;
 }
 
@@ -79,7 +85,7 @@ std::string generate_log(const controller::Database& db, double duration_s, cons
   };
   std::vector<Msg> msgs;
   for (const char* n : {"ECM_EngineStatus", "ESP_WheelSpeeds", "TCM_Gear", "ECM_Temperatures", "BCM_Lights",
-                        "FLS_FuelLevel", "ACU_Status", "ENV_Ambient"}) {
+                        "FLS_FuelLevel", "ACU_Status", "ENV_Ambient", "HU_ClusterSettings"}) {
     const controller::DbcMessage* m = db.find(n);
     if (!m) throw std::invalid_argument(std::string("drive cycle: the DBC has no message ") + n);
     if (!m->cycle_time_ms) throw std::invalid_argument(std::string("drive cycle: message ") + n + " has no cycle time");
@@ -88,6 +94,9 @@ std::string generate_log(const controller::Database& db, double duration_s, cons
     msgs.push_back({n, m, period, kStartNs + static_cast<std::int64_t>(msgs.size()) * 1300000});
   }
   Lcg rng{0x6d65746572ULL};
+  // The cluster settings draw their jitter from their own generator, so adding them left every
+  // other frame of the log byte for byte as it was.
+  Lcg settings_rng{0x7365747473ULL};
   std::string out;
   const std::int64_t end = kStartNs + static_cast<std::int64_t>(duration_s * 1e9);
   std::uint8_t alive = 0;
@@ -97,7 +106,8 @@ std::string generate_log(const controller::Database& db, double duration_s, cons
     auto it = std::min_element(msgs.begin(), msgs.end(), [](const Msg& a, const Msg& b) { return a.next_ns < b.next_ns; });
     if (it->next_ns >= end) break;
     // Up to +-150 us of transmit jitter, quantised to the microsecond candump prints.
-    const std::int64_t t_ns = it->next_ns + static_cast<std::int64_t>((rng.next() - 0.5) * 300.0) * 1000;
+    Lcg& jitter = std::string_view(it->name) == "HU_ClusterSettings" ? settings_rng : rng;
+    const std::int64_t t_ns = it->next_ns + static_cast<std::int64_t>((jitter.next() - 0.5) * 300.0) * 1000;
     it->next_ns += it->period_ns;
     const double t = static_cast<double>(t_ns - kStartNs) / 1e9;
     const VehicleState s = state_at(std::max(0.0, t));
@@ -131,6 +141,9 @@ std::string generate_log(const controller::Database& db, double duration_s, cons
       v = {{"AirbagFault", 0}, {"TPMSWarning", 0}};
     } else if (name == "ENV_Ambient") {
       v = {{"OutsideTemp", s.outside_c}};
+    } else if (name == "HU_ClusterSettings") {
+      v = {{"UNITS", d(s.units)}, {"TempUnit", b(s.fahrenheit)}, {"NightMode", b(s.night)},
+           {"ClusterPage", d(s.page)}, {"Brightness", s.brightness}};
     }
     controller::CanFrame f;
     f.timestamp_ns = t_ns;

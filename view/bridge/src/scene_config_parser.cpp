@@ -13,84 +13,14 @@
 
 #include "meter/protocol/catalog.hpp"
 #include "scene_scripts_parser.hpp"
+#include "config_json.hpp"
+#include "scene_features_parser.hpp"
 
 namespace meter::bridge {
 namespace {
 
 using nlohmann::json;
-
-struct Ctx {
-  std::string origin;
-  const protocol::Catalog& catalog;  // binding signal names are checked against it
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw std::invalid_argument(origin + ": " + path + ": " + what);
-  }
-};
-
-double number(const Ctx& c, const json& j, const std::string& path) {
-  if (!j.is_number()) c.fail(path, "expected a number, got " + std::string(j.type_name()));
-  double v = j.get<double>();
-  if (!std::isfinite(v)) c.fail(path, "expected a finite number");
-  return v;
-}
-
-std::string string(const Ctx& c, const json& j, const std::string& path) {
-  if (!j.is_string()) c.fail(path, "expected a string, got " + std::string(j.type_name()));
-  return j.get<std::string>();
-}
-
-bool boolean(const Ctx& c, const json& j, const std::string& path) {
-  if (!j.is_boolean()) c.fail(path, "expected true or false, got " + std::string(j.type_name()));
-  return j.get<bool>();
-}
-
-template <std::size_t N>
-std::array<double, N> numbers(const Ctx& c, const json& j, const std::string& path,
-                              std::size_t min_count = N) {
-  if (!j.is_array() || j.size() < min_count || j.size() > N) {
-    c.fail(path, "expected an array of " +
-                     (min_count == N ? std::to_string(N) : std::to_string(min_count) + ".." +
-                                                               std::to_string(N)) +
-                     " numbers");
-  }
-  std::array<double, N> out{};
-  if (N == 4) out[N - 1] = 1.0;  // colours: alpha defaults to 1 when only rgb is given
-  for (std::size_t i = 0; i < j.size(); ++i) out[i] = number(c, j[i], path + "[" + std::to_string(i) + "]");
-  return out;
-}
-
-void check_keys(const Ctx& c, const json& obj, const std::string& path,
-                const std::set<std::string>& allowed) {
-  for (auto it = obj.begin(); it != obj.end(); ++it) {
-    if (!allowed.count(it.key())) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      c.fail(path + "." + it.key(), "unknown key (expected one of: " + list + ")");
-    }
-  }
-}
-
-TextAlign parse_align(const Ctx& c, const json& j, const std::string& path) {
-  std::string s = string(c, j, path);
-  if (s == "left") return TextAlign::Left;
-  if (s == "center" || s == "centre") return TextAlign::Center;
-  if (s == "right") return TextAlign::Right;
-  c.fail(path, "expected \"left\", \"center\" or \"right\", got \"" + s + "\"");
-}
-
-std::array<double, 4> colour(const Ctx& c, const json& j, const std::string& path) {
-  auto v = numbers<4>(c, j, path, 3);
-  for (std::size_t i = 0; i < 4; ++i) {
-    if (v[i] < 0.0) c.fail(path + "[" + std::to_string(i) + "]", "colour components must be >= 0");
-  }
-  return v;
-}
-
-std::array<double, 2> range(const Ctx& c, const json& j, const std::string& path) {
-  auto r = numbers<2>(c, j, path);
-  if (r[0] == r[1]) c.fail(path, "the two ends of the range must differ");
-  return r;
-}
+using namespace config_json;
 
 Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
   if (!b.is_object()) c.fail(path, "expected an object");
@@ -106,7 +36,7 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
     if (!b.contains(key)) c.fail(path + "." + key, "missing (required for kind \"" + kind + "\")");
     return b[key];
   };
-  std::set<std::string> keys{"signal", "kind", "failsafe", "comment"};
+  std::set<std::string> keys{"signal", "kind", "failsafe", "comment", "quantity", "imperial"};
   auto failsafe_keys = std::set<std::string>{"value"};
   if (kind == "animation") {
     out.kind = BindingKind::Animation;
@@ -184,6 +114,7 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
     if (out.smoothing_ms < 0 || out.smoothing_ms > 10000) c.fail(path + ".smoothing_ms", "expected 0..10000");
   }
   check_keys(c, b, path, keys);
+  out.units = parse_binding_units(c, b, path, out.kind);
   if (b.contains("failsafe")) {
     const json& f = b["failsafe"];
     const std::string fp = path + ".failsafe";
@@ -213,7 +144,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   if (!j.is_object()) c.fail("$", "expected a JSON object");
   check_keys(c, j, "$",
              {"format", "size", "camera", "clear_color", "time", "ambient", "exposure", "bindings",
-              "link_loss", "groups", "materials", "scripts", "comment"});
+              "link_loss", "groups", "materials", "scripts", "comment", "pages", "theme", "units", "sweep"});
   SceneConfig out;
   out.source_json = std::string(text);
   out.origin = origin;
@@ -289,6 +220,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
       out.materials[it.key()] = o;
     }
   }
+  out.features = parse_scene_features(c, j);
   if (j.contains("scripts")) {
     bool inlined = false;
     out.scripts = parse_scripts(j["scripts"], catalog, origin, &inlined);

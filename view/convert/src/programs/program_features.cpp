@@ -76,25 +76,30 @@ shadergen::ConstantValues folding_constants(const Scene& s, const Material& m, b
                                             const std::vector<char>& dyn) {
   using U = shadergen::UniformSemantic;
   shadergen::ConstantValues cv;
+  // A material that is not folded shares its program with every material of the same features
+  // ("|dynmat"): then none of its parameters may be folded, or the draws would all get the
+  // parameters of the material that made the program first (the runtime sets them per draw).
   if (fold_material) {
     cv.set(U::BaseColorFactor, {m.base_color.r, m.base_color.g, m.base_color.b, m.base_color.a});
     cv.set(U::EmissiveFactor, {m.emissive.r, m.emissive.g, m.emissive.b});
+    cv.set(U::MetallicFactor, {m.metallic});
+    cv.set(U::RoughnessFactor, {m.roughness});
+    cv.set(U::NormalScale, {m.normal_scale});
+    cv.set(U::OcclusionStrength, {m.occlusion_strength});
+    cv.set(U::AlphaCutoff, {m.alpha_cutoff});
+    cv.set(U::SpecularColor, {m.specular_color.r, m.specular_color.g, m.specular_color.b});
+    cv.set(U::Shininess, {m.shininess});
   }
-  cv.set(U::MetallicFactor, {m.metallic});
-  cv.set(U::RoughnessFactor, {m.roughness});
-  cv.set(U::NormalScale, {m.normal_scale});
-  cv.set(U::OcclusionStrength, {m.occlusion_strength});
-  cv.set(U::AlphaCutoff, {m.alpha_cutoff});
-  cv.set(U::SpecularColor, {m.specular_color.r, m.specular_color.g, m.specular_color.b});
-  cv.set(U::Shininess, {m.shininess});
   cv.set(U::AmbientLight, {s.ambient.r, s.ambient.g, s.ambient.b});
-  cv.set(U::Exposure, {static_cast<float>(std::exp2(s.config.exposure))});
+  // A brightness signal changes the exposure at runtime: then it stays a uniform.
+  const bool dimmable = s.config.features.theme && !s.config.features.theme->brightness_signal.empty();
+  if (!dimmable) cv.set(U::Exposure, {static_cast<float>(std::exp2(s.config.exposure))});
   cv.set(U::EnvironmentIntensity, {s.environment.strength});
   for (int a = 0; a < 6; ++a) {
     const glm::vec3& e = s.environment.irradiance[std::size_t(a)];
     cv.set(U::EnvironmentIrradiance, a, {e.r, e.g, e.b});
   }
-  for (int k = 0; k < 5; ++k) {
+  for (int k = 0; k < 5 && fold_material; ++k) {
     const glm::mat3& t = m.uv_transform[std::size_t(k)];
     cv.set(U::TextureTransform, k, std::vector<float>(glm::value_ptr(t), glm::value_ptr(t) + 9));
   }

@@ -40,6 +40,9 @@ void generate_programs(const ConvertContext& ctx, Scene& s) {
   for (const auto& sc : ctx.cfg.scripts)  // scripts' colour / emissive outputs: not folded either
     for (const auto& o : sc.outputs)
       if (targets_material(o.kind)) bound_materials.insert(s.find_material(o.target));
+  // The theme mixes its day materials' colours at runtime: they stay uniforms too.
+  if (ctx.cfg.features.theme)
+    for (const auto& p : ctx.cfg.features.theme->pairs) bound_materials.insert(s.find_material(p.day));
   const auto dyn = dynamic_nodes(s);
   // Draws of one feature set (and folded material) share a program; programs equal to one
   // optimized before (another material with the same constants, an earlier conversion) come

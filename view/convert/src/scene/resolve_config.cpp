@@ -62,6 +62,7 @@ void resolve_config(const Scene& s, const SceneConfig& c, const std::string& ori
       }
     }
   }
+  resolve_features(s, c, origin);
   resolve_scripts(s, c);
 }
 

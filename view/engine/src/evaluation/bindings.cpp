@@ -32,8 +32,10 @@ BindingOutputs resting_outputs(const Scene& scene) {
   return o;
 }
 
-BindingEvaluator::BindingEvaluator(const Scene& scene) : scene_(scene), bindings_(scene.config.bindings) {
+BindingEvaluator::BindingEvaluator(const Scene& scene)
+    : scene_(scene), bindings_(scene.config.bindings), features_(scene) {
   for (const auto& b : bindings_) {
+    imperial_.push_back(b.units.quantity == Quantity::None ? b : imperial_binding(b));
     Resolved r;
     switch (b.kind) {
       case BindingKind::Animation: r.animation = scene.find_animation(b.animation); break;
@@ -66,6 +68,8 @@ std::vector<std::string> BindingEvaluator::rebind(const protocol::Catalog& catal
   }
   if (scripts_)
     for (auto& name : scripts_->rebind(catalog)) missing.push_back(std::move(name));
+  for (std::size_t i = 0; i < bindings_.size(); ++i) imperial_[i].signal_id = bindings_[i].signal_id;
+  for (auto& name : features_.rebind(catalog)) missing.push_back(std::move(name));
   return missing;
 }
 
@@ -83,10 +87,24 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
   BindingOutputs next = resting_outputs(scene_);
   next.link_lost = !link_up;
   animating_ = false;
+  FeatureInputs feature_inputs = features_.read_inputs(signals, link_up);
+  overrides_.apply(feature_inputs);
+  features_.update(feature_inputs, dt);
   for (std::size_t i = 0; i < bindings_.size(); ++i) {
-    const Binding& b = bindings_[i];
+    const Quantity quantity = bindings_[i].units.quantity;
+    const bool imperial = shows_imperial(features_.state().units, quantity);
+    const Binding& b = imperial ? imperial_[i] : bindings_[i];
     const Resolved& r = resolved_[i];
     BindingState& st = state_[i];
+    if (st.imperial != imperial) {  // the unit switched: what is drawn switches with it, no smoothing
+      auto conv = [&](double v) { return imperial ? to_imperial(quantity, v) : to_metric(quantity, v); };
+      st.value = conv(st.value), st.target = conv(st.target), st.imperial = imperial;
+    }
+    // The sweep leaves its needles at rest: from there they move to their value as smoothed.
+    if (features_.sweep_just_ended() && b.kind == BindingKind::Animation && st.has_value &&
+        features_.sweeps(r.animation)) {
+      st.value = b.input[0];
+    }
     // Absent (no such id) and present-but-NotAvailable read the same: status NotAvailable, and the
     // entry's value and text are only ever read when it is Valid.
     const auto id = bound_signal_id(b);
@@ -98,7 +116,7 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
     bool have_target = false;
     double target = st.target;
     if (valid) {
-      target = sv->value, have_target = true;
+      target = imperial ? to_imperial(quantity, sv->value) : sv->value, have_target = true;
     } else if (b.failsafe_value) {
       target = *b.failsafe_value, have_target = true;
     }
@@ -163,6 +181,8 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
       }
     }
   }
+  features_.apply(next, bindings_);
+  animating_ = animating_ || features_.active();
   // Scripts after the bindings (their outputs win), before the link-loss text (which nothing hides).
   if (scripts_) scripts_->update(signals, link_up, next);
   if (!link_up && link_loss_node_ >= 0) {

@@ -156,6 +156,7 @@ DrawState SceneEvaluator::draw_state(std::size_t i) const {
   s.world = world_[node_index];
   s.base = effective_base_color(scene_, outputs_, prim.material);
   s.emissive = effective_emissive(scene_, outputs_, prim.material);
+  s.exposure = static_cast<float>(std::exp2(outputs_.exposure.value_or(scene_.config.exposure)));
   if (node.skin >= 0) {
     for (int j : scene_.skins[static_cast<std::size_t>(node.skin)].joints) {
       const glm::mat4& jw = world_[static_cast<std::size_t>(j)];

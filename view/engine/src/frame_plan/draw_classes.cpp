@@ -26,6 +26,18 @@ DrawClasses classify_draws(const Scene& scene, bool merged, int camera_node) {
       if (o.kind != ScriptOutputKind::Text && targets_node(o.kind)) mark(node_moves, scene.find_node(o.target));
       if (targets_material(o.kind)) mark(material_changes, scene.find_material(o.target));
     }
+  // The display features switch pages, unit scales and theme materials.
+  const auto& f = scene.config.features;
+  auto mark_nodes = [&](const std::vector<std::string>& names) {
+    for (const auto& n : names) mark(node_moves, scene.find_node(n));
+  };
+  if (f.pages) mark_nodes(f.pages->nodes);
+  if (f.units) {
+    for (const auto* list : {&f.units->metric_nodes, &f.units->imperial_nodes, &f.units->celsius_nodes, &f.units->fahrenheit_nodes})
+      mark_nodes(*list);
+  }
+  if (f.theme)
+    for (const auto& p : f.theme->pairs) mark(material_changes, scene.find_material(p.day));
   // Transforms and visibility are inherited: below a moving node everything moves.
   for (int n : node_preorder(scene))
     if (node_moves[static_cast<std::size_t>(n)])

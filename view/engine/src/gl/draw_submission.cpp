@@ -127,7 +127,7 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
       case UniformSemantic::SpecularColor: gl.Uniform3f(l, mat.specular_color.r, mat.specular_color.g, mat.specular_color.b); break;
       case UniformSemantic::Shininess: gl.Uniform1f(l, mat.shininess); break;
       case UniformSemantic::AmbientLight: gl.Uniform3f(l, scene_.ambient.r, scene_.ambient.g, scene_.ambient.b); break;
-      case UniformSemantic::Exposure: gl.Uniform1f(l, static_cast<float>(std::exp2(scene_.config.exposure))); break;
+      case UniformSemantic::Exposure: gl.Uniform1f(l, state.exposure); break;
       case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, scene_.environment.strength); break;
       case UniformSemantic::EnvironmentIrradiance:
         if (u.index >= 0 && u.index < 6) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "meter/bridge/scene_scripts.hpp"
+#include "meter/bridge/scene_features.hpp"
 
 namespace meter::bridge {
 
@@ -45,6 +46,7 @@ struct Binding {
   std::optional<double> failsafe_value;
   std::optional<bool> failsafe_visible;
   std::optional<std::string> failsafe_text;
+  BindingUnits units;  // quantity and imperial look (scene_features.hpp)
 };
 
 struct LinkLossConfig {
@@ -76,6 +78,7 @@ struct SceneConfig {
   std::vector<Group> groups;
   std::map<std::string, MaterialOverride> materials;
   std::vector<Script> scripts;  // "scripts" (scene_scripts.hpp, docs/scene-logic.md)
+  SceneFeaturesConfig features;  // pages, theme, units, sweep (scene_features.hpp)
   std::string source_json;  // the original text, stored in the package
   std::string origin;       // the file (or name) it was parsed from, for later messages
 };

@@ -52,6 +52,8 @@ void resolve_config(const Scene& scene, const SceneConfig& config, const std::st
 // targets present), and every script loads in its sandbox and defines run(IN, OUT). Throws
 // SceneError naming the config file, the script and the Lua line.
 void resolve_scripts(const Scene& scene, const SceneConfig& config);
+// The display features' names (pages, theme, units; resolve_features.cpp), called by resolve_config.
+void resolve_features(const Scene& scene, const SceneConfig& config, const std::string& origin);
 
 // The `meter-convert --report` text: one block per program (features, instruction and uniform
 // counts, draws using it).

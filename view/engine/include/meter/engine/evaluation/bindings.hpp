@@ -17,6 +17,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "meter/engine/evaluation/scene_features.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
@@ -56,6 +57,7 @@ struct BindingOutputs {
   std::vector<TextItem> texts;
   std::vector<NodeTransformOverride> transforms;  // scene scripts' node translations / rotations
   bool link_lost = false;
+  std::optional<double> exposure;  // stops, when the brightness changes the config's (scene_features.hpp)
   bool operator==(const BindingOutputs&) const = default;
 };
 
@@ -70,6 +72,7 @@ struct BindingState {
   bool failsafe = false;     // the failsafe look is applied
   bool has_value = false;    // false until the first value (or failsafe) arrived
   std::string text;          // text bindings: the text drawn
+  bool imperial = false;     // value and effect are in the imperial unit (mph, mi, °F)
 };
 
 class ScriptEngine;  // logic/scripts.hpp
@@ -102,6 +105,11 @@ class BindingEvaluator {
   // The scene's scripts (their stats and messages); nullptr when the config has none.
   ScriptEngine* scripts() { return scripts_.get(); }
   const ScriptEngine* scripts() const { return scripts_.get(); }
+  // Pages, theme, units and the sweep (scene_features.hpp), advanced by update().
+  const SceneFeatures& features() const { return features_; }
+  // Feature requests that replace the feature signals from the next update() on (a script sets
+  // the page, theme, brightness or units); an empty FeatureOverrides goes back to the signals.
+  void set_feature_overrides(const FeatureOverrides& o) { overrides_ = o; }
 
  private:
   struct Resolved {
@@ -109,6 +117,9 @@ class BindingEvaluator {
   };
   const Scene& scene_;
   std::vector<Binding> bindings_;
+  std::vector<Binding> imperial_;  // each binding's imperial look (the same for one without a quantity)
+  SceneFeatures features_;
+  FeatureOverrides overrides_;
   std::vector<Resolved> resolved_;
   std::vector<BindingState> state_;
   BindingOutputs out_;

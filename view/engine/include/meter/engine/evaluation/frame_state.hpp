@@ -21,6 +21,7 @@ struct DrawState {
   glm::mat4 world{0.0f};
   glm::vec4 base{0.0f};      // base colour factor (binding override or the material's)
   glm::vec3 emissive{0.0f};  // emissive factor (binding override or the material's)
+  float exposure = 1.0f;     // 2^stops the shader scales by (the config's, or the brightness's)
   std::vector<float> deform;
   // Morph target weights as the shader gets them: the pose's, then the morph bindings' overrides
   // (index = target). Empty for a primitive without morph targets. A function of `deform`.
