@@ -248,6 +248,34 @@ Image RenderTarget::read_resolved() {
   return image;
 }
 
+std::vector<Image> RenderTarget::read_regions(std::span<const PixelRegion> regions) {
+  if (!gl_) throw std::logic_error("RenderTarget::read_regions on a moved-from target");
+  std::vector<Image> out(regions.size());
+  if (regions.empty()) return out;
+  resolve(regions);
+  const Gl& gl = *gl_;
+  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  std::vector<std::uint8_t> rows;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const PixelRegion r = clip(regions[i], width_, height_);
+    if (r.empty()) continue;
+    rows.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
+    gl.ReadPixels(r.x, r.y, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    // GL rows are bottom-up; Image rows are top-down.
+    Image image(r.width, r.height);
+    const std::size_t row = static_cast<std::size_t>(r.width) * 4;
+    for (int y = 0; y < r.height; ++y)
+      std::memcpy(image.rgba.data() + static_cast<std::size_t>(y) * row,
+                  rows.data() + static_cast<std::size_t>(r.height - 1 - y) * row, row);
+    out[i] = std::move(image);
+  }
+  gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
+  check_gl(gl, "RenderTarget::read_regions (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  return out;
+}
+
 PixelRegion clip(const PixelRegion& r, int width, int height) {
   const int x0 = std::clamp(r.x, 0, width), y0 = std::clamp(r.y, 0, height);
   const int x1 = std::clamp(r.x + r.width, 0, width), y1 = std::clamp(r.y + r.height, 0, height);
