@@ -61,6 +61,12 @@ int main(int argc, char** argv) {
                  "live: Chrome trace-event JSON (intake, evaluate, render, readback, encode on CLOCK_MONOTONIC, "
                  "the controller's --trace-json clock; opens in Perfetto UI)");
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
+  bool no_monitor = false;
+  app.add_flag("--no-integrity-monitor", no_monitor,
+               "live: do not check the package's safety regions after each frame (docs/integrity.md)");
+  // Test-only (docs/integrity.md): hidden from --help, it draws a wrong display on purpose.
+  app.add_option("--inject-fault", o.inject_fault, "")->group("")->needs(link_opt);
   CLI11_PARSE(app, argc, argv);
+  o.integrity_monitor = !no_monitor;
   return run_view(o, std::cerr);
 }

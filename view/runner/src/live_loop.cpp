@@ -9,6 +9,7 @@
 #include "meter/view/dump_policy.hpp"
 #include "meter/view/frame_pacing.hpp"
 #include "meter/view/frames_csv.hpp"
+#include "meter/view/integrity_stage.hpp"
 #include "meter/view/latency_trace.hpp"
 #include "meter/view/option_units.hpp"
 #include "meter/view/png_writer.hpp"
@@ -87,7 +88,8 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
           << "; its bindings show not-available\n";
     }
   };
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
+  IntegrityStage integrity(ctx, options, log);  // docs/integrity.md
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), integrity.on());
   LatencyTrace trace(options.trace_csv);
   // --trace-json (docs/tracing.md): intake, evaluate, render (update, submit, readback) on the render
   // loop, encode on the PNG writer; CLOCK_MONOTONIC like the controller's file and the link's stamps.
@@ -151,7 +153,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
     const std::string name = png_name(n);
     // The row is the state this image was rendered with; the file follows from the writer.
-    csv.row(n, t, name, sub.link_up(), drawn, ctx.evaluator.states());
+    csv.row(n, t, name, sub.link_up(), drawn, ctx.evaluator.states(), integrity.cells());
     png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n, [&] { poll(std::chrono::milliseconds(5)); });
   };
   while (!stop_requested()) {
@@ -170,7 +172,9 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     ctx.renderer.apply(ctx.evaluator.outputs());
     const bool want = policy.decide(frame, ft.t, take_dump_request());
     const std::int64_t render_began = protocol::monotonic_now_ns();
+    integrity.before_frame(frame);
     const auto timing = ctx.renderer.render(false, want);
+    integrity.after_frame(frame, timing.drawn, health, Clock::now());
     const std::int64_t t_rendered = LatencyTrace::now();
     ctx.timing.row(frame, ft.t, timing);
     trace.frame(frame, t_update, t_rendered);
@@ -193,6 +197,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   log << "meter-view: " << st.frames << " frames, " << st.drawn << " drawn, " << st.skipped
       << " skipped (inputs unchanged), " << health.count(protocol::kViewFaultFrameDeadline)
       << " frame deadlines missed, " << png_writer.failures() << " dumps failed\n";
+  integrity.summary(log);
   png_writer.check();  // a failed dump makes the exit status say so
 }
 

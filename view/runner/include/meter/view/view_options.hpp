@@ -40,6 +40,11 @@ struct ViewOptions {
   bool catalog_from_controller = false;
   int catalog_wait_ms = 2000;
   std::string trace_json;         // Chrome trace-event JSON (docs/tracing.md); empty = none
+
+  // Display integrity (docs/integrity.md): the monitor runs when the package has safety regions;
+  // inject_fault is the test-only fault (hidden --inject-fault KIND[:REGION]@FIRST[-LAST]).
+  bool integrity_monitor = true;
+  std::string inject_fault;
 };
 
 }  // namespace meter::view
