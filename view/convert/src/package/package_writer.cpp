@@ -53,6 +53,33 @@ void write_features(Writer& w, const bridge::MaterialFeatures& f) {
   w.boolean(f.environment_map_2d), w.boolean(f.has_tangents);
 }
 
+// Since version 4: the integrity table. Every region carries all three models (the unused ones
+// empty), so the layout does not depend on the kind.
+void write_integrity(Writer& w, const bridge::IntegrityTable& t) {
+  w.i32(t.width), w.i32(t.height);
+  w.u32(static_cast<std::uint32_t>(t.regions.size()));
+  for (const auto& r : t.regions) {
+    w.str(r.name), w.i32(int(r.kind)), w.str(r.signal), w.vec(r.bindings), w.str(r.node);
+    w.u32(static_cast<std::uint32_t>(r.materials.size()));
+    for (const auto& m : r.materials) w.str(m);
+    w.i32(r.rect.x), w.i32(r.rect.y), w.i32(r.rect.width), w.i32(r.rect.height);
+    w.vec(r.telltale.mask);
+    w.u32(static_cast<std::uint32_t>(r.telltale.looks.size()));
+    for (const auto& l : r.telltale.looks) w.str(l.name), w.boolean(l.lit), w.f64(l.mean[0]), w.f64(l.mean[1]), w.f64(l.mean[2]);
+    w.f64(r.telltale.tolerance);
+    const auto& n = r.needle;
+    w.str(n.animation), w.f64(n.pivot_x), w.f64(n.pivot_y), w.f64(n.r_min), w.f64(n.r_max);
+    for (int c : n.color_min) w.i32(c);
+    for (int c : n.color_max) w.i32(c);
+    w.i32(n.min_pixels);
+    w.u32(static_cast<std::uint32_t>(n.samples.size()));
+    for (const auto& s : n.samples) w.f64(s.time), w.f64(s.value), w.f64(s.angle_deg);
+    w.f64(n.tolerance_deg);
+    const auto& o = r.readout;
+    w.i32(o.anchor_x), w.i32(o.baseline_y), w.i32(o.size_px), w.i32(int(o.align)), w.str(o.format), w.i32(o.tolerance_pixels);
+  }
+}
+
 void write_program(Writer& w, const ProgramEntry& e) {
   const auto& p = e.program;
   w.str(p.vertex_source), w.str(p.fragment_source);
@@ -155,6 +182,7 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
   w.i32(s.environment.texture), w.f32(s.environment.strength);
   for (const auto& e : s.environment.irradiance) w.v3(e);
   w.str(s.config.source_json);
+  write_integrity(w, s.integrity);
 
   Writer out;
   out.buf.insert(out.buf.end(), std::begin(kPackageMagic), std::end(kPackageMagic));

@@ -165,6 +165,68 @@ void check_index(Reader& r, int v, std::size_t size, bool allow_none, const char
   r.fail(std::string(what) + " index " + std::to_string(v) + " out of range (" + std::to_string(size) + ")");
 }
 
+// The integrity table (since version 4), checked against the scene it belongs to so the checks
+// never index out of range: binding indices, rects inside the frame, mask sizes, sample order.
+bridge::IntegrityTable read_integrity(Reader& r) {
+  using namespace bridge;
+  IntegrityTable t;
+  t.width = r.i32("integrity.width"), t.height = r.i32("integrity.height");
+  const std::uint32_t n = r.count("integrity.regions", 40);
+  if (n > 0 && (t.width <= 0 || t.height <= 0)) r.fail("integrity table without a frame size");
+  for (std::uint32_t i = 0; i < n; ++i) {
+    SafetyRegion g;
+    g.name = r.str("region.name");
+    g.kind = enum_in<SafetyKind>(r, 2, "region.kind");
+    g.signal = r.str("region.signal");
+    g.bindings = r.vec<int>("region.bindings");  // checked against the config once it is parsed
+    g.node = r.str("region.node");
+    for (std::uint32_t m = r.count("region.materials", 4), k = 0; k < m; ++k) g.materials.push_back(r.str("region.material"));
+    g.rect = {r.i32("region.rect"), r.i32("region.rect"), r.i32("region.rect"), r.i32("region.rect")};
+    if (g.rect.empty() || g.rect.x < 0 || g.rect.y < 0 || g.rect.x + g.rect.width > t.width ||
+        g.rect.y + g.rect.height > t.height) {
+      r.fail("region " + g.name + ": rect outside the integrity table's frame");
+    }
+    g.telltale.mask = r.vec<std::uint8_t>("telltale.mask");
+    for (std::uint32_t m = r.count("telltale.looks", 26), k = 0; k < m; ++k) {
+      TelltaleLook l;
+      l.name = r.str("look.name");
+      l.lit = r.boolean("look.lit");
+      for (auto& c : l.mean) c = r.f64("look.mean");
+      g.telltale.looks.push_back(std::move(l));
+    }
+    g.telltale.tolerance = r.f64("telltale.tolerance");
+    auto& nd = g.needle;
+    nd.animation = r.str("needle.animation");
+    nd.pivot_x = r.f64("needle.pivot"), nd.pivot_y = r.f64("needle.pivot");
+    nd.r_min = r.f64("needle.r_min"), nd.r_max = r.f64("needle.r_max");
+    for (int& c : nd.color_min) c = r.i32("needle.color_min");
+    for (int& c : nd.color_max) c = r.i32("needle.color_max");
+    nd.min_pixels = r.i32("needle.min_pixels");
+    for (std::uint32_t m = r.count("needle.samples", 24), k = 0; k < m; ++k) {
+      NeedleSample s;
+      s.time = r.f64("sample.time"), s.value = r.f64("sample.value"), s.angle_deg = r.f64("sample.angle");
+      if (!nd.samples.empty() && s.time <= nd.samples.back().time) r.fail("region " + g.name + ": needle samples not in increasing time");
+      nd.samples.push_back(s);
+    }
+    nd.tolerance_deg = r.f64("needle.tolerance");
+    auto& o = g.readout;
+    o.anchor_x = r.i32("readout.anchor"), o.baseline_y = r.i32("readout.baseline");
+    o.size_px = r.i32("readout.size_px");
+    o.align = enum_in<TextAlign>(r, 2, "readout.align");
+    o.format = r.str("readout.format");
+    o.tolerance_pixels = r.i32("readout.tolerance");
+    const bool telltale_ok = g.telltale.mask.size() == std::size_t(g.rect.width) * std::size_t(g.rect.height) &&
+                             g.telltale.looks.size() >= 2;
+    if (g.kind == SafetyKind::Telltale && !telltale_ok) r.fail("region " + g.name + ": telltale mask or looks incomplete");
+    if (g.kind == SafetyKind::Needle && (nd.samples.size() < 2 || nd.r_min >= nd.r_max || g.bindings.empty())) {
+      r.fail("region " + g.name + ": needle model incomplete");
+    }
+    if (g.kind == SafetyKind::Readout && g.bindings.empty()) r.fail("region " + g.name + ": readout without its binding");
+    t.regions.push_back(std::move(g));
+  }
+  return t;
+}
+
 }  // namespace
 
 Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& origin) {
@@ -358,6 +420,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
   if (s.environment.strength < 0.0f) r.fail("negative environment.strength");
   for (auto& e : s.environment.irradiance) e = r.v3("environment.irradiance");
   std::string config_json = r.str("config");
+  s.integrity = read_integrity(r);
   if (!r.at_end()) r.fail("trailing bytes after the last section");
 
   // Cross-references: a package that passed the checksum but was written by a buggy converter
@@ -401,6 +464,14 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     throw SceneError(e.what());
   }
   s.ambient = glm::vec3(s.config.ambient[0], s.config.ambient[1], s.config.ambient[2]);
+  for (const auto& g : s.integrity.regions) {
+    for (int b : g.bindings) {
+      if (b < 0 || std::size_t(b) >= s.config.bindings.size()) {
+        throw SceneError(origin + ": corrupt package: integrity region " + g.name + " names binding " + std::to_string(b) +
+                         " of " + std::to_string(s.config.bindings.size()));
+      }
+    }
+  }
   return s;
 }
 

@@ -19,7 +19,7 @@
 // bounds); materials; textures; cameras; lights; skins; animations (samplers, channels); programs
 // (sources, attributes, uniforms, samplers, features, pipeline state, optimizer report); draws;
 // mesh concatenation groups; the world environment (texture index, strength, ambient cube); the
-// scene config's JSON text.
+// scene config's JSON text; the integrity table (frame size, safety regions, integrity.hpp).
 //
 // A package with another version is refused with a message naming both versions: the format has no
 // optional fields, so "mostly compatible" is not a state it can be in.
@@ -33,7 +33,8 @@ namespace meter::bridge {
 
 // 2: mesh concatenation groups after the draws.
 // 3: the world environment (texture index, strength, ambient cube) after the groups.
-inline constexpr std::uint32_t kPackageVersion = 3;
+// 4: the integrity table (safety regions and their signatures) after the scene config text.
+inline constexpr std::uint32_t kPackageVersion = 4;
 inline constexpr char kPackageMagic[8] = {'M', 'E', 'T', 'E', 'R', 'S', 'C', 'N'};
 // magic + version + reserved + payload size + payload checksum
 inline constexpr std::size_t kPackageHeaderSize = 8 + 4 + 4 + 8 + 8;

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "meter/bridge/integrity.hpp"
 #include "meter/bridge/program.hpp"
 #include "meter/bridge/scene_config.hpp"
 
@@ -198,6 +199,7 @@ struct Scene {
   std::string source_name;       // input file name, for messages
   glm::vec3 ambient{0.0f};       // config "ambient" (linear)
   Environment environment;       // from the glTF scene extras; absent for most scenes
+  IntegrityTable integrity;      // safety regions measured by the converter (integrity.hpp); empty without telltale / needle / readout bindings
 
   int find_node(std::string_view name) const;       // -1 when absent
   int find_material(std::string_view name) const;

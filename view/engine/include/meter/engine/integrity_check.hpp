@@ -1,0 +1,81 @@
+// The pure checks of display integrity (regions: meter/bridge/integrity.hpp): a frame's pixels in
+// one safety region against the state the bindings say it must show. No GL: the runtime monitor
+// in meter-view (on the regions it read back) and meter-verify (on dumped PNGs) call the same
+// functions, so both judge a frame the same way. Docs and measured bounds: docs/integrity.md.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "meter/bridge/integrity.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/scene.hpp"
+
+namespace meter::engine {
+
+// RGBA8 pixels of a frame or of a part of it. (x0, y0) is the frame position of the first pixel,
+// so a view of the whole frame has x0 = y0 = 0 and a view of a region read back alone has
+// (x0, y0) = (rect.x, rect.y). Rows top-down (PNG order); `stride` bytes between rows (0 = 4 *
+// width). The checks read only pixels inside the region's rect; a view that does not hold them
+// all gives a failed verdict saying so (never an out-of-range read).
+struct RgbaView {
+  const std::uint8_t* data = nullptr;
+  int width = 0, height = 0;
+  int x0 = 0, y0 = 0;
+  int stride = 0;
+  bool covers(const PixelRect& r) const;
+  const std::uint8_t* pixel(int frame_x, int frame_y) const;  // caller ensures it is inside
+};
+
+struct Verdict {
+  bool ok = false;
+  std::string expected;   // e.g. "on", "82.0 km/h at -44.6 deg", "\"82\""
+  std::string seen;       // e.g. "off (mean 12,12,14)", "-41.5 deg", "glyphs differ"
+  double difference = 0;  // telltale: colour distance 0..255; needle: degrees; readout: pixels
+};
+
+// What a region must show, derived from the binding evaluator's state after the update the frame
+// was drawn with (its outputs: visibility, emissive / colour, animation time, texts).
+struct RegionExpectation {
+  bool known = false;     // false: nothing drives it yet (no value, no failsafe): not checked
+  bool lit = false;       // telltale
+  double value = 0.0;     // needle: the value drawn (smoothed); readout: the value formatted
+  double time = 0.0;      // needle: the animation time the binding evaluated
+  double angle_deg = 0.0; // needle: expected_angle(time)
+  std::string text;       // readout: the text drawn
+};
+
+// One expectation per region, in table order. `scene` is the one the evaluator was built on.
+std::vector<RegionExpectation> expected_states(const IntegrityTable& table, const Scene& scene,
+                                               const BindingEvaluator& evaluator);
+RegionExpectation expected_state(const SafetyRegion& region, const Scene& scene, const BindingEvaluator& evaluator);
+
+// Needle: the angle (deg clockwise from up, unwrapped like the samples) the table gives for an
+// animation time, linear between samples, clamped at the ends.
+double expected_angle(const NeedleModel& needle, double time);
+// Needle: the angle read from pixels (centroid of needle pixels in the annulus), or nullopt with
+// fewer than min_pixels needle pixels.
+std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& frame, int* pixels = nullptr);
+// Telltale: mean colour over the lamp mask.
+std::array<double, 3> lamp_mean(const SafetyRegion& region, const RgbaView& frame);
+
+// The checks. Each reads only region.rect.
+Verdict check_telltale(const SafetyRegion& region, const RgbaView& frame, bool expected_lit);
+Verdict check_needle(const SafetyRegion& region, const RgbaView& frame, double expected_angle_deg,
+                     const std::string& expected_label = "");
+// Readout: `reference` holds the same rect rendered with the expected text (the engine's own text
+// path, e.g. meter-verify's re-render of the frame's state).
+Verdict check_readout(const SafetyRegion& region, const RgbaView& frame, const RgbaView& reference,
+                      const std::string& expected_text);
+// Dispatch on region.kind with the expectation (readouts need `reference`; without one a readout
+// verdict fails saying so).
+Verdict check_region(const SafetyRegion& region, const RgbaView& frame, const RegionExpectation& expected,
+                     const RgbaView* reference = nullptr);
+
+// FNV-1a 64 over the region's RGBA pixels, row by row: equal hashes on two frames whose
+// expectation changed mean the region did not change (a frozen frame).
+std::uint64_t region_hash(const SafetyRegion& region, const RgbaView& frame);
+
+}  // namespace meter::engine

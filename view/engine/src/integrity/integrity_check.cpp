@@ -1,0 +1,221 @@
+// The pixel checks of display integrity: telltale looks, needle angles, readout glyphs, region
+// hashes. Pure functions over an RgbaView (meter/engine/integrity_check.hpp).
+#include "meter/engine/integrity_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace meter::engine {
+namespace {
+
+std::string fmt(const char* f, double a) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, a);
+  return buf;
+}
+
+std::string rgb_text(const std::array<double, 3>& c) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.0f,%.0f,%.0f", c[0], c[1], c[2]);
+  return buf;
+}
+
+std::string rect_text(const PixelRect& r) {
+  return std::to_string(r.width) + "x" + std::to_string(r.height) + "+" + std::to_string(r.x) + "+" +
+         std::to_string(r.y);
+}
+
+// The verdict for a view that does not hold the whole region.
+Verdict uncovered(const SafetyRegion& region, const RgbaView& frame, std::string expected) {
+  Verdict v;
+  v.expected = std::move(expected);
+  v.seen = "pixels not available: region " + rect_text(region.rect) + " outside the " +
+           std::to_string(frame.width) + "x" + std::to_string(frame.height) + " view at " +
+           std::to_string(frame.x0) + "," + std::to_string(frame.y0);
+  v.difference = 0.0;
+  return v;
+}
+
+double channel_distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
+}
+
+}  // namespace
+
+bool RgbaView::covers(const PixelRect& r) const {
+  if (data == nullptr || r.empty() || width <= 0 || height <= 0) return false;
+  return r.x >= x0 && r.y >= y0 && r.x + r.width <= x0 + width && r.y + r.height <= y0 + height;
+}
+
+const std::uint8_t* RgbaView::pixel(int x, int y) const {
+  const std::size_t row = stride > 0 ? std::size_t(stride) : std::size_t(width) * 4;
+  return data + std::size_t(y - y0) * row + std::size_t(x - x0) * 4;
+}
+
+std::array<double, 3> lamp_mean(const SafetyRegion& region, const RgbaView& frame) {
+  const PixelRect& r = region.rect;
+  const auto& mask = region.telltale.mask;
+  std::array<double, 3> sum{0, 0, 0};
+  std::size_t n = 0;
+  for (int y = 0; y < r.height; ++y) {
+    for (int x = 0; x < r.width; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(r.width) + std::size_t(x);
+      if (i >= mask.size() || mask[i] == 0) continue;
+      const std::uint8_t* p = frame.pixel(r.x + x, r.y + y);
+      for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += p[c];
+      ++n;
+    }
+  }
+  if (n > 0) {
+    for (auto& s : sum) s /= double(n);
+  }
+  return sum;
+}
+
+Verdict check_telltale(const SafetyRegion& region, const RgbaView& frame, bool expected_lit) {
+  const std::string expected = expected_lit ? "lit" : "not lit";
+  if (!frame.covers(region.rect)) return uncovered(region, frame, expected);
+  const auto mean = lamp_mean(region, frame);
+  // Nearest look overall (what the frame shows) and nearest look of the expected state.
+  const TelltaleLook* nearest = nullptr;
+  const TelltaleLook* nearest_expected = nullptr;
+  double d_nearest = 1e9, d_expected = 1e9;
+  for (const auto& look : region.telltale.looks) {
+    const double d = channel_distance(mean, look.mean);
+    if (d < d_nearest) d_nearest = d, nearest = &look;
+    if (look.lit == expected_lit && d < d_expected) d_expected = d, nearest_expected = &look;
+  }
+  Verdict v;
+  v.expected = expected + (nearest_expected ? " (" + nearest_expected->name + " " + rgb_text(nearest_expected->mean) + ")" : "");
+  v.difference = d_expected;
+  if (nearest == nullptr || nearest_expected == nullptr) {
+    v.seen = "mean " + rgb_text(mean) + "; the region has no look for this state";
+    return v;
+  }
+  v.ok = nearest->lit == expected_lit && d_expected <= region.telltale.tolerance;
+  if (d_nearest <= region.telltale.tolerance) {
+    v.seen = std::string(nearest->lit ? "lit" : "not lit") + " (" + nearest->name + ", mean " + rgb_text(mean) + ")";
+  } else {
+    v.seen = "no known look (mean " + rgb_text(mean) + ", nearest " + nearest->name + " at " + fmt("%.1f", d_nearest) + ")";
+  }
+  return v;
+}
+
+double expected_angle(const NeedleModel& needle, double time) {
+  const auto& s = needle.samples;
+  if (s.empty()) return 0.0;
+  if (time <= s.front().time) return s.front().angle_deg;
+  if (time >= s.back().time) return s.back().angle_deg;
+  auto hi = std::lower_bound(s.begin(), s.end(), time, [](const NeedleSample& a, double t) { return a.time < t; });
+  auto lo = std::prev(hi);
+  const double span = hi->time - lo->time;
+  if (span <= 0.0) return hi->angle_deg;
+  return lo->angle_deg + (hi->angle_deg - lo->angle_deg) * (time - lo->time) / span;
+}
+
+std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& frame, int* pixels) {
+  const NeedleModel& m = region.needle;
+  const PixelRect& r = region.rect;
+  double sx = 0.0, sy = 0.0;
+  int n = 0;
+  for (int y = r.y; y < r.y + r.height; ++y) {
+    for (int x = r.x; x < r.x + r.width; ++x) {
+      const double dx = x + 0.5 - m.pivot_x, dy = y + 0.5 - m.pivot_y;
+      const double rr = std::hypot(dx, dy);
+      if (rr < m.r_min || rr > m.r_max) continue;
+      const std::uint8_t* p = frame.pixel(x, y);
+      bool in = true;
+      for (std::size_t c = 0; c < 3; ++c) in = in && p[c] >= m.color_min[c] && p[c] <= m.color_max[c];
+      if (!in) continue;
+      sx += dx, sy += dy, ++n;
+    }
+  }
+  if (pixels) *pixels = n;
+  if (n < std::max(1, m.min_pixels)) return std::nullopt;
+  // Screen direction (sin a, -cos a) for angle a clockwise from up, y pointing down.
+  return std::atan2(sx / n, -sy / n) * 180.0 / M_PI;
+}
+
+Verdict check_needle(const SafetyRegion& region, const RgbaView& frame, double expected_deg, const std::string& label) {
+  const std::string expected = (label.empty() ? std::string() : label + " at ") + fmt("%.2f deg", expected_deg);
+  if (!frame.covers(region.rect)) return uncovered(region, frame, expected);
+  Verdict v;
+  v.expected = expected;
+  int n = 0;
+  const auto seen = needle_angle(region, frame, &n);
+  if (!seen) {
+    v.seen = "no needle (" + std::to_string(n) + " needle pixels, at least " + std::to_string(region.needle.min_pixels) + " needed)";
+    v.difference = 180.0;
+    return v;
+  }
+  // The samples are unwrapped; compare on the circle.
+  double d = std::fmod(*seen - expected_deg, 360.0);
+  if (d > 180.0) d -= 360.0;
+  if (d < -180.0) d += 360.0;
+  v.difference = std::abs(d);
+  v.seen = fmt("%.2f deg", expected_deg + d);
+  v.ok = v.difference <= region.needle.tolerance_deg;
+  return v;
+}
+
+Verdict check_readout(const SafetyRegion& region, const RgbaView& frame, const RgbaView& reference,
+                      const std::string& expected_text) {
+  const std::string expected = "\"" + expected_text + "\"";
+  if (!frame.covers(region.rect)) return uncovered(region, frame, expected);
+  if (!reference.covers(region.rect)) {
+    Verdict v = uncovered(region, reference, expected);
+    v.seen = "reference " + v.seen;
+    return v;
+  }
+  const PixelRect& r = region.rect;
+  int differing = 0;
+  for (int y = r.y; y < r.y + r.height; ++y) {
+    for (int x = r.x; x < r.x + r.width; ++x) {
+      const std::uint8_t* a = frame.pixel(x, y);
+      const std::uint8_t* b = reference.pixel(x, y);
+      int d = 0;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a[c]) - int(b[c])));
+      if (d > kReadoutInkStep) ++differing;
+    }
+  }
+  Verdict v;
+  v.expected = expected;
+  v.difference = differing;
+  v.ok = differing <= region.readout.tolerance_pixels;
+  v.seen = v.ok ? expected : std::to_string(differing) + " pixels differ from " + expected + " as the engine draws it";
+  return v;
+}
+
+Verdict check_region(const SafetyRegion& region, const RgbaView& frame, const RegionExpectation& e,
+                     const RgbaView* reference) {
+  switch (region.kind) {
+    case SafetyKind::Telltale: return check_telltale(region, frame, e.lit);
+    case SafetyKind::Needle: return check_needle(region, frame, e.angle_deg, fmt("%.2f", e.value));
+    case SafetyKind::Readout:
+      if (reference == nullptr) {
+        Verdict v;
+        v.expected = "\"" + e.text + "\"";
+        v.seen = "no reference render of the expected text";
+        return v;
+      }
+      return check_readout(region, frame, *reference, e.text);
+  }
+  return {};
+}
+
+std::uint64_t region_hash(const SafetyRegion& region, const RgbaView& frame) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  if (!frame.covers(region.rect)) return h;
+  const PixelRect& r = region.rect;
+  for (int y = r.y; y < r.y + r.height; ++y) {
+    const std::uint8_t* p = frame.pixel(r.x, y);
+    for (int i = 0; i < r.width * 4; ++i) {
+      h ^= p[i];
+      h *= 0x100000001b3ull;
+    }
+  }
+  return h;
+}
+
+}  // namespace meter::engine
