@@ -1,4 +1,4 @@
-// meter-convert IN.gltf|IN.glb --config SCENE.json -o OUT.msp [--report] [--optimize=off|on]
+// meter-convert IN.gltf|IN.glb --config SCENE.json -o OUT.msp [--report] [--optimize=off|on] [--integrity=egl|osmesa|off]
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
   app.add_option("--catalog", o.catalog,
                  "signal catalog (VSS JSON, docs/catalog.md) the bindings must name; default: the built-in one")
       ->check(CLI::ExistingFile);
+  app.add_option("--integrity", o.integrity,
+                 "GL backend the safety regions (telltales, needles, readouts) are measured on, or off (docs/integrity.md)")
+      ->check(CLI::IsMember({"egl", "osmesa", "off"}));
   app.add_flag("-q,--quiet", o.quiet, "do not print repairs (warnings)");
   app.add_flag("--propose-groups", o.propose_groups,
                "merge ungrouped objects automatically (same material and blend state, no overlap; docs/concatenation.md)");

@@ -1,6 +1,7 @@
 #include "meter/convert/convert_tool.hpp"
 
 #include "meter/convert/converter.hpp"
+#include "meter/convert/integrity.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -18,10 +19,22 @@ int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err)
     if (!o.quiet) {
       for (const auto& r : result.repairs) err << o.input << ": warning: " << r.path << ": " << r.message << "\n";
     }
+    IntegrityMeasurement integrity;
+    if (o.integrity != "off") {
+      const auto kind = platform::parse_backend_kind(o.integrity);
+      if (!kind) throw SceneError("--integrity: unknown backend \"" + o.integrity + "\" (egl, osmesa or off)");
+      const auto backend = platform::create_backend(*kind);
+      integrity = measure_integrity(result.scene, *backend);
+      result.scene.integrity = integrity.table;
+      if (!o.quiet) {
+        for (const auto& s : integrity.skipped) err << o.input << ": warning: not monitored: " << s << "\n";
+      }
+    }
     write_package(result.scene, o.output);
-    if (o.report) out << program_report(result.scene) << result.concat_report;
+    if (o.report) out << program_report(result.scene) << result.concat_report << integrity_report(integrity);
     err << "meter-convert: wrote " << o.output << " (" << result.scene.draws.size() << " draws, "
-        << result.scene.programs.size() << " programs, " << result.scene.groups.size() << " merged groups, " << result.repairs.size() << " repairs)\n";
+        << result.scene.programs.size() << " programs, " << result.scene.groups.size() << " merged groups, " << result.scene.integrity.regions.size() << " safety regions, "
+        << result.repairs.size() << " repairs)\n";
   } catch (const std::exception& e) {
     err << "meter-convert: error: " << e.what() << "\n";
     return 1;

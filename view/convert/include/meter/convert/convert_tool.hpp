@@ -13,6 +13,8 @@ struct ToolOptions {
   std::string optimize = "on";  // "on" | "off"
   bool report = false, quiet = false, propose_groups = false;
   std::string catalog;  // signal catalog the config's bindings are checked against; empty = built in
+  // GL backend the safety regions are measured on ("egl" | "osmesa"), or "off": no integrity table.
+  std::string integrity = "egl";
 };
 
 // Returns the process exit code (0 written, 1 error); `out` gets the report, `err` the repairs,
