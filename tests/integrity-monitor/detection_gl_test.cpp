@@ -50,12 +50,14 @@ TEST_P(Detection, CaughtWithinTwoFramesWithoutAnEarlierAlarm) {
     fault.box = {region->rect.x, rig.renderer->height() - region->rect.y - region->rect.height, region->rect.width,
                  region->rect.height};
   }
-  // Rest: every needle at its range's start (or a fifth of it on odd frames), every telltale dark
-  // (booleans: a lamp's emissive is only ever off or on). Then the state every item must
-  // show differently (needles at full scale, telltales lit) arrives in the frame the fault starts.
+  // Rest: every needle at its dial's start (the speed needle at 0 or 26 km/h in turn), every
+  // telltale dark. Then the state every item must show differently (needles at full scale,
+  // telltales lit) arrives in the frame the fault starts.
   const auto rest = rig.at(0.0), moved = rig.at(1.0);
+  auto rolling = rest;
+  MonitorRig::set(rolling, "Vehicle.Speed", 26.0);
   for (int f = 0; f < kCleanFrames; ++f) {
-    const auto faults = rig.frame(f % 2 ? rig.at(0.2) : rest);
+    const auto faults = rig.frame(f % 2 ? rolling : rest);
     for (const auto& x : faults) ADD_FAILURE() << "false alarm at clean frame " << f << ": " << x.describe();
   }
   rig.frame(rest);
@@ -96,5 +98,54 @@ INSTANTIATE_TEST_SUITE_P(Both, Detection,
                                                           ? "_needle"
                                                           : "");
                          });
+
+class Frozen : public ::testing::TestWithParam<BackendKind> {};
+
+// A stuck output while only a readout's text changes: no telltale or needle check can see it, the
+// freeze check does (the text changed, the region's pixels did not).
+TEST_P(Frozen, StuckOutputIsCaughtWhenOnlyAReadoutChanges) {
+  MonitorRig rig(meter::testing::converted_cluster(), GetParam(), 4);
+  auto state = rig.at(0.0);
+  MonitorRig::set(state, "Vehicle.TraveledDistance", 1200.0);
+  for (int f = 0; f < 3; ++f)
+    for (const auto& x : rig.frame(state)) ADD_FAILURE() << "false alarm at clean frame " << f << ": " << x.describe();
+  rig.renderer->inject(FaultInjection{FaultKind::StuckFrame, -1, {}});
+  std::optional<int> caught;
+  for (int k = 1; k <= 4 && !caught; ++k) {
+    MonitorRig::set(state, "Vehicle.TraveledDistance", 1200.0 + k);
+    for (const auto& x : rig.frame(state)) {
+      EXPECT_EQ(x.region, "Text_Odometer") << x.describe();
+      EXPECT_TRUE(x.frozen) << x.describe();
+      caught = k;
+      std::printf("LATENCY %s stuck-readout %d frame(s): %s\n", meter::platform::to_string(GetParam()).data(), k,
+                  x.describe().c_str());
+    }
+  }
+  ASSERT_TRUE(caught.has_value()) << "the frozen odometer was never caught";
+  EXPECT_LE(*caught, kMaxLatency);
+}
+
+class SafePath : public ::testing::TestWithParam<BackendKind> {};
+
+// A lit telltale whose draw was dropped is filled with its lit look's colour once caught: the
+// frame presented after the check shows the lamp lit.
+TEST_P(SafePath, ADroppedLitTelltaleIsRedrawnAsASolidFillOfItsLitColour) {
+  MonitorRig rig(meter::testing::converted_cluster(), GetParam(), 4);
+  const auto* region = meter::testing::first_region(rig.scene.integrity, SafetyKind::Telltale);
+  ASSERT_NE(region, nullptr);
+  rig.frame(rig.at(0.0));
+  rig.renderer->inject(FaultInjection{FaultKind::DropDraw, rig.scene.find_node(region->node), {}});
+  ASSERT_FALSE(rig.frame(rig.at(1.0)).empty()) << "the dropped lamp was not caught";
+  EXPECT_EQ(rig.monitor->safe_redraws(), 1u);
+  const meter::platform::Image& shown = rig.renderer->read();
+  const meter::engine::RgbaView view{shown.rgba.data(), shown.width, shown.height, 0, 0, 0};
+  const auto verdict = meter::engine::check_telltale(*region, view, true);
+  EXPECT_TRUE(verdict.ok) << "after the safe path: " << verdict.seen;
+}
+
+INSTANTIATE_TEST_SUITE_P(Both, Frozen, ::testing::Values(BackendKind::Egl, BackendKind::OSMesa),
+                         [](const auto& info) { return std::string(meter::platform::to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(Both, SafePath, ::testing::Values(BackendKind::Egl, BackendKind::OSMesa),
+                         [](const auto& info) { return std::string(meter::platform::to_string(info.param)); });
 
 }  // namespace

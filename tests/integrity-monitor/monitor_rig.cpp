@@ -41,7 +41,24 @@ std::vector<view::IntegrityFault> MonitorRig::frame(const protocol::SignalTable&
   return monitor->check(*renderer, *evaluator, timing.drawn);
 }
 
-protocol::SignalTable MonitorRig::at(double fraction) const { return bound_signals_at(scene.config, fraction); }
+protocol::SignalTable MonitorRig::at(double fraction) const {
+  protocol::SignalTable t = bound_signals_at(scene.config, fraction);
+  // A needle's signal bound twice (the speed: needle and readout) takes the needle's range here,
+  // so every needle really turns over `fraction` of its dial.
+  for (const auto& r : scene.integrity.regions) {
+    if (r.kind != bridge::SafetyKind::Needle || r.bindings.empty()) continue;
+    const auto& b = scene.config.bindings.at(static_cast<std::size_t>(r.bindings.front()));
+    if (const auto* info = protocol::find_signal(b.signal))
+      t.set(info->id, b.input[0] + fraction * (b.input[1] - b.input[0]), protocol::SignalStatus::Valid);
+  }
+  return t;
+}
+
+void MonitorRig::set(protocol::SignalTable& table, const std::string& signal, double value) {
+  const auto* info = protocol::find_signal(signal);
+  if (!info) throw std::runtime_error("no catalog signal " + signal);
+  table.set(info->id, value, protocol::SignalStatus::Valid);
+}
 
 const bridge::SafetyRegion* first_region(const bridge::IntegrityTable& table, bridge::SafetyKind kind) {
   for (const auto& r : table.regions)

@@ -25,8 +25,10 @@ struct MonitorRig {
   // One frame: the table's values applied (dt < 0: straight to the targets, no smoothing), the
   // frame rendered and checked. Returns that frame's faults.
   std::vector<view::IntegrityFault> frame(const protocol::SignalTable& table, double dt = -1.0);
-  // The frame's state at `fraction` of every binding's range (bound_signals_at).
+  // The frame's state at `fraction` of every binding's range (bound_signals_at; every needle at
+  // that fraction of its own dial).
   protocol::SignalTable at(double fraction) const;
+  static void set(protocol::SignalTable& table, const std::string& signal, double value);
 
   engine::Scene scene;
   std::unique_ptr<platform::GpuBackend> backend;

@@ -120,9 +120,11 @@ const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& ren
     if (f.frozen) ++frozen_;
   }
   if (safe_path_) {
-    for (const auto& f : frame_faults_) {
-      for (std::size_t i = 0; i < table_.regions.size(); ++i)
-        if (table_.regions[i].name == f.region) redraw_safe(renderer, i, expected[i]);
+    // Once per failing region (a wrong and frozen region has two faults, one safe look).
+    for (std::size_t i = 0; i < table_.regions.size(); ++i) {
+      const auto& name = table_.regions[i].name;
+      if (std::any_of(frame_faults_.begin(), frame_faults_.end(), [&](const auto& f) { return f.region == name; }))
+        redraw_safe(renderer, i, expected[i]);
     }
   }
   last_expected_ = std::move(expected);
