@@ -45,7 +45,8 @@ struct RunResult {
 };
 
 // The view starts first and draws; the controller then replays the whole log and lingers; the
-// view is stopped with SIGTERM (its summary line is printed on the way out).
+// view is stopped with SIGTERM (its summary line is printed on the way out). 15 fps and a 2 s link
+// timeout: the test machine's llvmpipe, shared, must not lose the link over a slow frame.
 RunResult replay(const std::string& tag, const Drive& drive, const std::string& backend, int msaa,
                  const std::vector<std::string>& view_extra = {}) {
   const fs::path dir = fs::path(METER_BINARY_DIR) / "integrity-monitor" / tag;
@@ -53,13 +54,13 @@ RunResult replay(const std::string& tag, const Drive& drive, const std::string& 
   fs::create_directories(dir / "frames");
   const std::string link = "unix:" + (dir / "link.sock").string();
   std::vector<std::string> argv = {built_executable("meter-view"), "--scene", meter::testing::converted_cluster().string(),
-                                   "--backend", backend, "--msaa", std::to_string(msaa), "--link", link, "--fps", "30",
+                                   "--backend", backend, "--msaa", std::to_string(msaa), "--link", link, "--link-timeout", "2000", "--fps", "15",
                                    "--dump-every", "30", "--out", (dir / "frames").string()};
   argv.insert(argv.end(), view_extra.begin(), view_extra.end());
   ChildProcess view(argv, (dir / "view.log").string());
   meter::testing::wait_for_first_dump(dir / "frames" / "frames.csv", view, std::chrono::seconds(60));
   ChildProcess controller({built_executable("meter-controller"), "run", "--dbc", drive.dbc, "--map", drive.map,
-                           "--input", "log:" + drive.log, "--replay", drive.scale, "--link", link, "--state-dir",
+                           "--input", "log:" + drive.log, "--replay", drive.scale, "--link", link, "--link-timeout", "2000", "--state-dir",
                            (dir / "state").string(), "--exit-at-end", "--linger", "1.5"},
                           (dir / "controller.log").string());
   const auto crc = controller.wait_for(std::chrono::seconds(120));
@@ -85,8 +86,8 @@ TEST_P(ZeroFalseAlarms, WholeLogReplayedRaisesNoIntegrityFault) {
   const auto r = replay("clean-" + log_name + "-" + backend + "-msaa" + std::to_string(msaa), drive, backend, msaa);
   ASSERT_NE(r.view_log.find("integrity monitor on"), std::string::npos) << r.view_log;
   const auto [checked, faults] = summary(r.view_log);
-  // 10 s of replay at 30 fps draws ~300 frames; under load a third of that is still a full drive.
-  EXPECT_GT(checked, 100) << r.view_log;
+  // 10 s of replay at 15 fps draws ~150 frames; under load a third of that still covers the drive.
+  EXPECT_GT(checked, 50) << r.view_log;
   EXPECT_EQ(faults, 0) << r.view_log;
   EXPECT_EQ(r.controller_log.find("view reports a fault: integrity"), std::string::npos) << r.controller_log;
   for (const auto& row : meter::testing::read_csv(r.frames_csv)) {
