@@ -37,8 +37,8 @@ MonitorRig::MonitorRig(const fs::path& package, platform::BackendKind kind, int 
 std::vector<view::IntegrityFault> MonitorRig::frame(const protocol::SignalTable& table, double dt) {
   evaluator->update(table, true, dt);
   renderer->apply(evaluator->outputs());
-  const auto timing = renderer->render();
-  return monitor->check(*renderer, *evaluator, timing.drawn);
+  renderer->render();
+  return monitor->check(*renderer, *evaluator);
 }
 
 protocol::SignalTable MonitorRig::at(double fraction) const {

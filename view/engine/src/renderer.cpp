@@ -128,6 +128,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   }
   if (fault_) execute_faulty(plan, now);
   else execute(plan, now);
+  note_written(plan);
   if (plan.full) {
     t.redrawn_fraction = 1.0;
   } else {

@@ -250,9 +250,14 @@ Image RenderTarget::read_resolved() {
 
 std::vector<Image> RenderTarget::read_regions(std::span<const PixelRegion> regions) {
   if (!gl_) throw std::logic_error("RenderTarget::read_regions on a moved-from target");
+  if (!regions.empty()) resolve(regions);
+  return read_resolved_regions(regions);
+}
+
+std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegion> regions) {
+  if (!gl_) throw std::logic_error("RenderTarget::read_resolved_regions on a moved-from target");
   std::vector<Image> out(regions.size());
   if (regions.empty()) return out;
-  resolve(regions);
   const Gl& gl = *gl_;
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);

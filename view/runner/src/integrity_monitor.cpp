@@ -72,9 +72,8 @@ std::vector<IntegrityFault> judge_frame(const bridge::IntegrityTable& table,
       faults.push_back({r.name, r.kind, false, verdict->expected, verdict->seen, verdict->difference});
     // Frozen: the pixels equal the ones of an earlier frame whose expectation differed in look.
     RegionMemory& m = memory[i];
-    const std::uint64_t h = engine::region_hash(r, v);
-    if (!m.valid || h != m.hash) {
-      m = {true, h, e};
+    if (!m.valid || m.pixels != pixels[i].rgba) {
+      m = {true, pixels[i].rgba, e};
     } else if (look_changed(r, m.expected, e)) {
       const double change = r.kind == bridge::SafetyKind::Needle ? std::abs(e.angle_deg - m.expected.angle_deg) : 1.0;
       faults.push_back({r.name, r.kind, true, look_text(r, e) + " (was " + look_text(r, m.expected) + ")",
@@ -101,19 +100,48 @@ IntegrityMonitor::IntegrityMonitor(const engine::Scene& scene, int width, int he
   for (const auto& r : table_.regions)
     boxes_.push_back(platform::PixelRegion{r.rect.x, height - r.rect.y - r.rect.height, r.rect.width, r.rect.height});
   memory_.resize(table_.regions.size());
+  read_at_.resize(table_.regions.size());
+  read_expected_.resize(table_.regions.size());
 }
 
+namespace {
+
+bool overlaps(const platform::PixelRegion& a, const platform::PixelRegion& b) {
+  return a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
+}
+
+bool same_expectation(const engine::RegionExpectation& a, const engine::RegionExpectation& b) {
+  return a.known == b.known && a.lit == b.lit && a.angle_deg == b.angle_deg && a.text == b.text;
+}
+
+}  // namespace
+
 const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& renderer,
-                                                           const engine::BindingEvaluator& evaluator, bool drawn) {
+                                                           const engine::BindingEvaluator& evaluator) {
   frame_faults_.clear();
   if (!on_) return frame_faults_;
-  std::vector<engine::RegionExpectation> expected = engine::expected_states(table_, scene_, evaluator);
-  bool changed = last_expected_.size() != expected.size();
-  for (std::size_t i = 0; !changed && i < expected.size(); ++i)
-    changed = look_changed(table_.regions[i], last_expected_[i], expected[i]);
-  if (!drawn && !changed) return frame_faults_;
+  ++frame_;
+  const std::vector<engine::RegionExpectation> expected = engine::expected_states(table_, scene_, evaluator);
+  const std::vector<platform::PixelRegion> written = renderer.take_written();
+  // A region is read when its pixels can differ from the ones read last (the renderer drew into
+  // it, or was asked to show it differently), or when it was last read kRefreshFrames ago.
+  std::vector<std::size_t> read;
+  std::vector<platform::PixelRegion> boxes;
+  for (std::size_t i = 0; i < table_.regions.size(); ++i) {
+    bool need = !read_at_[i] || frame_ - *read_at_[i] >= kRefreshFrames || !same_expectation(read_expected_[i], expected[i]);
+    for (std::size_t w = 0; !need && w < written.size(); ++w) need = overlaps(boxes_[i], written[w]);
+    if (!need) continue;
+    read.push_back(i);
+    boxes.push_back(boxes_[i]);
+    read_at_[i] = frame_;
+    read_expected_[i] = expected[i];
+  }
+  if (read.empty()) return frame_faults_;
   ++frames_checked_;
-  const std::vector<platform::Image> pixels = renderer.read_regions(boxes_);
+  regions_read_ += read.size();
+  std::vector<platform::Image> got = renderer.read_regions(boxes);
+  std::vector<platform::Image> pixels(table_.regions.size());
+  for (std::size_t k = 0; k < read.size(); ++k) pixels[read[k]] = std::move(got[k]);
   frame_faults_ = judge_frame(table_, expected, pixels, memory_);
   for (const auto& f : frame_faults_) {
     ++faults_;
@@ -127,7 +155,6 @@ const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& ren
         redraw_safe(renderer, i, expected[i]);
     }
   }
-  last_expected_ = std::move(expected);
   return frame_faults_;
 }
 

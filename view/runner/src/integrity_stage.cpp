@@ -85,9 +85,9 @@ void IntegrityStage::before_frame(std::uint64_t frame) {
   if (schedule_->last && frame == *schedule_->last + 1) ctx_.renderer.inject(std::nullopt);
 }
 
-void IntegrityStage::after_frame(std::uint64_t frame, bool drawn, ViewHealth& health, Clock::time_point now) {
+void IntegrityStage::after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now) {
   if (!monitor_.on()) return;
-  const auto& faults = monitor_.check(ctx_.renderer, ctx_.evaluator, drawn);
+  const auto& faults = monitor_.check(ctx_.renderer, ctx_.evaluator);
   cells_.faults = faults.size();
   cells_.total = monitor_.faults();
   cells_.first = faults.empty() ? std::string() : faults.front().describe();

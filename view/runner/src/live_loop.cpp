@@ -174,7 +174,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     const std::int64_t render_began = protocol::monotonic_now_ns();
     integrity.before_frame(frame);
     const auto timing = ctx.renderer.render(false, want);
-    integrity.after_frame(frame, timing.drawn, health, Clock::now());
+    integrity.after_frame(frame, health, Clock::now());
     const std::int64_t t_rendered = LatencyTrace::now();
     ctx.timing.row(frame, ft.t, timing);
     trace.frame(frame, t_update, t_rendered);

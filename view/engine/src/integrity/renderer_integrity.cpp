@@ -9,7 +9,19 @@
 namespace meter::engine {
 
 std::vector<platform::Image> Renderer::read_regions(std::span<const platform::PixelRegion> regions) {
-  return target_->read_regions(regions);
+  if (regions.empty()) return {};
+  // Only what was drawn since the last resolve is resolved (on llvmpipe an sRGB MSAA resolve costs
+  // per pixel as much as drawing it): the rest of the single-sample image is current already.
+  resolve_pending();
+  return target_->read_resolved_regions(regions);
+}
+
+std::vector<platform::PixelRegion> Renderer::take_written() { return std::exchange(written_, {}); }
+
+void Renderer::note_written(const FramePlan& plan) {
+  // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
+  if (plan.full || written_.size() > 64) written_ = {platform::PixelRegion{0, 0, width_, height_}};
+  if (!plan.full) written_.insert(written_.end(), plan.regions.begin(), plan.regions.end());
 }
 
 void Renderer::fill(const platform::PixelRegion& region, const glm::vec4& linear_colour) {
@@ -20,6 +32,7 @@ void Renderer::fill(const platform::PixelRegion& region, const glm::vec4& linear
   gl_.Clear(GL_COLOR_BUFFER_BIT);
   gl_.Disable(GL_SCISSOR_TEST);
   unresolved_.push_back(region);
+  written_.push_back(region);
 }
 
 void Renderer::redraw_safe(const platform::PixelRegion& region, const std::optional<glm::vec4>& linear_colour) {
@@ -28,6 +41,7 @@ void Renderer::redraw_safe(const platform::PixelRegion& region, const std::optio
   } else if (layer_ && layer_drawn_.valid) {
     target_->copy_from(*layer_, std::span<const platform::PixelRegion>(&region, 1));
     unresolved_.push_back(region);
+    written_.push_back(region);
   } else {
     const auto& cc = scene_.config.clear_color;
     fill(region, glm::vec4(float(cc[0]), float(cc[1]), float(cc[2]), float(cc[3])));
@@ -60,6 +74,7 @@ void Renderer::execute_faulty(const FramePlan& plan, const FrameState& now) {
     text_->draw(*target_, {cover});
     gl_.Disable(GL_SCISSOR_TEST);
     unresolved_.push_back(f.box);
+    written_.push_back(f.box);
   }
 }
 

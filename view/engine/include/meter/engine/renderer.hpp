@@ -123,8 +123,13 @@ class Renderer {
   glm::vec2 project(int node) const;
 
   // The integrity monitor's side (docs/integrity.md). Reads back only `regions` of the last drawn
-  // frame (GL window coordinates), resolved first; an empty list reads nothing.
+  // frame (GL window coordinates); what was drawn since the last resolve is resolved first. An
+  // empty list reads and resolves nothing.
   std::vector<platform::Image> read_regions(std::span<const platform::PixelRegion> regions);
+  // The target's boxes (GL window coordinates) drawn since the last call: each drawn frame's
+  // regions (all of it for a full frame) as planned, safe-path redraws and injected covers. Only
+  // these can hold pixels other than the ones read before.
+  std::vector<platform::PixelRegion> take_written();
   // Safe path for an item whose check failed: `region` of the target becomes one solid colour
   // (linear RGBA), or without a colour the static layer's copy (the clear colour when there is no
   // layer). The next frame is drawn in full, so the item's own drawing comes back as soon as it is
@@ -140,6 +145,7 @@ class Renderer {
   void execute(const FramePlan& plan, const FrameState& now);
   void execute_faulty(const FramePlan& plan, const FrameState& now);
   void fill(const platform::PixelRegion& region, const glm::vec4& linear_colour);
+  void note_written(const FramePlan& plan);
   void resolve_pending();
 
   platform::GpuBackend& backend_;
@@ -166,6 +172,7 @@ class Renderer {
   bool redraw_all_ = false;
   std::optional<FaultInjection> fault_;
   std::vector<glm::mat4> held_world_;
+  std::vector<platform::PixelRegion> written_;  // see take_written()
 };
 
 }  // namespace meter::engine

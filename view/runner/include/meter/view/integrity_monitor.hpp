@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,9 +28,11 @@ struct IntegrityFault {
 };
 
 // What a region's pixels and expectation were when its pixels last changed (frozen detection).
+// The pixels themselves, not engine::region_hash: equal bytes are compared at memcmp speed,
+// several times faster per frame than hashing them, and exactly.
 struct RegionMemory {
   bool valid = false;
-  std::uint64_t hash = 0;
+  std::vector<std::uint8_t> pixels;
   engine::RegionExpectation expected;
 };
 
@@ -56,16 +59,21 @@ class IntegrityMonitor {
   bool on() const { return on_; }
   const std::string& off_reason() const { return off_reason_; }
 
-  // After the frame was rendered: `drawn` from its FrameTiming. A frame that was not drawn is
-  // checked only when the expected looks changed since the last check (a renderer that wrongly
-  // skipped is a freeze too). Returns this frame's faults.
-  const std::vector<IntegrityFault>& check(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator,
-                                           bool drawn);
+  // After each frame was rendered (drawn or skipped). Reads back only the regions whose
+  // pixels can differ from the ones read last: the renderer drew into them (Renderer::
+  // take_written: the planned boxes, so a renderer that planned but did not draw is caught as a
+  // freeze), or their expectation changed (a renderer that wrongly skipped is a freeze too); and
+  // every region at least every kRefreshFrames calls. Returns this frame's faults.
+  const std::vector<IntegrityFault>& check(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator);
 
   std::uint64_t frames_checked() const { return frames_checked_; }
   std::uint64_t faults() const { return faults_; }
   std::uint64_t frozen_faults() const { return frozen_; }
   std::uint64_t safe_redraws() const { return safe_redraws_; }
+  std::uint64_t regions_read() const { return regions_read_; }  // summed over the checks
+  // Every region is read again at least this often (calls): 15 frames, 0.5 s at 30 fps, the
+  // heartbeat production safety renderers use, so a corrupted region nobody redraws is caught.
+  static constexpr std::uint64_t kRefreshFrames = 15;
   const bridge::IntegrityTable& table() const { return table_; }
 
  private:
@@ -78,7 +86,9 @@ class IntegrityMonitor {
   int height_ = 0;
   std::vector<platform::PixelRegion> boxes_;  // each region's rect in GL window coordinates
   std::vector<RegionMemory> memory_;
-  std::vector<engine::RegionExpectation> last_expected_;
+  std::vector<std::optional<std::uint64_t>> read_at_;       // the call a region was last read in
+  std::vector<engine::RegionExpectation> read_expected_;   // its expectation then
+  std::uint64_t frame_ = 0, regions_read_ = 0;
   std::vector<IntegrityFault> frame_faults_;
   std::uint64_t frames_checked_ = 0, faults_ = 0, frozen_ = 0, safe_redraws_ = 0;
 };

@@ -52,7 +52,7 @@ class IntegrityStage {
   // Before frame `frame` renders: the injected fault starts or ends.
   void before_frame(std::uint64_t frame);
   // After it rendered: checks it; a fault is logged and reported to `health` at `now`.
-  void after_frame(std::uint64_t frame, bool drawn, ViewHealth& health, Clock::time_point now);
+  void after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now);
   // The frames.csv cells of the frame last checked (nullptr when the monitor is off).
   const IntegrityCells* cells() const { return monitor_.on() ? &cells_ : nullptr; }
   void summary(std::ostream& log) const;
