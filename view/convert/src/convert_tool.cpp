@@ -23,8 +23,13 @@ int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err)
     if (o.integrity != "off") {
       const auto kind = platform::parse_backend_kind(o.integrity);
       if (!kind) throw SceneError("--integrity: unknown backend \"" + o.integrity + "\" (egl, osmesa or off)");
-      const auto backend = platform::create_backend(*kind);
-      integrity = measure_integrity(result.scene, *backend);
+      try {
+        const auto backend = platform::create_backend(*kind);
+        integrity = measure_integrity(result.scene, *backend);
+      } catch (const std::exception& e) {
+        throw SceneError(std::string("measuring the safety regions on ") + o.integrity + ": " + e.what() +
+                         " (--integrity=osmesa measures in software, --integrity=off writes no integrity table)");
+      }
       result.scene.integrity = integrity.table;
       if (!o.quiet) {
         for (const auto& s : integrity.skipped) err << o.input << ": warning: not monitored: " << s << "\n";

@@ -30,7 +30,7 @@ Scene dial_with_table() {
   bridge::SafetyRegion nd;
   nd.name = "Needle", nd.kind = bridge::SafetyKind::Needle, nd.signal = "Vehicle.Speed", nd.bindings = {0};
   nd.node = "Needle", nd.rect = {100, 20, 120, 120};
-  nd.needle = {"SpeedNeedle", 160.25, 80.5, 12.0, 55.0, {200, 0, 0}, {255, 90, 90}, 25,
+  nd.needle = {"SpeedNeedle", 160.25, 80.5, 12.0, 55.0, {200, 0, 0}, {255, 90, 90}, 25, 0.5, 140.0,
                {{0.0, 0.0, -130.0}, {5.0, 120.0, -10.0}, {10.8, 259.2, 129.2}}, 1.25};
   bridge::SafetyRegion tx;
   tx.name = "Text_Speed", tx.kind = bridge::SafetyKind::Readout, tx.signal = "Vehicle.Speed", tx.bindings = {3};

@@ -38,6 +38,9 @@ FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine
       out_ << "," << b.node << ".text";
     }
   }
+  // The value each readout formatted (the latest, while the needle of the same signal may still
+  // be smoothing towards it): meter-verify formats it again to know what the readout must show.
+  for (std::size_t i : text_columns_) out_ << "," << bindings[i].node << ".value";
   if (integrity_) out_ << ",integrity_faults,integrity_total,integrity_fault";
   out_ << "\n";
 }
@@ -50,6 +53,7 @@ void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool 
     out_ << "," << std::setprecision(6) << s.value << "," << protocol::to_string(s.status) << "," << s.failsafe;
   }
   for (std::size_t i : text_columns_) out_ << "," << csv_quoted(states.at(i).text);
+  for (std::size_t i : text_columns_) out_ << "," << std::setprecision(6) << states.at(i).value;
   if (integrity_) {
     const IntegrityCells none;
     const IntegrityCells& c = integrity ? *integrity : none;

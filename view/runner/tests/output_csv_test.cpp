@@ -52,10 +52,10 @@ TEST(FramesCsv, OneColumnGroupPerSignalAndOneColumnPerText) {
                 "frame,time_s,png,link_up,drawn,Vehicle.Speed,Vehicle.Speed.status,Vehicle.Speed.failsafe,"
                 "Cluster.Telltale.ABS,Cluster.Telltale.ABS.status,Cluster.Telltale.ABS.failsafe,"
                 "Vehicle.Powertrain.Transmission.CurrentGear,Vehicle.Powertrain.Transmission.CurrentGear.status,"
-                "Vehicle.Powertrain.Transmission.CurrentGear.failsafe,speed_text.text,gear.text",
-                "0,0.0000,frame_000000.png,1,1,12.345679,valid,0,1.000000,timed-out,1,126.000000,valid,0,\"13\",\"P\"",
+                "Vehicle.Powertrain.Transmission.CurrentGear.failsafe,speed_text.text,gear.text,speed_text.value,gear.value",
+                "0,0.0000,frame_000000.png,1,1,12.345679,valid,0,1.000000,timed-out,1,126.000000,valid,0,\"13\",\"P\",13.000000,126.000000",
                 "30,1.0000,frame_000030.png,0,0,0.000000,not-available,1,0.000000,invalid,1,0.000000,not-available,1,"
-                "\"say \"\"hi\"\", ok\",\"\""}));
+                "\"say \"\"hi\"\", ok\",\"\",0.000000,0.000000"}));
 }
 
 TEST(FramesCsv, ASceneWithoutBindingsHasTheFrameColumnsOnly) {

@@ -17,7 +17,8 @@ IntegrityMeasurement measure_integrity(const Scene& scene, platform::GpuBackend&
   SceneShots shots(scene, backend, options.msaa);
   measure_telltales(scene, shots, m);
   measure_readouts(scene, shots, m);
-  measure_needles(scene, shots, options, m);
+  SceneShots aliased(scene, backend, 1);
+  measure_needles(scene, shots, aliased, options, m);
   return m;
 }
 

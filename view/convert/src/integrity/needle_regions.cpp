@@ -2,7 +2,7 @@
 //   1. render the needle hidden and at evenly spaced animation times; its pixels are where a
 //      render differs from the hidden one, so its reach from the projected pivot is measured;
 //   2. the annulus: inside that reach, at radii no other safety region (another needle's sweep, a
-//      lamp, a readout box) reaches within the needle's angular sweep, so only it moves there;
+//      lamp, a readout box) reaches at any angle, so only this needle moves there;
 //   3. its colour: the box holding the needle's pixels in the annulus, refused when the dial
 //      without the needle has that colour too;
 //   4. the angle table: the angle read back (integrity_check's needle_angle, the same reading the
@@ -22,9 +22,11 @@ constexpr int kNeedleStep = 64;
 // Channel margin around the colours of the needle's pixels: covers the backends' and MSAA
 // settings' shading differences (measured below 6 steps on the cluster).
 constexpr int kColourMargin = 16;
-// |angle read - angle expected| on a correct frame. Measured on scenes/cluster over both backends
-// at MSAA 1, 2, 4 and 8 against tables measured on EGL at MSAA 4 (docs/integrity.md: at most
-// 0.31 deg); 1.0 deg holds with a margin of three and still catches a needle 3 deg off.
+// |angle read - angle expected| on a correct frame. Measured on scenes/cluster and minimal-gauge
+// over both backends at MSAA 1, 2, 4 and 8 and the filter / precision / affine ladder points
+// against tables measured on EGL at MSAA 4 (IntegrityBounds, docs/integrity.md: at most 0.183 deg;
+// the tables' interpolation error at their midpoints 0.303 deg); 1.0 deg holds with a margin of
+// three and still catches a needle 3 deg off.
 constexpr double kNeedleTolerance = 1.0;
 
 struct Needle {
@@ -33,17 +35,8 @@ struct Needle {
   double t0 = 0, t1 = 0;
   std::vector<std::uint8_t> swept;  // frame-size: pixels the needle covers at some sample
   std::vector<double> radii;        // of those pixels, from the pivot
-  double angle_lo = 0, angle_hi = 0;  // swept screen angles (deg clockwise from up, unwrapped)
+  double angle_lo = 0, angle_hi = 0;  // swept screen angles of its centroid (unwrapped)
 };
-
-double angle_of(double dx, double dy) { return std::atan2(dx, -dy) * 180.0 / M_PI; }
-
-double wrap180(double d) {
-  d = std::fmod(d, 360.0);
-  if (d > 180.0) d -= 360.0;
-  if (d < -180.0) d += 360.0;
-  return d;
-}
 
 double value_at(const Binding& b, double t) {
   const double u = (t - b.time[0]) / (b.time[1] - b.time[0]);
@@ -77,8 +70,7 @@ Needle sweep(const Scene& scene, SceneShots& shots, int binding, int node, int s
   const glm::vec2 p = shots.project(node);
   n.pivot_x = p.x, n.pivot_y = p.y;
   n.swept.assign(std::size_t(w) * std::size_t(h), 0);
-  bool first = true;
-  double previous = 0.0;
+  bool swept = false;
   for (int k = 0; k < samples; ++k) {
     const platform::Image& img = shots.shot(at(shots.base(), n, sample_time(n, k, samples), false));
     double sx = 0, sy = 0;
@@ -91,16 +83,24 @@ Needle sweep(const Scene& scene, SceneShots& shots, int binding, int node, int s
         sx += dx, sy += dy;
       }
     if (sx == 0 && sy == 0) continue;
-    double a = angle_of(sx, sy);
-    if (!first) a = previous + wrap180(a - previous);
-    n.angle_lo = first ? a : std::min(n.angle_lo, a), n.angle_hi = first ? a : std::max(n.angle_hi, a);
-    previous = a, first = false;
+    const double a = std::atan2(sx, -sy) * 180.0 / M_PI;
+    const double u = swept ? n.angle_hi + engine::wrap_degrees(a - n.angle_hi) : a;
+    n.angle_lo = swept ? std::min(n.angle_lo, u) : u, n.angle_hi = swept ? std::max(n.angle_hi, u) : u;
+    swept = true;
   }
   return n;
 }
 
-// Step 2: the widest band of radii inside the needle's reach that no foreign pixel within its
-// sweep touches. Returns {0, 0} when none is wide enough.
+// The sector the reading looks in: the sweep plus kSectorMargin each side.
+constexpr double kSectorMargin = 10.0;
+double sector_center(const Needle& n) { return 0.5 * (n.angle_lo + n.angle_hi); }
+double sector_half(const Needle& n) { return std::min(180.0, 0.5 * (n.angle_hi - n.angle_lo) + kSectorMargin); }
+bool in_sector(const Needle& n, double dx, double dy) {
+  return std::abs(engine::wrap_degrees(std::atan2(dx, -dy) * 180.0 / M_PI - sector_center(n))) <= sector_half(n);
+}
+
+// Step 2: the widest band of radii inside the needle's reach that no foreign pixel in its sector
+// touches. Returns {0, 0} when none is wide enough.
 std::pair<double, double> annulus(const Needle& n, const std::vector<std::uint8_t>& foreign, int w, int h,
                                   const std::vector<double>& dial_radii) {
   const double r_min = percentile(n.radii, 0.005), r_max = percentile(n.radii, 0.995);
@@ -113,10 +113,7 @@ std::pair<double, double> annulus(const Needle& n, const std::vector<std::uint8_
     for (int x = 0; x < w; ++x) {
       if (!foreign[std::size_t(y) * std::size_t(w) + std::size_t(x)]) continue;
       const double dx = x + 0.5 - n.pivot_x, dy = y + 0.5 - n.pivot_y, r = std::hypot(dx, dy);
-      if (r < lo || r > hi) continue;
-      const double a = angle_of(dx, dy), mid = 0.5 * (n.angle_lo + n.angle_hi);
-      if (std::abs(wrap180(a - mid)) > 0.5 * (n.angle_hi - n.angle_lo) + 5.0) continue;
-      blocked.push_back(r);
+      if (r >= lo && r <= hi && in_sector(n, dx, dy)) blocked.push_back(r);
     }
   std::sort(blocked.begin(), blocked.end());
   std::pair<double, double> best{0, 0};
@@ -131,8 +128,8 @@ std::pair<double, double> annulus(const Needle& n, const std::vector<std::uint8_
 // annulus over the sampled renders. `why` is set when the annulus is empty or the dial without
 // the needle has too many pixels of that colour in it.
 bridge::SafetyRegion needle_region(const Scene& scene, const Needle& n, std::pair<double, double> band,
-                                   const platform::Image& hidden, const std::vector<platform::Image>& imgs, int w, int h,
-                                   std::string* why) {
+                                   const platform::Image& hidden, const platform::Image& hidden_aliased,
+                                   const std::vector<platform::Image>& imgs, int w, int h, std::string* why) {
   const Binding& b = scene.config.bindings[std::size_t(n.binding)];
   bridge::SafetyRegion r;
   r.name = r.node = scene.nodes[std::size_t(n.node)].name;
@@ -150,6 +147,7 @@ bridge::SafetyRegion needle_region(const Scene& scene, const Needle& n, std::pai
   auto& m = r.needle;
   m.animation = b.animation;
   m.pivot_x = n.pivot_x, m.pivot_y = n.pivot_y, m.r_min = r0, m.r_max = r1;
+  m.sector_center_deg = sector_center(n), m.sector_half_deg = sector_half(n);
   std::array<std::vector<double>, 3> channel;
   int fewest = -1;
   for (const auto& img : imgs) {
@@ -170,10 +168,16 @@ bridge::SafetyRegion needle_region(const Scene& scene, const Needle& n, std::pai
   m.min_pixels = std::max(1, fewest / 2);
   m.tolerance_deg = kNeedleTolerance;
   m.samples = {{n.t0, 0, 0}, {n.t1, 0, 0}};  // replaced by the measured table
-  int dial_matches = 0;
+  // The dial is judged at MSAA 4 and without antialiasing: a print edge that blends away at one
+  // count is a solid colour at the other.
+  int dial_matches = 0, aliased_matches = 0;
   engine::needle_angle(r, {hidden.rgba.data(), w, h, 0, 0, 0}, &dial_matches);
-  // A quarter of the fewest needle pixels would move the centroid by degrees: refused.
-  if (dial_matches * 4 > m.min_pixels) {
+  engine::needle_angle(r, {hidden_aliased.rgba.data(), w, h, 0, 0, 0}, &aliased_matches);
+  dial_matches = std::max(dial_matches, aliased_matches);
+  // k stray pixels at an angle D from the needle's n move the centroid by about D k / (n + k):
+  // one in a hundred of the fewest needle pixels across a 100 deg sweep is 1 deg, the tolerance.
+  // So none is allowed; the caller blocks their radii and chooses the annulus again.
+  if (dial_matches > 0) {
     *why = std::to_string(dial_matches) + " pixels of its dial in the annulus " + std::to_string(r0) + ".." +
            std::to_string(r1) + " px share the needle's colour";
   } else {
@@ -183,7 +187,7 @@ bridge::SafetyRegion needle_region(const Scene& scene, const Needle& n, std::pai
 }
 
 // Radii (from the pivot) of the dial's pixels without the needle that pass the region's colour box.
-std::vector<double> dial_match_radii(const bridge::SafetyRegion& r, const platform::Image& hidden) {
+std::vector<double> dial_match_radii(const bridge::SafetyRegion& r, const Needle& n, const platform::Image& hidden) {
   std::vector<double> out;
   const auto& m = r.needle;
   for (int y = r.rect.y; y < r.rect.y + r.rect.height; ++y)
@@ -191,14 +195,16 @@ std::vector<double> dial_match_radii(const bridge::SafetyRegion& r, const platfo
       const auto* p = hidden.pixel(x, y);
       bool in = true;
       for (std::size_t c = 0; c < 3; ++c) in = in && p[c] >= m.color_min[c] && p[c] <= m.color_max[c];
-      if (in) out.push_back(std::hypot(x + 0.5 - m.pivot_x, y + 0.5 - m.pivot_y));
+      const double dx = x + 0.5 - m.pivot_x, dy = y + 0.5 - m.pivot_y;
+      if (in && in_sector(n, dx, dy)) out.push_back(std::hypot(dx, dy));
     }
   return out;
 }
 
 }  // namespace
 
-void measure_needles(const Scene& scene, SceneShots& shots, const IntegrityOptions& options, IntegrityMeasurement& out) {
+void measure_needles(const Scene& scene, SceneShots& shots, SceneShots& aliased, const IntegrityOptions& options,
+                     IntegrityMeasurement& out) {
   const int w = shots.width(), h = shots.height();
   const int samples = std::max(2, options.needle_samples);
   std::vector<Needle> needles;
@@ -234,17 +240,20 @@ void measure_needles(const Scene& scene, SceneShots& shots, const IntegrityOptio
       if (j != k)
         for (std::size_t p = 0; p < foreign.size(); ++p) foreign[p] |= needles[j].swept[p];
     // Steps 2 and 3 together: a colour learnt in an annulus may match print of the dial there;
-    // those radii are then blocked and the annulus chosen again (at most three times).
+    // those radii are then blocked and the annulus chosen again (at most four times).
     const platform::Image hidden = shots.shot(at(shots.base(), n, n.t0, true));
+    const platform::Image hidden_aliased = aliased.shot(at(aliased.base(), n, n.t0, true));
     std::vector<platform::Image> imgs;
     for (int s = 0; s < samples; ++s) imgs.push_back(shots.shot(at(shots.base(), n, sample_time(n, s, samples), false)));
     std::vector<double> dial_radii;
     bridge::SafetyRegion r;
     std::string why;
-    for (int attempt = 0; attempt < 3; ++attempt) {
-      r = needle_region(scene, n, annulus(n, foreign, w, h, dial_radii), hidden, imgs, w, h, &why);
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      r = needle_region(scene, n, annulus(n, foreign, w, h, dial_radii), hidden, hidden_aliased, imgs, w, h, &why);
       if (why.empty()) break;
-      const auto more = dial_match_radii(r, hidden);
+      auto more = dial_match_radii(r, n, hidden);
+      const auto more_aliased = dial_match_radii(r, n, hidden_aliased);
+      more.insert(more.end(), more_aliased.begin(), more_aliased.end());
       if (more.empty()) break;
       dial_radii.insert(dial_radii.end(), more.begin(), more.end());
     }
@@ -261,7 +270,7 @@ void measure_needles(const Scene& scene, SceneShots& shots, const IntegrityOptio
       readable = a.has_value();
       if (!readable) break;
       const double t = sample_time(n, s, samples);
-      const double angle = m.samples.empty() ? *a : m.samples.back().angle_deg + wrap180(*a - m.samples.back().angle_deg);
+      const double angle = m.samples.empty() ? *a : m.samples.back().angle_deg + engine::wrap_degrees(*a - m.samples.back().angle_deg);
       m.samples.push_back({t, value_at(b, t), angle});
     }
     if (!readable) {
@@ -273,7 +282,7 @@ void measure_needles(const Scene& scene, SceneShots& shots, const IntegrityOptio
       const platform::Image& img = shots.shot(at(shots.base(), n, t, false));
       const auto a = engine::needle_angle(r, {img.rgba.data(), w, h, 0, 0, 0});
       if (!a) continue;
-      const double e = std::abs(wrap180(*a - engine::expected_angle(m, t)));
+      const double e = std::abs(engine::wrap_degrees(*a - engine::expected_angle(m, t)));
       out.needle_interpolation_deg = std::max(out.needle_interpolation_deg, e);
     }
     out.table.regions.push_back(std::move(r));

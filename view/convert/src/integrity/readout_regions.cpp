@@ -11,9 +11,11 @@ namespace {
 // Pixels of a readout's box that may differ from the engine's reference render of the same text
 // by more than kReadoutInkStep. Glyphs are rasterised on the CPU and placed at whole pixels, so
 // the ink itself is exact; what differs is the scene behind it (MSAA edges of the dial print
-// under a glyph's antialiased rim). Measured on scenes/cluster over both backends at MSAA 1, 2, 4
-// and 8 against a reference at MSAA 4 (docs/integrity.md: at most 0 pixels); 4 leaves room for a
-// driver's rounding while one changed digit of the smallest readout (22 px) moves over 25 pixels.
+// under a glyph's antialiased rim at another sample count, so the reference is drawn at the run's).
+// Measured on scenes/cluster over both backends at MSAA 1, 2, 4 and 8 and the filter / precision /
+// affine ladder points against an EGL reference at the same MSAA (IntegrityBounds,
+// docs/integrity.md: 0 pixels); 4 leaves room for a driver's rounding while one changed digit of
+// the smallest readout (22 px, trip 123.4 -> 123.9 km) moves 116 pixels.
 constexpr int kReadoutTolerance = 4;
 
 std::vector<std::string> sample_texts(const Binding& b) {

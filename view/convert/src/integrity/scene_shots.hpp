@@ -42,7 +42,8 @@ bridge::PixelRect grow(const bridge::PixelRect& r, int margin, int width, int he
 void measure_telltales(const Scene& scene, SceneShots& shots, IntegrityMeasurement& out);
 void measure_readouts(const Scene& scene, SceneShots& shots, IntegrityMeasurement& out);
 // Needles last: their annulus avoids every pixel the telltales and readouts already measured.
-void measure_needles(const Scene& scene, SceneShots& shots, const IntegrityOptions& options,
+// `aliased` renders without MSAA (the dial's print must not pass for the needle at any count).
+void measure_needles(const Scene& scene, SceneShots& shots, SceneShots& aliased, const IntegrityOptions& options,
                      IntegrityMeasurement& out);
 
 }  // namespace meter::convert

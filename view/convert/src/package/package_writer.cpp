@@ -74,7 +74,7 @@ void write_integrity(Writer& w, const bridge::IntegrityTable& t) {
     w.i32(n.min_pixels);
     w.u32(static_cast<std::uint32_t>(n.samples.size()));
     for (const auto& s : n.samples) w.f64(s.time), w.f64(s.value), w.f64(s.angle_deg);
-    w.f64(n.tolerance_deg);
+    w.f64(n.tolerance_deg), w.f64(n.sector_center_deg), w.f64(n.sector_half_deg);
     const auto& o = r.readout;
     w.i32(o.anchor_x), w.i32(o.baseline_y), w.i32(o.size_px), w.i32(int(o.align)), w.str(o.format), w.i32(o.tolerance_pixels);
   }

@@ -43,6 +43,13 @@ double channel_distance(const std::array<double, 3>& a, const std::array<double,
 
 }  // namespace
 
+double wrap_degrees(double d) {
+  d = std::fmod(d, 360.0);
+  if (d > 180.0) d -= 360.0;
+  if (d < -180.0) d += 360.0;
+  return d;
+}
+
 bool RgbaView::covers(const PixelRect& r) const {
   if (data == nullptr || r.empty() || width <= 0 || height <= 0) return false;
   return r.x >= x0 && r.y >= y0 && r.x + r.width <= x0 + width && r.y + r.height <= y0 + height;
@@ -124,6 +131,10 @@ std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& f
       const double dx = x + 0.5 - m.pivot_x, dy = y + 0.5 - m.pivot_y;
       const double rr = std::hypot(dx, dy);
       if (rr < m.r_min || rr > m.r_max) continue;
+      if (m.sector_half_deg < 180.0 &&
+          std::abs(wrap_degrees(std::atan2(dx, -dy) * 180.0 / M_PI - m.sector_center_deg)) > m.sector_half_deg) {
+        continue;
+      }
       const std::uint8_t* p = frame.pixel(x, y);
       bool in = true;
       for (std::size_t c = 0; c < 3; ++c) in = in && p[c] >= m.color_min[c] && p[c] <= m.color_max[c];
@@ -150,9 +161,7 @@ Verdict check_needle(const SafetyRegion& region, const RgbaView& frame, double e
     return v;
   }
   // The samples are unwrapped; compare on the circle.
-  double d = std::fmod(*seen - expected_deg, 360.0);
-  if (d > 180.0) d -= 360.0;
-  if (d < -180.0) d += 360.0;
+  const double d = wrap_degrees(*seen - expected_deg);
   v.difference = std::abs(d);
   v.seen = fmt("%.2f deg", expected_deg + d);
   v.ok = v.difference <= region.needle.tolerance_deg;

@@ -209,6 +209,7 @@ bridge::IntegrityTable read_integrity(Reader& r) {
       nd.samples.push_back(s);
     }
     nd.tolerance_deg = r.f64("needle.tolerance");
+    nd.sector_center_deg = r.f64("needle.sector"), nd.sector_half_deg = r.f64("needle.sector");
     auto& o = g.readout;
     o.anchor_x = r.i32("readout.anchor"), o.baseline_y = r.i32("readout.baseline");
     o.size_px = r.i32("readout.size_px");

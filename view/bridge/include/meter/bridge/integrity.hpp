@@ -66,6 +66,10 @@ struct NeedleModel {
   // needle's fully covered pixels; no pixel of the annulus without the needle passes).
   std::array<int, 3> color_min{0, 0, 0}, color_max{255, 255, 255};
   int min_pixels = 0;              // fewer needle pixels than this: no needle seen
+  // Only pixels within sector_half_deg of sector_center_deg (screen angle about the pivot) are
+  // read: the needle's sweep plus a margin, so a neighbouring gauge outside it never counts.
+  // 180 = the whole annulus.
+  double sector_center_deg = 0.0, sector_half_deg = 180.0;
   std::vector<NeedleSample> samples;  // increasing time
   double tolerance_deg = 0.0;      // |seen - expected| bound, measured (docs/integrity.md)
   bool operator==(const NeedleModel&) const = default;

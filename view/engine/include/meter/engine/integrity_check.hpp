@@ -52,6 +52,9 @@ std::vector<RegionExpectation> expected_states(const IntegrityTable& table, cons
                                                const BindingEvaluator& evaluator);
 RegionExpectation expected_state(const SafetyRegion& region, const Scene& scene, const BindingEvaluator& evaluator);
 
+// An angle difference in degrees brought into [-180, 180].
+double wrap_degrees(double d);
+
 // Needle: the angle (deg clockwise from up, unwrapped like the samples) the table gives for an
 // animation time, linear between samples, clamped at the ends.
 double expected_angle(const NeedleModel& needle, double time);

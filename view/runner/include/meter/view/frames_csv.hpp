@@ -1,8 +1,9 @@
 // frames.csv: one line per dumped PNG with the bound signals as drawn. Columns: frame, time_s,
 // png, link_up, drawn; per bound signal (first binding of each) <signal>, <signal>.status,
-// <signal>.failsafe; per text binding <node>.text, the exact text drawn, quoted (RFC 4180); with
-// the integrity monitor on, last: integrity_faults (this frame's), integrity_total (since start),
-// integrity_fault (this frame's first fault: region, expected, seen; quoted).
+// <signal>.failsafe; per text binding <node>.text, the exact text drawn, quoted (RFC 4180); then
+// per text binding <node>.value, the value it formatted; with the integrity monitor on, last:
+// integrity_faults (this frame's), integrity_total (since start), integrity_fault (this frame's
+// first fault: region, expected, seen; quoted).
 #pragma once
 
 #include <cstdint>
