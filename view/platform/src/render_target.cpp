@@ -262,18 +262,24 @@ std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegi
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  std::vector<std::uint8_t> rows;
+  std::vector<std::uint8_t> tmp;
   for (std::size_t i = 0; i < regions.size(); ++i) {
     const PixelRegion r = clip(regions[i], width_, height_);
     if (r.empty()) continue;
-    rows.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
-    gl.ReadPixels(r.x, r.y, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
-    // GL rows are bottom-up; Image rows are top-down.
-    Image image(r.width, r.height);
+    Image image;
+    image.width = r.width, image.height = r.height;
+    image.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
+    gl.ReadPixels(r.x, r.y, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    // GL rows are bottom-up; Image rows are top-down: swapped in place.
     const std::size_t row = static_cast<std::size_t>(r.width) * 4;
-    for (int y = 0; y < r.height; ++y)
-      std::memcpy(image.rgba.data() + static_cast<std::size_t>(y) * row,
-                  rows.data() + static_cast<std::size_t>(r.height - 1 - y) * row, row);
+    tmp.resize(row);
+    for (int y = 0; y < r.height / 2; ++y) {
+      std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
+      std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(r.height - 1 - y) * row;
+      std::memcpy(tmp.data(), a, row);
+      std::memcpy(a, b, row);
+      std::memcpy(b, tmp.data(), row);
+    }
     out[i] = std::move(image);
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());

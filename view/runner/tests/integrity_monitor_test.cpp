@@ -14,27 +14,24 @@ namespace {
 
 using bridge::SafetyKind;
 
+bridge::SafetyRegion region(const std::string& name, SafetyKind kind, bridge::PixelRect rect) {
+  bridge::SafetyRegion r;
+  r.name = r.node = name;
+  r.kind = kind;
+  r.rect = rect;
+  return r;
+}
+
 // A 4x4 lamp at (10, 20): every pixel is lamp; lit look green, dark look near black.
 bridge::SafetyRegion lamp() {
-  bridge::SafetyRegion r;
-  r.name = "TT_Test";
-  r.kind = SafetyKind::Telltale;
-  r.node = "TT_Test";
-  r.rect = {10, 20, 4, 4};
+  bridge::SafetyRegion r = region("TT_Test", SafetyKind::Telltale, {10, 20, 4, 4});
   r.telltale.mask.assign(16, 1);
   r.telltale.looks = {{"on", true, {0, 200, 0}}, {"off", false, {10, 10, 10}}};
   r.telltale.tolerance = 20;
   return r;
 }
 
-bridge::SafetyRegion readout() {
-  bridge::SafetyRegion r;
-  r.name = "Text_Speed";
-  r.kind = SafetyKind::Readout;
-  r.node = "Text_Speed";
-  r.rect = {40, 20, 4, 4};
-  return r;
-}
+bridge::SafetyRegion readout() { return region("Text_Speed", SafetyKind::Readout, {40, 20, 4, 4}); }
 
 engine::RegionExpectation lit(bool on) {
   engine::RegionExpectation e;
