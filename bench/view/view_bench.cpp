@@ -5,7 +5,9 @@
 //  2. per scene: renderer start-up (compile + upload) + first frame, and the median forced-redraw
 //     frame time, off vs on, on EGL; the uber shader's compile+link against the scene's programs;
 //  3. the cluster at 1280x480 MSAA 4: median / p99 frame time vs a same-run fill floor
-//     (one full-screen flat-shaded pass), process start -> first PNG on disk, peak RSS of meter-view.
+//     (one full-screen flat-shaded pass), process start -> first PNG on disk, peak RSS of meter-view;
+//  5. (--integrity, also at the end of a full run) the integrity monitor's cost per frame
+//     (integrity_bench.cpp).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,12 +16,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "integrity_bench.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/package_reader.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
@@ -242,18 +248,36 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
   std::printf("(fill floor: the MSAA 4 full-screen pass; goal p99 < 16.7 ms)\n");
 }
 
+// The cluster as meter-convert writes it (with its safety regions) into `dir`, read back.
+engine::Scene cluster_package(const fs::path& dir) {
+  fs::create_directories(dir);
+  const std::string pkg = (dir / "cluster-integrity.msp").string();
+  const auto s = scenes().front();
+  const std::string cmd = std::string(METER_CONVERT_EXE) + " " + s.glb + " --config " + s.config + " -o " + pkg + " -q";
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("view_bench: " + cmd + " failed");
+  return engine::read_package(pkg);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   // --drive: only the fill floor and section 3b (the 60-fps frame-time goal: p99 under 16.7 ms), about 30 s.
   const bool drive_only = argc > 1 && std::string(argv[1]) == "--drive";
-  if (argc > 1 && !drive_only) {
-    std::fprintf(stderr, "usage: view_bench [--drive]\n");
+  // --integrity: only section 5 (the integrity monitor's cost), about 20 s.
+  const bool integrity_only = argc > 1 && std::string(argv[1]) == "--integrity";
+  if (argc > 1 && !drive_only && !integrity_only) {
+    std::fprintf(stderr, "usage: view_bench [--drive | --integrity]\n");
     return 2;
   }
   std::printf("view_bench: llvmpipe, %s build\n", METER_BUILD_TYPE);
   auto egl = platform::create_backend(platform::BackendKind::Egl);
   std::printf("EGL: %s\n", egl->renderer_info().c_str());
+  const fs::path integrity_dir = fs::temp_directory_path() / ("view_bench_integrity_" + std::to_string(::getpid()));
+  if (integrity_only) {
+    bench::integrity_cost(*egl, cluster_package(integrity_dir));
+    fs::remove_all(integrity_dir);
+    return 0;
+  }
   if (drive_only) {
     const auto s = scenes().front();
     const auto cluster = convert::convert_gltf(s.glb, load_config(s.config), {true}).scene;
@@ -387,5 +411,8 @@ int main(int argc, char** argv) {
                 percentile(v, 0.5), double(rss_kb) / 1024.0);
   }
   fs::remove_all(dir);
+  egl->make_current();
+  bench::integrity_cost(*egl, cluster_package(integrity_dir));
+  fs::remove_all(integrity_dir);
   return 0;
 }

@@ -86,10 +86,16 @@ int main(int argc, char** argv) {
                  "when a frame takes longer than MS milliseconds (at most one file per 5 s)")
       ->check(CLI::PositiveNumber)->needs(link_opt);
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
+  bool no_monitor = false;
+  app.add_flag("--no-integrity-monitor", no_monitor,
+               "live: do not check the package's safety regions after each frame (docs/integrity.md)");
+  // Test-only (docs/integrity.md): hidden from --help, it draws a wrong display on purpose.
+  app.add_option("--inject-fault", o.inject_fault, "")->group("")->needs(link_opt);
   CLI11_PARSE(app, argc, argv);
   if (!o.dump_at.empty() && o.link.empty() && o.play.empty()) {
     std::cerr << "--dump-at requires --link or --play\n";
     return 2;
   }
+  o.integrity_monitor = !no_monitor;
   return run_view(o, std::cerr);
 }

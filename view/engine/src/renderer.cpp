@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 #include "gl/draw_submission.hpp"
 #include "gl/gpu_scene.hpp"
@@ -110,6 +111,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     }
     return t;
   };
+  force = force || std::exchange(redraw_all_, false);
   if (!dirty_ && !force) return skip();
   auto t1 = Clock::now();
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
@@ -125,7 +127,9 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     t.submit_ms = ms_since(t1);
     return skip();
   }
-  execute(plan, now);
+  if (fault_) execute_faulty(plan, now);
+  else execute(plan, now);
+  note_written(plan);
   if (plan.full) {
     t.redrawn_fraction = 1.0;
   } else {

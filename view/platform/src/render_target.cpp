@@ -248,6 +248,45 @@ Image RenderTarget::read_resolved() {
   return image;
 }
 
+std::vector<Image> RenderTarget::read_regions(std::span<const PixelRegion> regions) {
+  if (!gl_) throw std::logic_error("RenderTarget::read_regions on a moved-from target");
+  if (!regions.empty()) resolve(regions);
+  return read_resolved_regions(regions);
+}
+
+std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegion> regions) {
+  if (!gl_) throw std::logic_error("RenderTarget::read_resolved_regions on a moved-from target");
+  std::vector<Image> out(regions.size());
+  if (regions.empty()) return out;
+  const Gl& gl = *gl_;
+  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  std::vector<std::uint8_t> tmp;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const PixelRegion r = clip(regions[i], width_, height_);
+    if (r.empty()) continue;
+    Image image;
+    image.width = r.width, image.height = r.height;
+    image.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
+    gl.ReadPixels(r.x, r.y, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    // GL rows are bottom-up; Image rows are top-down: swapped in place.
+    const std::size_t row = static_cast<std::size_t>(r.width) * 4;
+    tmp.resize(row);
+    for (int y = 0; y < r.height / 2; ++y) {
+      std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
+      std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(r.height - 1 - y) * row;
+      std::memcpy(tmp.data(), a, row);
+      std::memcpy(a, b, row);
+      std::memcpy(b, tmp.data(), row);
+    }
+    out[i] = std::move(image);
+  }
+  gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
+  check_gl(gl, "RenderTarget::read_regions (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  return out;
+}
+
 PixelRegion clip(const PixelRegion& r, int width, int height) {
   const int x0 = std::clamp(r.x, 0, width), y0 = std::clamp(r.y, 0, height);
   const int x1 = std::clamp(r.x + r.width, 0, width), y1 = std::clamp(r.y + r.height, 0, height);

@@ -257,6 +257,57 @@ TEST_P(RenderTargetTest, CopyFromCopiesColourAndDepthOfEverySampleInTheRegions) 
   EXPECT_THROW(a.copy_from(other_samples, std::span(&all, 1)), std::invalid_argument);
 }
 
+TEST_P(RenderTargetTest, ReadRegionsGivesTheFullReadsPixelsOfEachBoxOnly) {
+  for (int samples : {1, 4}) {
+    SCOPED_TRACE("samples " + std::to_string(samples));
+    mp::RenderTarget target(*backend_, {.width = 48, .height = 24, .samples = samples});
+    mp::test::ColorProgram program(gl());
+    gl().ClearColor(0.05f, 0.1f, 0.2f, 1);
+    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    // A diagonal edge (mixed MSAA pixels) and two rectangles: every box below sees varied pixels.
+    program.draw({-1, -1, 1, 0.5f, 0, 1, 1, -1, 0, 1, 0.5f, 1, -1, 1, 0.5f, 0, 1, 1});
+    program.rect_pixels(48, 24, 30, 2, 44, 9, 1, 1, 1, 1);
+    const mp::PixelRegion boxes[] = {{3, 4, 10, 7}, {28, 14, 17, 9}, {40, 20, 20, 20}, {60, 0, 4, 4}};
+    const std::vector<mp::Image> parts = target.read_regions(boxes);
+    const mp::Image full = target.resolve_and_read();
+    ASSERT_EQ(parts.size(), 4u);
+    // The third box is clipped to the target (8 x 4); the fourth lies outside it.
+    const mp::PixelRegion clipped[] = {boxes[0], boxes[1], {40, 20, 8, 4}, {0, 0, 0, 0}};
+    for (std::size_t i = 0; i < 4; ++i) {
+      SCOPED_TRACE("box " + std::to_string(i));
+      const mp::PixelRegion& c = clipped[i];
+      ASSERT_EQ(parts[i].width, c.width);
+      ASSERT_EQ(parts[i].height, c.height);
+      int differing = 0;
+      for (int y = 0; y < c.height; ++y)  // region rows top-down; GL y counts from the bottom
+        for (int x = 0; x < c.width; ++x)
+          differing += std::memcmp(parts[i].pixel(x, y), full.pixel(c.x + x, 24 - c.y - c.height + y), 4) != 0;
+      EXPECT_EQ(differing, 0);
+    }
+  }
+}
+
+TEST_P(RenderTargetTest, ReadRegionsResolvesItsBoxesAndAnEmptyListTouchesNothing) {
+  mp::RenderTarget target(*backend_, {.width = 16, .height = 16, .samples = 4, .srgb = false});
+  gl().ClearColor(1, 0, 0, 1);
+  gl().Clear(GL_COLOR_BUFFER_BIT);
+  EXPECT_EQ(target.resolve_and_read(), mp::Image(16, 16, 255, 0, 0));
+  target.bind();
+  gl().ClearColor(0, 1, 0, 1);
+  gl().Clear(GL_COLOR_BUFFER_BIT);
+  // Nothing listed: nothing resolved, so the resolved image still holds the red frame.
+  EXPECT_TRUE(target.read_regions({}).empty());
+  EXPECT_EQ(target.read_resolved(), mp::Image(16, 16, 255, 0, 0));
+  // One box: read green, and only that box resolved (the rest of the resolved image stays red).
+  const mp::PixelRegion box{4, 4, 4, 4};
+  const auto parts = target.read_regions(std::span(&box, 1));
+  ASSERT_EQ(parts.size(), 1u);
+  EXPECT_EQ(parts[0], mp::Image(4, 4, 0, 255, 0));
+  const mp::Image resolved = target.read_resolved();
+  EXPECT_EQ(resolved.pixel(5, 16 - 6)[1], 255);
+  EXPECT_EQ(resolved.pixel(0, 0)[0], 255);
+}
+
 TEST_P(RenderTargetTest, SamplesAreValidatedAndClamped) {
   EXPECT_THROW(mp::RenderTarget(*backend_, {.width = 8, .height = 8, .samples = 3}), std::invalid_argument);
   EXPECT_THROW(mp::RenderTarget(*backend_, {.width = 0, .height = 8}), std::invalid_argument);

@@ -17,8 +17,8 @@ std::string csv_quoted(const std::string& text) {
   return q + "\"";
 }
 
-FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings)
-    : out_(create_output_file(file)) {
+FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings, bool integrity)
+    : out_(create_output_file(file)), integrity_(integrity) {
   out_ << "frame,time_s,png,link_up,drawn";
   std::set<std::string> seen;
   for (std::size_t i = 0; i < bindings.size(); ++i) {
@@ -41,11 +41,12 @@ FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine
   // The value each readout formatted (the latest, while the needle of the same signal may still
   // be smoothing towards it): meter-verify formats it again to know what the readout must show.
   for (std::size_t i : text_columns_) out_ << "," << bindings[i].node << ".value";
+  if (integrity_) out_ << ",integrity_faults,integrity_total,integrity_fault";
   out_ << "\n";
 }
 
 void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
-                    const std::vector<engine::BindingState>& states) {
+                    const std::vector<engine::BindingState>& states, const IntegrityCells* integrity) {
   out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << png << "," << link_up << "," << drawn;
   for (std::size_t i : columns_) {
     const auto& s = states.at(i);
@@ -53,6 +54,11 @@ void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool 
   }
   for (std::size_t i : text_columns_) out_ << "," << csv_quoted(states.at(i).text);
   for (std::size_t i : text_columns_) out_ << "," << std::setprecision(6) << states.at(i).value;
+  if (integrity_) {
+    const IntegrityCells none;
+    const IntegrityCells& c = integrity ? *integrity : none;
+    out_ << "," << c.faults << "," << c.total << "," << csv_quoted(c.first);
+  }
   out_ << "\n";
   out_.flush();
 }

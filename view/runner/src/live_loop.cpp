@@ -11,6 +11,7 @@
 #include "meter/view/dump_policy.hpp"
 #include "meter/view/frame_pacing.hpp"
 #include "meter/view/frames_csv.hpp"
+#include "meter/view/integrity_stage.hpp"
 #include "meter/view/latency_trace.hpp"
 #include "meter/view/live_stats.hpp"
 #include "meter/view/option_units.hpp"
@@ -86,6 +87,7 @@ struct PendingRow {
   double t = 0.0;
   bool link_up = false, drawn = false;
   std::vector<engine::BindingState> states;
+  std::optional<IntegrityCells> integrity;  // the monitor's cells for this frame, when it runs
 };
 
 }  // namespace
@@ -118,7 +120,8 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
           << "; its bindings show not-available\n";
     }
   };
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
+  IntegrityStage integrity(ctx, options, log);  // docs/integrity.md
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), integrity.on());
   LatencyTrace trace(options.trace_csv);
   // --trace-json (docs/tracing.md): intake, evaluate, render (update, submit, readback) on the render
   // loop, encode on the PNG writer; CLOCK_MONOTONIC like the controller's file and the link's stamps.
@@ -204,7 +207,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
     const std::string name = png_name(n);
     // The row is the state this image was rendered with; the file follows from the writer.
-    csv.row(n, t, name, sub.link_up(), drawn, ctx.evaluator.states());
+    csv.row(n, t, name, sub.link_up(), drawn, ctx.evaluator.states(), integrity.cells());
     const std::int64_t began = protocol::monotonic_now_ns();
     png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n, service_link);
     waited(stats.readback, true, "wait for output space", began);
@@ -223,7 +226,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
     const std::string name = f.info.png.filename().string();
     if (png_writer.offer(std::move(f), true, how, service_link) && dumped) {
       const PendingRow& r = rows[n];
-      csv.row(n, r.t, name, r.link_up, r.drawn, r.states);
+      csv.row(n, r.t, name, r.link_up, r.drawn, r.states, r.integrity ? &*r.integrity : nullptr);
     }
     rows.erase(n);
     // Always inside the readback stage's busy span (collect or issue): the wait is moved out of it.
@@ -275,7 +278,9 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
       if (want && !every) how = DumpOverflow::Block;  // --dump-at, SIGUSR1: asked for, never dropped
     }
     const std::int64_t render_began = protocol::monotonic_now_ns();
+    integrity.before_frame(frame);
     const auto timing = ctx.renderer.render(false, want && !concurrent);
+    integrity.after_frame(frame, health, Clock::now());
     const std::int64_t t_rendered = LatencyTrace::now();
     const std::int64_t render_ended = protocol::monotonic_now_ns();
     // Sequential: render() read the frame back itself; its glFinish + resolve + read time counts as
@@ -297,7 +302,8 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
       FrameInfo info{frame, ft.t, timing.drawn, want ? ctx.out_dir / png_name(frame) : std::filesystem::path{},
                      render_ended};
       if (want) {
-        rows[frame] = PendingRow{ft.t, sub.link_up(), timing.drawn, ctx.evaluator.states()};
+        rows[frame] = PendingRow{ft.t, sub.link_up(), timing.drawn, ctx.evaluator.states(),
+                                 integrity.cells() ? std::optional<IntegrityCells>(*integrity.cells()) : std::nullopt};
         frame_overflow[frame] = how;
       }
       readback.issue(ctx.renderer.resolved_framebuffer(), std::move(info), hand_on);
@@ -339,6 +345,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
         << (overflow == DumpOverflow::Drop ? "drop" : "block") << "\n";
     LiveStats::print(stats.totals(end), pacer.seconds_at(end), log);
   }
+  integrity.summary(log);
   log_script_stats(ctx.evaluator, log);
   png_writer.check();  // a failed dump makes the exit status say so
 }

@@ -117,7 +117,7 @@ struct Status {
 // From the view, bits 0-15:
 inline constexpr std::uint32_t kViewFaultFrameDeadline = 1U << 0;  // a frame ended after the next one was due
 inline constexpr std::uint32_t kViewFaultDumpFailed = 1U << 1;     // a requested PNG dump could not be written
-inline constexpr std::uint32_t kViewFaultIntegrity = 1U << 2;      // the rendered-image integrity monitor (reserved)
+inline constexpr std::uint32_t kViewFaultIntegrity = 1U << 2;      // the integrity monitor found a wrong or frozen safety region
 inline constexpr int kViewFaultHoldMs = 1000;
 // From the controller, bits 16-31:
 inline constexpr std::uint32_t kControllerFaultBusWarning = 1U << 16;  // error-warning (error counter >= 96)

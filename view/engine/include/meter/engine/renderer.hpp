@@ -18,6 +18,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/scene_evaluator.hpp"
 #include "meter/engine/frame_plan/frame_plan.hpp"
+#include "meter/engine/integrity/fault_injection.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
@@ -127,10 +129,30 @@ class Renderer {
   // Pixel position (origin top-left) of a node's world origin, for text anchors and tests.
   glm::vec2 project(int node) const;
 
+  // The integrity monitor's side (docs/integrity.md). Reads back only `regions` of the last drawn
+  // frame (GL window coordinates); what was drawn since the last resolve is resolved first. An
+  // empty list reads and resolves nothing.
+  std::vector<platform::Image> read_regions(std::span<const platform::PixelRegion> regions);
+  // The target's boxes (GL window coordinates) drawn since the last call: each drawn frame's
+  // regions (all of it for a full frame) as planned, safe-path redraws and injected covers. Only
+  // these can hold pixels other than the ones read before.
+  std::vector<platform::PixelRegion> take_written();
+  // Safe path for an item whose check failed: `region` of the target becomes one solid colour
+  // (linear RGBA), or without a colour the static layer's copy (the clear colour when there is no
+  // layer). The next frame is drawn in full, so the item's own drawing comes back as soon as it is
+  // right again.
+  void redraw_safe(const platform::PixelRegion& region, const std::optional<glm::vec4>& linear_colour);
+  // Test hook: from the next drawn frame on, the GL execution draws under `fault` (nullopt: none).
+  // A StaleNeedle fault holds the world matrices of the last evaluated frame.
+  void inject(std::optional<FaultInjection> fault);
+
 
  private:
   // Runs the plan's passes: the static layer build, the layer copy, each pass and its texts.
   void execute(const FramePlan& plan, const FrameState& now);
+  void execute_faulty(const FramePlan& plan, const FrameState& now);
+  void fill(const platform::PixelRegion& region, const glm::vec4& linear_colour);
+  void note_written(const FramePlan& plan);
   void resolve_pending();
 
   platform::GpuBackend& backend_;
@@ -153,6 +175,11 @@ class Renderer {
   // Static layer (see RendererOptions::static_layer): created at the first unforced full frame.
   std::unique_ptr<platform::RenderTarget> layer_;
   DrawnFrame layer_drawn_;                           // what the layer holds
+  // Integrity: a safe-path redraw happened (the next frame is drawn in full); the injected fault.
+  bool redraw_all_ = false;
+  std::optional<FaultInjection> fault_;
+  std::vector<glm::mat4> held_world_;
+  std::vector<platform::PixelRegion> written_;  // see take_written()
 };
 
 }  // namespace meter::engine

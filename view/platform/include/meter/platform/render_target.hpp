@@ -14,6 +14,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 namespace meter::platform {
 
@@ -71,6 +72,13 @@ class RenderTarget {
   void resolve(std::span<const PixelRegion> regions);
   // Reads the single-sample framebuffer (the last resolve) as a top-down RGBA8 image.
   Image read_resolved();
+  // Resolves and reads only `regions` (clipped to the target): one top-down RGBA8 image per region,
+  // in order, of the clipped size (empty when a region lies outside). An empty list resolves and
+  // reads nothing at all. Cheap for a few small boxes: the integrity monitor's readback.
+  std::vector<Image> read_regions(std::span<const PixelRegion> regions);
+  // The same without the resolve: `regions` of the single-sample framebuffer as the last resolves
+  // left it (a caller that tracks what it drew since, resolves just that).
+  std::vector<Image> read_resolved_regions(std::span<const PixelRegion> regions);
   // Copies `regions` of the drawing buffers (colour and depth, every sample) of `source` into this
   // target's, unchanged bit for bit: a cached layer restored under a partial redraw. Needs
   // GlInfo::has_copy_image and a source of the same size, samples, colour and depth format

@@ -1,7 +1,9 @@
 // frames.csv: one line per dumped PNG with the bound signals as drawn. Columns: frame, time_s,
 // png, link_up, drawn; per bound signal (first binding of each) <signal>, <signal>.status,
 // <signal>.failsafe; per text binding <node>.text, the exact text drawn, quoted (RFC 4180); then
-// per text binding <node>.value, the value it formatted.
+// per text binding <node>.value, the value it formatted; with the integrity monitor on, last:
+// integrity_faults (this frame's), integrity_total (since start), integrity_fault (this frame's
+// first fault: region, expected, seen; quoted).
 #pragma once
 
 #include <cstdint>
@@ -14,20 +16,29 @@
 
 namespace meter::view {
 
+// The integrity monitor's cells of one row (meter/view/integrity_stage.hpp).
+struct IntegrityCells {
+  std::uint64_t faults = 0, total = 0;
+  std::string first;
+};
+
 class FramesCsv {
  public:
-  // Writes the header for the scene's bindings. Throws ViewError when the file cannot be written.
-  FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings);
+  // Writes the header for the scene's bindings (and the integrity columns when `integrity`).
+  // Throws ViewError when the file cannot be written.
+  FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings, bool integrity = false);
 
   // `states`: BindingEvaluator::states() after the update the frame was rendered with, one per
   // binding. Flushed at once (a reader may follow the file while the view runs).
+  // `integrity`: the frame's monitor cells (written when the header has the columns; none = 0).
   void row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
-           const std::vector<engine::BindingState>& states);
+           const std::vector<engine::BindingState>& states, const IntegrityCells* integrity = nullptr);
 
  private:
   std::ofstream out_;
   std::vector<std::size_t> columns_;       // binding index per signal column group
   std::vector<std::size_t> text_columns_;  // binding index per text column
+  bool integrity_ = false;
 };
 
 // RFC 4180 quoting: texts may hold commas or quotes (a map entry, a designer's format string).

@@ -53,6 +53,10 @@ struct ViewOptions {
   bool stats = false;             // print the stage shares and the bottleneck every stats_interval_s
   double stats_interval_s = 1.0;
   double trace_on_overrun_ms = 0.0;  // > 0: keep the last seconds of trace; write them when a frame takes longer
+  // Display integrity (docs/integrity.md): the monitor runs when the package has safety regions;
+  // inject_fault is the test-only fault (hidden --inject-fault KIND[:REGION]@FIRST[-LAST]).
+  bool integrity_monitor = true;
+  std::string inject_fault;
 };
 
 }  // namespace meter::view

@@ -1,0 +1,96 @@
+// The display-integrity monitor of meter-view: after each drawn frame it reads back only the
+// package's safety regions (meter/bridge/integrity.hpp) and judges them with the pure checks of
+// meter/engine/integrity_check.hpp against the state the bindings say the frame shows: every
+// telltale lit exactly when it must be, every needle at its value's angle, and no region frozen
+// (its expected look changed, its pixels did not). A failing telltale or needle is redrawn from a
+// safe path (Renderer::redraw_safe). Docs: docs/integrity.md, "The monitor in meter-view".
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "meter/bridge/integrity.hpp"
+#include "meter/engine/integrity_check.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/platform/image.hpp"
+
+namespace meter::view {
+
+struct IntegrityFault {
+  std::string region;
+  bridge::SafetyKind kind = bridge::SafetyKind::Telltale;
+  bool frozen = false;      // the expected look changed, the region's pixels did not
+  std::string expected, seen;
+  double difference = 0.0;  // Verdict::difference (frozen: the expectation's change)
+  std::string describe() const;  // "TT_TurnLeft (telltale): expected on, seen off (...), difference 80.1"
+};
+
+// What a region's pixels and expectation were when its pixels last changed (frozen detection).
+// The pixels themselves, not engine::region_hash: equal bytes are compared at memcmp speed,
+// several times faster per frame than hashing them, and exactly.
+struct RegionMemory {
+  bool valid = false;
+  std::vector<std::uint8_t> pixels;
+  engine::RegionExpectation expected;
+};
+
+// True when the look `b` must differ from `a` in pixels: a telltale switched, a needle turned by
+// more than max(1 deg, its tolerance) (well above a pixel at its annulus: no sub-pixel move is
+// taken for a freeze), a readout's text changed.
+bool look_changed(const bridge::SafetyRegion& region, const engine::RegionExpectation& a,
+                  const engine::RegionExpectation& b);
+
+// Pure judgement of one frame: `pixels[i]` holds region i's rect (as read back), `expected[i]`
+// its expectation. Updates `memory` (one per region). Telltales and needles are checked against
+// their expectation; every known region (readouts too) against a freeze. Regions not known yet
+// (no value, no failsafe) are not judged.
+std::vector<IntegrityFault> judge_frame(const bridge::IntegrityTable& table,
+                                        const std::vector<engine::RegionExpectation>& expected,
+                                        const std::vector<platform::Image>& pixels, std::vector<RegionMemory>& memory);
+
+class IntegrityMonitor {
+ public:
+  // Off (reads and checks nothing) when the scene has no safety regions, `enabled` is false, or
+  // the frame is drawn at another size than the regions were measured at (off_reason() says why).
+  IntegrityMonitor(const engine::Scene& scene, int width, int height, bool enabled = true, bool safe_path = true);
+
+  bool on() const { return on_; }
+  const std::string& off_reason() const { return off_reason_; }
+
+  // After each frame was rendered (drawn or skipped). Reads back only the regions whose
+  // pixels can differ from the ones read last: the renderer drew into them (Renderer::
+  // take_written: the planned boxes, so a renderer that planned but did not draw is caught as a
+  // freeze), or their expectation changed (a renderer that wrongly skipped is a freeze too); and
+  // every region at least every kRefreshFrames calls. Returns this frame's faults.
+  const std::vector<IntegrityFault>& check(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator);
+
+  std::uint64_t frames_checked() const { return frames_checked_; }
+  std::uint64_t faults() const { return faults_; }
+  std::uint64_t frozen_faults() const { return frozen_; }
+  std::uint64_t safe_redraws() const { return safe_redraws_; }
+  std::uint64_t regions_read() const { return regions_read_; }  // summed over the checks
+  // Every region is read again at least this often (calls): 15 frames, 0.5 s at 30 fps, the
+  // heartbeat production safety renderers use, so a corrupted region nobody redraws is caught.
+  static constexpr std::uint64_t kRefreshFrames = 15;
+  const bridge::IntegrityTable& table() const { return table_; }
+
+ private:
+  void redraw_safe(engine::Renderer& renderer, std::size_t region, const engine::RegionExpectation& expected);
+
+  const engine::Scene& scene_;
+  const bridge::IntegrityTable& table_;
+  bool on_ = false, safe_path_ = true;
+  std::string off_reason_;
+  int height_ = 0;
+  std::vector<platform::PixelRegion> boxes_;  // each region's rect in GL window coordinates
+  std::vector<RegionMemory> memory_;
+  std::vector<std::optional<std::uint64_t>> read_at_;       // the call a region was last read in
+  std::vector<engine::RegionExpectation> read_expected_;   // its expectation then
+  std::uint64_t frame_ = 0, regions_read_ = 0;
+  std::vector<IntegrityFault> frame_faults_;
+  std::uint64_t frames_checked_ = 0, faults_ = 0, frozen_ = 0, safe_redraws_ = 0;
+};
+
+}  // namespace meter::view

@@ -1,0 +1,71 @@
+// The integrity monitor as a stage of meter-view's live loop: the injected test fault
+// (--inject-fault), the check after each frame, the fault raised in STATUS (kViewFaultIntegrity)
+// within the frame, the rate-limited log and the frames.csv cells. Docs: docs/integrity.md.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "meter/engine/integrity/fault_injection.hpp"
+#include "meter/view/frames_csv.hpp"
+#include "meter/view/integrity_monitor.hpp"
+#include "meter/view/render_context.hpp"
+#include "meter/view/view_health.hpp"
+#include "meter/view/view_options.hpp"
+
+namespace meter::view {
+
+// --inject-fault KIND[:REGION]@FIRST[-LAST]: KIND as engine::parse_fault_kind, REGION a safety
+// region's name (every kind but stuck needs one), frames FIRST..LAST (the live loop's numbers; no
+// LAST: to the end).
+struct FaultSchedule {
+  engine::FaultInjection fault;
+  std::uint64_t first = 0;
+  std::optional<std::uint64_t> last;
+};
+// Throws ViewError naming the option, the text and what was expected.
+FaultSchedule parse_fault_schedule(const std::string& text, const engine::Scene& scene, int height);
+
+// Log lines of faults: the first of each region always, then at most one line per second; the
+// ones left out are counted.
+class FaultLogLimit {
+ public:
+  using Clock = std::chrono::steady_clock;
+  bool admit(const std::string& region, Clock::time_point now);
+  std::uint64_t suppressed() const { return suppressed_; }
+
+ private:
+  std::vector<std::string> seen_;
+  std::optional<Clock::time_point> last_;
+  std::uint64_t suppressed_ = 0;
+};
+
+class IntegrityStage {
+ public:
+  using Clock = std::chrono::steady_clock;
+  // Logs whether the monitor is on (and why not) and any injected fault.
+  IntegrityStage(RenderContext& ctx, const ViewOptions& options, std::ostream& log);
+  bool on() const { return monitor_.on(); }
+  // Before frame `frame` renders: the injected fault starts or ends.
+  void before_frame(std::uint64_t frame);
+  // After it rendered: checks it; a fault is logged and reported to `health` at `now`.
+  void after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now);
+  // The frames.csv cells of the frame last checked (nullptr when the monitor is off).
+  const IntegrityCells* cells() const { return monitor_.on() ? &cells_ : nullptr; }
+  void summary(std::ostream& log) const;
+  const IntegrityMonitor& monitor() const { return monitor_; }
+
+ private:
+  RenderContext& ctx_;
+  std::ostream& log_;
+  IntegrityMonitor monitor_;
+  std::optional<FaultSchedule> schedule_;
+  IntegrityCells cells_;
+  FaultLogLimit limit_;
+  std::optional<std::uint64_t> first_fault_frame_;
+};
+
+}  // namespace meter::view
