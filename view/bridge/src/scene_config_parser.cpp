@@ -36,7 +36,7 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
     if (!b.contains(key)) c.fail(path + "." + key, "missing (required for kind \"" + kind + "\")");
     return b[key];
   };
-  std::set<std::string> keys{"signal", "kind", "failsafe", "comment", "quantity", "imperial"};
+  std::set<std::string> keys{"signal", "kind", "failsafe", "comment", "quantity", "imperial", "safety"};
   auto failsafe_keys = std::set<std::string>{"value"};
   if (kind == "animation") {
     out.kind = BindingKind::Animation;
@@ -109,6 +109,7 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
            "unknown kind \"" + kind + "\" (expected animation, visibility, emissive, color, morph or text)");
   }
   if (b.contains("threshold")) out.threshold = number(c, b["threshold"], path + ".threshold");
+  if (b.contains("safety")) out.safety = boolean(c, b["safety"], path + ".safety");
   if (b.contains("smoothing_ms")) {
     out.smoothing_ms = number(c, b["smoothing_ms"], path + ".smoothing_ms");
     if (out.smoothing_ms < 0 || out.smoothing_ms > 10000) c.fail(path + ".smoothing_ms", "expected 0..10000");

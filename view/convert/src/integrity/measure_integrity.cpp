@@ -1,5 +1,6 @@
 // Display integrity at conversion: the kinds measured in order (telltales and readouts first,
 // so the needles' annuli can avoid them) and the --report block.
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -19,6 +20,18 @@ IntegrityMeasurement measure_integrity(const Scene& scene, platform::GpuBackend&
   measure_readouts(scene, shots, m);
   SceneShots aliased(scene, backend, 1);
   measure_needles(scene, shots, aliased, options, m);
+  // Lamps that are driver aids (a binding with "safety": false, e.g. a shift light) were measured
+  // only so that no needle ring runs through them (a lit lamp in the needle's colour would be read
+  // as needle); they are not monitored themselves.
+  auto& regions = m.table.regions;
+  regions.erase(std::remove_if(regions.begin(), regions.end(),
+                               [&](const bridge::SafetyRegion& r) {
+                                 if (r.kind != bridge::SafetyKind::Telltale || r.bindings.empty()) return false;
+                                 for (int i : r.bindings)
+                                   if (scene.config.bindings[std::size_t(i)].safety) return false;
+                                 return true;
+                               }),
+                regions.end());
   return m;
 }
 

@@ -23,9 +23,21 @@ bool colour_on(const Binding& b, const glm::vec4& c, bool rgb_only) {
   return distance2(x, on) < distance2(x, off);
 }
 
+// The looks were measured at conversion in the day theme at the config's exposure, with no page
+// transition and no start-up sweep running. In any other display state a region's pixels differ
+// from those looks by design (night materials, dimming, a sliding page, a needle sweeping across
+// a lamp), so the region is not judged in it (`known` stays false) rather than judged wrongly.
+bool looks_as_measured(const Scene& scene, const BindingEvaluator& ev, SafetyKind kind) {
+  const FeatureState& f = ev.features().state();
+  if (f.theme_mix > 0.0 || f.exposure_stops != scene.config.exposure || f.page_transition) return false;
+  // A sweeping needle is judged (its angle is the sweep's); lamps and texts it passes over are not.
+  return !f.sweep || kind == SafetyKind::Needle;
+}
+
 RegionExpectation expect(const SafetyRegion& region, const Scene& scene, const BindingEvaluator& ev,
                          const std::vector<char>& visible) {
   RegionExpectation e;
+  if (!looks_as_measured(scene, ev, region.kind)) return e;
   const auto& out = ev.outputs();
   const auto& bindings = ev.bindings();
   auto binding = [&](int i) -> const Binding* {

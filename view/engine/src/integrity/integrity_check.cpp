@@ -124,21 +124,30 @@ double expected_angle(const NeedleModel& needle, double time) {
 std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& frame, int* pixels) {
   const NeedleModel& m = region.needle;
   const PixelRect& r = region.rect;
+  // Cheapest test first: most of a needle's box is dial face, refused by its colour alone; the
+  // ring (squared radii, no square root) and the sector (one atan2) are tested only for pixels of
+  // the needle's colour. The pixels counted are the ones the ring-sector-colour rule selects in
+  // any order (a ring edge decided on dx^2 + dy^2 instead of hypot can differ only by rounding at
+  // exactly r_min or r_max).
+  const double r_min2 = m.r_min > 0.0 ? m.r_min * m.r_min : 0.0, r_max2 = m.r_max * m.r_max;
+  const bool sector = m.sector_half_deg < 180.0;
   double sx = 0.0, sy = 0.0;
   int n = 0;
   for (int y = r.y; y < r.y + r.height; ++y) {
+    const double dy = y + 0.5 - m.pivot_y;
+    if (dy * dy > r_max2) continue;
     for (int x = r.x; x < r.x + r.width; ++x) {
-      const double dx = x + 0.5 - m.pivot_x, dy = y + 0.5 - m.pivot_y;
-      const double rr = std::hypot(dx, dy);
-      if (rr < m.r_min || rr > m.r_max) continue;
-      if (m.sector_half_deg < 180.0 &&
-          std::abs(wrap_degrees(std::atan2(dx, -dy) * 180.0 / M_PI - m.sector_center_deg)) > m.sector_half_deg) {
+      const std::uint8_t* p = frame.pixel(x, y);
+      if (p[0] < m.color_min[0] || p[0] > m.color_max[0] || p[1] < m.color_min[1] || p[1] > m.color_max[1] ||
+          p[2] < m.color_min[2] || p[2] > m.color_max[2]) {
         continue;
       }
-      const std::uint8_t* p = frame.pixel(x, y);
-      bool in = true;
-      for (std::size_t c = 0; c < 3; ++c) in = in && p[c] >= m.color_min[c] && p[c] <= m.color_max[c];
-      if (!in) continue;
+      const double dx = x + 0.5 - m.pivot_x;
+      const double rr2 = dx * dx + dy * dy;
+      if (rr2 < r_min2 || rr2 > r_max2) continue;
+      if (sector && std::abs(wrap_degrees(std::atan2(dx, -dy) * 180.0 / M_PI - m.sector_center_deg)) > m.sector_half_deg) {
+        continue;
+      }
       sx += dx, sy += dy, ++n;
     }
   }

@@ -30,7 +30,9 @@ struct Binding {
   double smoothing_ms = 0.0;               // first-order smoothing time constant (0 = none)
   // visibility / emissive / color threshold: "on" when value >= threshold
   double threshold = 0.5;
-  bool invert = false;                     // visibility: visible when the value is below threshold
+  bool invert = false;
+  // false: a driver aid (a shift light), not a safety item: no integrity region is made for it
+  bool safety = true;                     // visibility: visible when the value is below threshold
   // node (visibility, morph, text) / material (emissive, color)
   std::string node, material;
   std::array<double, 4> off{0, 0, 0, 1}, on{1, 1, 1, 1};  // emissive uses rgb, color rgba
