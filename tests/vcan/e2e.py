@@ -130,6 +130,8 @@ def read_frames_csv(path):
                 if c.endswith(".text"):
                     texts[c[:-len(".text")]] = r[c]     # "<node>.text": what a readout drew
                     continue
+                if c.endswith(".value") or c.startswith("integrity_"):
+                    continue    # "<node>.value": the readout's value (meter-verify's); the monitor's counts
                 if c in (fcol, tcol, lcol) or c.lower() in META:
                     continue
                 base, _, suffix = c.rpartition(".")
