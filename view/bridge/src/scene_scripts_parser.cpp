@@ -3,6 +3,8 @@
 // materials, animations) are checked by the converter against the scene (resolve_config).
 #include "scene_scripts_parser.hpp"
 
+#include "config_json.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,12 +20,10 @@ namespace {
 
 using nlohmann::json;
 
-struct ScriptCtx {
-  const std::string& origin;
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw std::invalid_argument(origin + ": " + path + ": " + what);
-  }
-};
+using config_json::Ctx;
+using config_json::check_keys;
+using config_json::number;
+using config_json::string;
 
 bool lua_identifier(const std::string& s) {
   static const std::set<std::string> reserved{"and",   "break", "do",  "else", "elseif", "end",   "false", "for",
@@ -38,31 +38,13 @@ bool lua_identifier(const std::string& s) {
   return true;
 }
 
-const std::string& text_of(const ScriptCtx& c, const json& j, const std::string& path) {
-  if (!j.is_string()) c.fail(path, "expected a string, got " + std::string(j.type_name()));
-  return j.get_ref<const std::string&>();
-}
-
-double number_of(const ScriptCtx& c, const json& j, const std::string& path) {
-  if (!j.is_number() || !std::isfinite(j.get<double>())) c.fail(path, "expected a finite number");
-  return j.get<double>();
-}
-
-void only_keys(const ScriptCtx& c, const json& obj, const std::string& path, const std::set<std::string>& allowed) {
-  for (auto it = obj.begin(); it != obj.end(); ++it) {
-    if (allowed.count(it.key())) continue;
-    std::string list;
-    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    c.fail(path + "." + it.key(), "unknown key (expected one of: " + list + ")");
-  }
-}
-
-std::vector<double> numbers_of(const ScriptCtx& c, const json& j, const std::string& path, std::size_t lo, std::size_t hi) {
+// Numbers at `path`: an array of lo..hi of them (failsafe values, whose count depends on the output).
+std::vector<double> numbers_of(const Ctx& c, const json& j, const std::string& path, std::size_t lo, std::size_t hi) {
   if (!j.is_array() || j.size() < lo || j.size() > hi) {
     c.fail(path, "expected an array of " + (lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi)) + " numbers");
   }
   std::vector<double> v;
-  for (std::size_t i = 0; i < j.size(); ++i) v.push_back(number_of(c, j[i], path + "[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < j.size(); ++i) v.push_back(number(c, j[i], path + "[" + std::to_string(i) + "]"));
   return v;
 }
 
@@ -80,11 +62,11 @@ const std::map<std::string, PropertySpec>& properties() {
   return p;
 }
 
-ScriptOutput parse_output(const ScriptCtx& c, const std::string& name, const json& o, const std::string& path) {
+ScriptOutput parse_output(const Ctx& c, const std::string& name, const json& o, const std::string& path) {
   if (!lua_identifier(name)) c.fail(path, "an output name must be a Lua identifier (letters, digits, _)");
   if (!o.is_object()) c.fail(path, "expected an object {\"property\": ..., \"node\"|\"material\"|\"animation\": ...}");
   if (!o.contains("property")) c.fail(path + ".property", "missing (time, visible, translation, rotation, morph, color, emissive or text)");
-  const std::string& prop = text_of(c, o["property"], path + ".property");
+  const std::string& prop = string(c, o["property"], path + ".property");
   const auto it = properties().find(prop);
   if (it == properties().end()) {
     c.fail(path + ".property", "unknown property \"" + prop + "\" (expected time, visible, translation, rotation, morph, color, emissive or text)");
@@ -94,11 +76,11 @@ ScriptOutput parse_output(const ScriptCtx& c, const std::string& name, const jso
   out.kind = it->second.kind;
   std::set<std::string> keys{"property", it->second.target_key, "failsafe", "comment"};
   if (!o.contains(it->second.target_key)) c.fail(path + "." + it->second.target_key, "missing (required for property \"" + prop + "\")");
-  out.target = text_of(c, o[it->second.target_key], path + "." + it->second.target_key);
+  out.target = string(c, o[it->second.target_key], path + "." + it->second.target_key);
   if (out.kind == ScriptOutputKind::Morph) {
     keys.insert("target");
     if (o.contains("target")) {
-      const double t = number_of(c, o["target"], path + ".target");
+      const double t = number(c, o["target"], path + ".target");
       if (t < 0 || t > 255 || t != std::floor(t)) c.fail(path + ".target", "expected a morph target index 0..255");
       out.morph_target = static_cast<int>(t);
     }
@@ -106,22 +88,17 @@ ScriptOutput parse_output(const ScriptCtx& c, const std::string& name, const jso
   if (out.kind == ScriptOutputKind::Text) {
     keys.insert({"size_px", "color", "align"});
     if (o.contains("size_px")) {
-      out.size_px = number_of(c, o["size_px"], path + ".size_px");
+      out.size_px = number(c, o["size_px"], path + ".size_px");
       if (out.size_px < 4 || out.size_px > 512) c.fail(path + ".size_px", "expected 4..512 pixels");
     }
     if (o.contains("color")) {
-      const auto v = numbers_of(c, o["color"], path + ".color", 3, 4);
-      for (std::size_t i = 0; i < v.size(); ++i) out.color[i] = v[i];
+      out.color = config_json::colour(c, o["color"], path + ".color");
     }
     if (o.contains("align")) {
-      const std::string& a = text_of(c, o["align"], path + ".align");
-      if (a == "left") out.align = TextAlign{0};
-      else if (a == "center" || a == "centre") out.align = TextAlign{1};
-      else if (a == "right") out.align = TextAlign{2};
-      else c.fail(path + ".align", "expected \"left\", \"center\" or \"right\", got \"" + a + "\"");
+      out.align = config_json::parse_align(c, o["align"], path + ".align");
     }
   }
-  only_keys(c, o, path, keys);
+  check_keys(c, o, path, keys);
   if (o.contains("failsafe")) {
     const json& f = o["failsafe"];
     const std::string fp = path + ".failsafe";
@@ -130,9 +107,9 @@ ScriptOutput parse_output(const ScriptCtx& c, const std::string& name, const jso
       if (!f.is_boolean()) c.fail(fp, "expected true or false (the lamp's look while the script is failed)");
       out.failsafe_visible = f.get<bool>();
     } else if (out.kind == ScriptOutputKind::Text) {
-      out.failsafe_text = text_of(c, f, fp);
+      out.failsafe_text = string(c, f, fp);
     } else if (n == 1) {
-      out.failsafe_numbers = std::vector<double>{number_of(c, f, fp)};
+      out.failsafe_numbers = std::vector<double>{number(c, f, fp)};
     } else {
       auto v = numbers_of(c, f, fp, out.kind == ScriptOutputKind::Color ? 3 : static_cast<std::size_t>(n), static_cast<std::size_t>(n));
       if (v.size() < static_cast<std::size_t>(n)) v.push_back(1.0);  // colour: alpha 1
@@ -142,7 +119,7 @@ ScriptOutput parse_output(const ScriptCtx& c, const std::string& name, const jso
   return out;
 }
 
-std::string read_script_file(const ScriptCtx& c, const std::string& file, const std::string& path) {
+std::string read_script_file(const Ctx& c, const std::string& file, const std::string& path) {
   const std::filesystem::path full = std::filesystem::path(c.origin).parent_path() / file;
   std::ifstream in(full, std::ios::binary);
   if (!in) c.fail(path, "cannot open script file " + full.string());
@@ -153,12 +130,12 @@ std::string read_script_file(const ScriptCtx& c, const std::string& file, const 
   return code;
 }
 
-ScriptLimits parse_limits(const ScriptCtx& c, const json& l, const std::string& path) {
+ScriptLimits parse_limits(const Ctx& c, const json& l, const std::string& path) {
   if (!l.is_object()) c.fail(path, "expected an object");
-  only_keys(c, l, path, {"instructions", "memory_kb", "run_alloc_kb"});
+  check_keys(c, l, path, {"instructions", "memory_kb", "run_alloc_kb"});
   ScriptLimits out;
   auto bounded = [&](const char* key, double lo, double hi) {
-    const double v = number_of(c, l[key], path + "." + key);
+    const double v = number(c, l[key], path + "." + key);
     if (v < lo || v > hi || v != std::floor(v)) {
       c.fail(path + "." + key, "expected an integer " + std::to_string(static_cast<long long>(lo)) + ".." + std::to_string(static_cast<long long>(hi)));
     }
@@ -180,7 +157,7 @@ std::string property_key(const ScriptOutput& o) {
 }  // namespace
 
 std::vector<Script> parse_scripts(json& scripts, const protocol::Catalog& catalog, const std::string& origin, bool* inlined) {
-  const ScriptCtx c{origin};
+  const Ctx c{origin, catalog};
   if (inlined) *inlined = false;
   if (!scripts.is_array()) c.fail("$.scripts", "expected an array of scripts");
   std::vector<Script> out;
@@ -189,21 +166,21 @@ std::vector<Script> parse_scripts(json& scripts, const protocol::Catalog& catalo
     json& s = scripts[i];
     const std::string path = "$.scripts[" + std::to_string(i) + "]";
     if (!s.is_object()) c.fail(path, "expected an object");
-    only_keys(c, s, path, {"name", "code", "file", "inlined_from", "inputs", "outputs", "limits", "comment"});
+    check_keys(c, s, path, {"name", "code", "file", "inlined_from", "inputs", "outputs", "limits", "comment"});
     Script sc;
     if (!s.contains("name")) c.fail(path + ".name", "missing (the script's name in messages and stats)");
-    sc.name = text_of(c, s["name"], path + ".name");
+    sc.name = string(c, s["name"], path + ".name");
     if (!lua_identifier(sc.name)) c.fail(path + ".name", "a script name must be a Lua identifier (letters, digits, _)");
     for (const auto& prior : out)
       if (prior.name == sc.name) c.fail(path + ".name", "a second script named \"" + sc.name + "\"");
     const std::string where = path + " (" + sc.name + ")";
     if (s.contains("code") == s.contains("file")) c.fail(where, "expected exactly one of \"code\" (Lua text) or \"file\" (a .lua file next to the config)");
     if (s.contains("file")) {
-      sc.file = text_of(c, s["file"], path + ".file");
+      sc.file = string(c, s["file"], path + ".file");
       sc.code = read_script_file(c, sc.file, path + ".file");
     } else {
-      sc.code = text_of(c, s["code"], path + ".code");
-      if (s.contains("inlined_from")) sc.file = text_of(c, s["inlined_from"], path + ".inlined_from");
+      sc.code = string(c, s["code"], path + ".code");
+      if (s.contains("inlined_from")) sc.file = string(c, s["inlined_from"], path + ".inlined_from");
     }
     const std::string code_path = s.contains("file") ? path + ".file (" + sc.file + ")" : path + ".code";
     if (const std::string why = lua_syntax_error(sc.code, sc.name); !why.empty()) c.fail(code_path, why);
@@ -213,10 +190,8 @@ std::vector<Script> parse_scripts(json& scripts, const protocol::Catalog& catalo
     for (auto it = s["inputs"].begin(); it != s["inputs"].end(); ++it) {
       const std::string ip = path + ".inputs." + it.key();
       if (!lua_identifier(it.key())) c.fail(ip, "an input name must be a Lua identifier (letters, digits, _)");
-      ScriptInput in{it.key(), text_of(c, it.value(), ip), -1};
-      const auto* info = catalog.find(in.signal);
-      if (!info) c.fail(ip, "\"" + in.signal + "\" is not in the signal catalog " + catalog.source());
-      in.signal_id = info->id;
+      ScriptInput in{it.key(), "", -1};
+      in.signal_id = config_json::catalog_signal(c, it.value(), ip, in.signal);
       sc.inputs.push_back(std::move(in));
     }
     if (!s.contains("outputs") || !s["outputs"].is_object() || s["outputs"].empty()) {

@@ -1,7 +1,7 @@
 #include "meter/preview/values_player.hpp"
 
+#include <algorithm>
 #include <fstream>
-#include <limits>
 #include <sstream>
 
 #include "meter/view/values_input.hpp"
@@ -9,23 +9,11 @@
 
 namespace meter::preview {
 
-ValuesPlayer::ValuesPlayer(std::string text, std::string name) : text_(std::move(text)), name_(std::move(name)) {
-  // Reading to the end checks every row; the latest row time is the file's last state.
-  protocol::SignalTable all;
-  std::istringstream in(text_);
-  view::read_values_csv(in, name_, std::numeric_limits<double>::infinity(), all);
-  std::istringstream lines(text_);
-  std::string line;
-  while (std::getline(lines, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    try {
-      std::size_t used = 0;
-      const double t = std::stod(line, &used);
-      if (used > 0 && line.find(',') == used && t > duration_) duration_ = t;
-    } catch (const std::exception&) {
-      // the header: read_values_csv accepted it above, it holds no time
-    }
-  }
+ValuesPlayer::ValuesPlayer(const std::string& text, std::string name) : name_(std::move(name)) {
+  // Every row is checked and parsed once here; playback only picks rows by time.
+  std::istringstream in(text);
+  rows_ = view::parse_values_csv(in, name_);
+  for (const auto& r : rows_) duration_ = std::max(duration_, r.t);
 }
 
 ValuesPlayer ValuesPlayer::load(const std::string& path) {
@@ -37,8 +25,7 @@ ValuesPlayer ValuesPlayer::load(const std::string& path) {
 }
 
 void ValuesPlayer::state_at(double t, protocol::SignalTable& values) const {
-  std::istringstream in(text_);
-  view::read_values_csv(in, name_, t, values);
+  view::apply_values_at(rows_, t, values);
 }
 
 }  // namespace meter::preview

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -88,10 +89,14 @@ void parse_set(const std::string& arg, protocol::SignalTable& values, const std:
   values.set(a.id, std::move(a.state));
 }
 
-void read_values_csv(std::istream& in, const std::string& name, double t, protocol::SignalTable& values) {
+namespace {
+
+// Calls `row` for every row with time <= t, in file order; rows after `t` are checked for their
+// time only. The first bad row throws.
+template <typename Row>
+void for_each_row(std::istream& in, const std::string& name, double t, Row&& row) {
   std::string line;
   int lineno = 0;
-  std::map<protocol::SignalId, double> row_time;
   while (std::getline(in, line)) {
     ++lineno;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -106,11 +111,39 @@ void read_values_csv(std::istream& in, const std::string& name, double t, protoc
     if (*rt > t) continue;
     const std::string set = f[1] + "=" + f[2] + (f.size() == 4 ? "@" + f[3] : "");
     auto a = parse_assignment(set, where);
-    if (!row_time.count(a.id) || row_time[a.id] <= *rt) {
-      row_time[a.id] = *rt;
-      values.set(a.id, std::move(a.state));
+    row(ValuesRow{*rt, a.id, std::move(a.state)});
+  }
+}
+
+// Per signal, the row with the latest time (of equal times, the later row) wins.
+struct LatestRows {
+  protocol::SignalTable& values;
+  std::map<protocol::SignalId, double> row_time;
+  void operator()(const ValuesRow& r) {
+    if (!row_time.count(r.id) || row_time[r.id] <= r.t) {
+      row_time[r.id] = r.t;
+      values.set(r.id, r.state);
     }
   }
+};
+
+}  // namespace
+
+void read_values_csv(std::istream& in, const std::string& name, double t, protocol::SignalTable& values) {
+  LatestRows latest{values, {}};
+  for_each_row(in, name, t, [&](ValuesRow&& r) { latest(r); });
+}
+
+std::vector<ValuesRow> parse_values_csv(std::istream& in, const std::string& name) {
+  std::vector<ValuesRow> rows;
+  for_each_row(in, name, std::numeric_limits<double>::infinity(), [&](ValuesRow&& r) { rows.push_back(std::move(r)); });
+  return rows;
+}
+
+void apply_values_at(const std::vector<ValuesRow>& rows, double t, protocol::SignalTable& values) {
+  LatestRows latest{values, {}};
+  for (const auto& r : rows)
+    if (r.t <= t) latest(r);
 }
 
 void load_values_csv(const std::string& path, double t, protocol::SignalTable& values) {

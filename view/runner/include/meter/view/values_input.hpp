@@ -6,6 +6,7 @@
 
 #include <istream>
 #include <string>
+#include <vector>
 
 #include "meter/protocol/signal_table.hpp"
 
@@ -20,6 +21,17 @@ void parse_set(const std::string& arg, protocol::SignalTable& values, const std:
 // are allowed); the state at time `t` (seconds) is, per signal, the last row with time <= t.
 // Rows after `t` are not checked beyond their time. The first bad row throws.
 void read_values_csv(std::istream& in, const std::string& name, double t, protocol::SignalTable& values);
+// One row of a values CSV, checked.
+struct ValuesRow {
+  double t = 0.0;
+  protocol::SignalId id{};
+  protocol::SignalState state;
+};
+// Every row of a values CSV, checked, in file order (for a player that moves through the file's
+// times without reading it again). The first bad row throws.
+std::vector<ValuesRow> parse_values_csv(std::istream& in, const std::string& name);
+// The state at time `t` from parsed rows, as read_values_csv gives it from the text.
+void apply_values_at(const std::vector<ValuesRow>& rows, double t, protocol::SignalTable& values);
 // The same from a file; a file that cannot be opened throws.
 void load_values_csv(const std::string& path, double t, protocol::SignalTable& values);
 
