@@ -88,6 +88,7 @@ struct PendingRow {
   bool link_up = false, drawn = false;
   std::vector<engine::BindingState> states;
   std::optional<IntegrityCells> integrity;  // the monitor's cells for this frame, when it runs
+  DumpOverflow overflow = DumpOverflow::Block;  // requested dumps always block
 };
 
 }  // namespace
@@ -103,7 +104,7 @@ void fetch_controller_catalog(const ViewOptions& options, std::ostream& log) {
   }
 }
 
-void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log, FrameCheckStage check) {
+void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
   using Clock = FramePacer::Clock;
   const bool concurrent = concurrent_pipeline(options);
   const DumpOverflow overflow = dump_overflow(options, concurrent);
@@ -166,7 +167,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
         events.complete("encode", "view", encode_began, protocol::monotonic_now_ns(), 2,
                         {{"frame", static_cast<std::int64_t>(n)}});
       },
-      [&](std::uint64_t) { encode_began = protocol::monotonic_now_ns(); }, concurrent ? check : FrameCheckStage{});
+      [&](std::uint64_t) { encode_began = protocol::monotonic_now_ns(); });
   LiveStats stats(png_writer, options.stats ? options.stats_interval_s : 0.0, Clock::now());
   // A stage's wait, metered and (with --trace-json) a slice on the render loop's line.
   auto waited = [&](StageMeter& meter, bool for_output, const char* slice, std::int64_t began_ns) {
@@ -215,20 +216,16 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
   // Concurrent: frames read back through pixel-pack buffers (collected when their fence has
   // signalled) go into the writer's bounded buffer; with drop, a full buffer drops the frame.
   PixelPackReadback readback(ctx.backend->gl(), ctx.renderer.width(), ctx.renderer.height(), 2, concurrent);
-  std::map<std::uint64_t, PendingRow> rows;
-  std::map<std::uint64_t, DumpOverflow> frame_overflow;  // requested dumps always block
+  std::map<std::uint64_t, PendingRow> rows;  // frames read back, waiting for their fence
   auto hand_on = [&](ReadbackFrame&& f) {
     const std::uint64_t n = f.info.frame;
-    const bool dumped = !f.info.png.empty();
-    const DumpOverflow how = dumped ? frame_overflow[n] : DumpOverflow::Drop;
-    frame_overflow.erase(n);
+    const PendingRow r = std::move(rows.at(n));
+    rows.erase(n);
     const std::int64_t began = protocol::monotonic_now_ns();
     const std::string name = f.info.png.filename().string();
-    if (png_writer.offer(std::move(f), true, how, service_link) && dumped) {
-      const PendingRow& r = rows[n];
+    if (png_writer.offer(std::move(f), true, r.overflow, service_link)) {
       csv.row(n, r.t, name, r.link_up, r.drawn, r.states, r.integrity ? &*r.integrity : nullptr);
     }
-    rows.erase(n);
     // Always inside the readback stage's busy span (collect or issue): the wait is moved out of it.
     const std::int64_t end = protocol::monotonic_now_ns();
     stats.readback.busy_was_output_wait(end - began);
@@ -273,14 +270,13 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
       ctx.evaluator.update(sub.signals(), sub.link_up(), ft.dt);  // read in place, no copy
       log_script_messages(ctx.evaluator, log);
       ctx.renderer.apply(ctx.evaluator.outputs());
-      const bool every = options.dump_every > 0 && frame % static_cast<std::uint64_t>(options.dump_every) == 0;
-      want = policy.decide(frame, ft.t, take_dump_request());
-      if (want && !every) how = DumpOverflow::Block;  // --dump-at, SIGUSR1: asked for, never dropped
+      const DumpChoice choice = policy.decide(frame, ft.t, take_dump_request());
+      want = choice.write;
+      if (choice.asked) how = DumpOverflow::Block;  // --dump-at, SIGUSR1: asked for, never dropped
     }
-    const std::int64_t render_began = protocol::monotonic_now_ns();
     integrity.before_frame(frame);
+    const std::int64_t render_began = protocol::monotonic_now_ns();
     const auto timing = ctx.renderer.render(false, want && !concurrent);
-    integrity.after_frame(frame, health, Clock::now());
     const std::int64_t t_rendered = LatencyTrace::now();
     const std::int64_t render_ended = protocol::monotonic_now_ns();
     // Sequential: render() read the frame back itself; its glFinish + resolve + read time counts as
@@ -296,17 +292,17 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log,
     ctx.timing.row(frame, ft.t, timing);
     trace.frame(frame, t_update, t_rendered);
     trace_frame_events(events, frame, evaluate_began, render_began, render_ended, timing);
-    const bool for_check = concurrent && check.check && check.every_drawn_frame && timing.drawn;
-    if (concurrent && (want || for_check)) {
+    // The frame is read back (or, concurrent, its read issued) before the integrity monitor runs:
+    // the PNG is the frame as drawn and checked, not the safe-path repaint the monitor may add.
+    if (concurrent && want) {
       BusyScope busy(stats.readback);
-      FrameInfo info{frame, ft.t, timing.drawn, want ? ctx.out_dir / png_name(frame) : std::filesystem::path{},
-                     render_ended};
-      if (want) {
-        rows[frame] = PendingRow{ft.t, sub.link_up(), timing.drawn, ctx.evaluator.states(),
-                                 integrity.cells() ? std::optional<IntegrityCells>(*integrity.cells()) : std::nullopt};
-        frame_overflow[frame] = how;
-      }
-      readback.issue(ctx.renderer.resolved_framebuffer(), std::move(info), hand_on);
+      rows[frame] = PendingRow{ft.t, sub.link_up(), timing.drawn, ctx.evaluator.states(), std::nullopt, how};
+      readback.issue(ctx.renderer.resolved_framebuffer(), FrameInfo{frame, ft.t, timing.drawn, ctx.out_dir / png_name(frame)},
+                     hand_on);
+    }
+    integrity.after_frame(frame, health, Clock::now());
+    if (concurrent && want) {
+      if (auto it = rows.find(frame); it != rows.end() && integrity.cells()) it->second.integrity = *integrity.cells();
     } else if (want) {
       stats.readback.item();
       dump(frame, ft.t, timing.drawn);

@@ -107,7 +107,7 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     }
     ctx.evaluator.update(table, true, k == 0 ? -1.0 : dt);
     ctx.renderer.apply(ctx.evaluator.outputs());
-    const bool want = policy.decide(k, t, false);
+    const bool want = policy.decide(k, t, false).write;
     const auto timing = ctx.renderer.render(false, want);
     ctx.timing.row(k, t, timing);
     if (want) dump(k, t, timing.drawn);

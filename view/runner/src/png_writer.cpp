@@ -4,10 +4,9 @@
 
 namespace meter::view {
 
-PngWriter::PngWriter(OnWritten on_written, OnStarted on_started, FrameCheckStage check)
+PngWriter::PngWriter(OnWritten on_written, OnStarted on_started)
     : on_written_(std::move(on_written)),
       on_started_(std::move(on_started)),
-      check_(std::move(check)),
       thread_([this] { run(); }) {}
 
 PngWriter::~PngWriter() { finish(); }
@@ -74,7 +73,6 @@ void PngWriter::handle(Job& job) {
   {
     BusyScope busy(check_meter_);
     if (job.bottom_up) flip_rows(job.frame.image);
-    if (check_.check) check_.check(job.frame.image, info);
   }
   if (info.png.empty()) return;
   BusyScope busy(encode_meter_);

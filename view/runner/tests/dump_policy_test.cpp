@@ -14,7 +14,7 @@ std::vector<std::uint64_t> dumped(DumpPolicy policy, int frames, double fps, std
   std::vector<std::uint64_t> out;
   for (std::uint64_t f = 0; f < static_cast<std::uint64_t>(frames); ++f) {
     const bool requested = std::find(requests.begin(), requests.end(), f) != requests.end();
-    if (policy.decide(f, static_cast<double>(f) / fps, requested)) out.push_back(f);
+    if (policy.decide(f, static_cast<double>(f) / fps, requested).write) out.push_back(f);
   }
   return out;
 }
@@ -39,8 +39,8 @@ TEST(DumpPolicy, TimesInOneFrameGapShareOneDump) {
 
 TEST(DumpPolicy, TimesAlreadyPastAtTheFirstFrameAreServedByIt) {
   DumpPolicy p(0, {0.0, 0.1}, false);
-  EXPECT_TRUE(p.decide(0, 0.3, false));
-  EXPECT_FALSE(p.decide(1, 0.4, false)) << "used up";
+  EXPECT_TRUE(p.decide(0, 0.3, false).write);
+  EXPECT_FALSE(p.decide(1, 0.4, false).write) << "used up";
 }
 
 TEST(DumpPolicy, TimesAfterTheLastFrameAreNeverServed) {

@@ -9,6 +9,13 @@
 
 namespace meter::view {
 
+// Whether a frame is written, and whether anything beyond --dump-every asked for it (a --dump-at
+// time or a request): such a dump is never dropped by a busy writer.
+struct DumpChoice {
+  bool write = false;
+  bool asked = false;
+};
+
 class DumpPolicy {
  public:
   // every: 0 = none; at_times: seconds, any order; dump_last: write the final frame on exit.
@@ -17,7 +24,7 @@ class DumpPolicy {
   // Frame `frame` (0-based) begins at `t` seconds; `requested`: a dump was asked for since the
   // previous frame. Times that fell due since the previous frame are used up: one dump covers
   // them all.
-  bool decide(std::uint64_t frame, double t, bool requested);
+  DumpChoice decide(std::uint64_t frame, double t, bool requested);
   // After `frames_rendered` frames, whether the final one is written again on exit.
   bool dump_on_exit(std::uint64_t frames_rendered) const { return dump_last_ && frames_rendered > 0; }
 

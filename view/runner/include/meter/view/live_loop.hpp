@@ -5,7 +5,6 @@
 
 #include <ostream>
 
-#include "meter/view/frame_check.hpp"
 #include "meter/view/render_context.hpp"
 #include "meter/view/view_options.hpp"
 
@@ -18,8 +17,6 @@ namespace meter::view {
 // live loop connects again (same hash: no transfer). Loading a scene can take longer than the
 // link timeout, so the first connection is not kept idle through it.
 void fetch_controller_catalog(const ViewOptions& options, std::ostream& log);
-// `check`: the per-frame check stage between readback and encode (frame_check.hpp; concurrent
-// pipeline only).
-void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log, FrameCheckStage check = {});
+void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log);
 
 }  // namespace meter::view

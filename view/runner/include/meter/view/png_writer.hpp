@@ -6,9 +6,9 @@
 // queue full waits (every dumped frame is written), servicing whatever `while_full` does meanwhile,
 // or, offered a frame with DumpOverflow::Drop, the frame is not queued and counted as dropped (a
 // slow encoder then never holds the render loop back).
-// The writer thread is the live pipeline's output stage: each frame goes through the check stage
-// (rows put top-down, then the FrameCheckStage hook: frame_check.hpp) and then, if it has a file,
-// PNG encode and write. Both stages' busy and input-wait times are kept for --stats.
+// The writer thread is the live pipeline's output stage: each frame's rows are put top-down (the
+// "check" stage of --stats, where a check of the read-back pixels would sit) and then PNG encode
+// and write. Both stages' busy and input-wait times are kept for --stats.
 // A file that cannot be written is counted and its error kept; the writer goes on with the next
 // (a debugging dump must not stop the cluster): failures() tells the live loop, check() the exit.
 #pragma once
@@ -40,7 +40,7 @@ class PngWriter {
   // Called on the writer thread just before a file is encoded (the trace's encode slice begins).
   using OnStarted = std::function<void(std::uint64_t frame)>;
 
-  explicit PngWriter(OnWritten on_written = {}, OnStarted on_started = {}, FrameCheckStage check = {});
+  explicit PngWriter(OnWritten on_written = {}, OnStarted on_started = {});
   ~PngWriter();  // finish(), without throwing
   PngWriter(const PngWriter&) = delete;
   PngWriter& operator=(const PngWriter&) = delete;
@@ -74,7 +74,6 @@ class PngWriter {
 
   OnWritten on_written_;
   OnStarted on_started_;
-  FrameCheckStage check_;
   StageMeter check_meter_{"check", kLane};
   StageMeter encode_meter_{"encode", kLane};
   BoundedQueue<Job> queue_{kMaxPending};
