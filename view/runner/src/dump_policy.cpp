@@ -1,6 +1,10 @@
 #include "meter/view/dump_policy.hpp"
 
 #include <algorithm>
+#include <cstdio>
+
+#include "meter/view/option_units.hpp"
+#include "meter/view/view_options.hpp"
 
 namespace meter::view {
 
@@ -15,6 +19,18 @@ DumpChoice DumpPolicy::decide(std::uint64_t frame, double t, bool requested) {
   for (; next_at_ < at_.size() && at_[next_at_] <= t; ++next_at_) c.asked = true;
   c.write = c.asked || (every_ > 0 && frame % static_cast<std::uint64_t>(every_) == 0);
   return c;
+}
+
+DumpPolicy dump_policy(const ViewOptions& options) {
+  std::vector<double> at;
+  for (const auto& text : options.dump_at) at.push_back(parse_time(text, "--dump-at"));
+  return DumpPolicy(options.dump_every, std::move(at), options.dump_last);
+}
+
+std::string png_name(std::uint64_t frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(frame));
+  return name;
 }
 
 }  // namespace meter::view

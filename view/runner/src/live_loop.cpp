@@ -1,6 +1,5 @@
 #include "meter/view/live_loop.hpp"
 
-#include <cstdio>
 #include <map>
 #include <optional>
 
@@ -14,7 +13,6 @@
 #include "meter/view/integrity_stage.hpp"
 #include "meter/view/latency_trace.hpp"
 #include "meter/view/live_stats.hpp"
-#include "meter/view/option_units.hpp"
 #include "meter/view/pixel_pack_readback.hpp"
 #include "meter/view/png_writer.hpp"
 #include "meter/view/process_signals.hpp"
@@ -25,18 +23,6 @@
 
 namespace meter::view {
 namespace {
-
-DumpPolicy dump_policy(const ViewOptions& options) {
-  std::vector<double> at;
-  for (const auto& text : options.dump_at) at.push_back(parse_time(text, "--dump-at"));
-  return DumpPolicy(options.dump_every, std::move(at), options.dump_last);
-}
-
-std::string png_name(std::uint64_t frame) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(frame));
-  return name;
-}
 
 bool takes_controller_catalog(const ViewOptions& options) {
   return options.catalog.empty() || options.catalog_from_controller;

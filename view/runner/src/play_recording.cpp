@@ -1,7 +1,6 @@
 #include "meter/view/play_recording.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <thread>
 
@@ -9,7 +8,6 @@
 #include "meter/protocol/signal_table.hpp"
 #include "meter/view/dump_policy.hpp"
 #include "meter/view/frames_csv.hpp"
-#include "meter/view/option_units.hpp"
 #include "meter/view/png_writer.hpp"
 #include "meter/view/view_error.hpp"
 
@@ -34,12 +32,6 @@ std::vector<protocol::RecordedFrame> read_recording(const std::string& file) {
   }
   in.seekg(0);
   return protocol::parse_recording(in, file);
-}
-
-std::string frame_png_name(std::uint64_t frame) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%06llu.png", static_cast<unsigned long long>(frame));
-  return name;
 }
 
 }  // namespace
@@ -72,14 +64,12 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   const auto frames = read_recording(options.play);
   const PlaySpan span = play_span(frames, options.play);
   const auto times = play_frame_times(options.fps, options.duration_s > 0 ? options.duration_s : span.span_s);
-  std::vector<double> at;
-  for (const auto& text : options.dump_at) at.push_back(parse_time(text, "--dump-at"));
-  DumpPolicy policy(options.dump_every, std::move(at), options.dump_last);
+  DumpPolicy policy = dump_policy(options);
   protocol::SignalTable table;
   FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
   PngWriter png_writer;
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
-    const std::string name = frame_png_name(n);
+    const std::string name = png_name(n);
     csv.row(n, t, name, true, drawn, ctx.evaluator.states());
     png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n,
                      [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); });

@@ -1,13 +1,16 @@
 // Which live frames are written as PNG (with their frames.csv row): every Nth frame
 // (--dump-every), the first frame at or after each given time on the view's clock (--dump-at),
-// the next frame after a request (SIGUSR1), and the final frame on exit (--dump-last). Pure.
+// the next frame after a request (SIGUSR1), and the final frame on exit (--dump-last). Pure, but for reading the options.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace meter::view {
+
+struct ViewOptions;
 
 // Whether a frame is written, and whether anything beyond --dump-every asked for it (a --dump-at
 // time or a request): such a dump is never dropped by a busy writer.
@@ -34,5 +37,10 @@ class DumpPolicy {
   std::size_t next_at_ = 0;
   bool dump_last_;
 };
+
+// The policy of --dump-every, --dump-at (parsed times) and --dump-last.
+DumpPolicy dump_policy(const ViewOptions& options);
+// The PNG file name of a dumped frame: frame_000123.png.
+std::string png_name(std::uint64_t frame);
 
 }  // namespace meter::view
