@@ -26,10 +26,7 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
   if (!b.is_object()) c.fail(path, "expected an object");
   Binding out;
   if (!b.contains("signal")) c.fail(path + ".signal", "missing (a catalog signal name)");
-  out.signal = string(c, b["signal"], path + ".signal");
-  const auto* info = c.catalog.find(out.signal);
-  if (!info) c.fail(path + ".signal", "\"" + out.signal + "\" is not in the signal catalog " + c.catalog.source());
-  out.signal_id = info->id;
+  out.signal_id = catalog_signal(c, b["signal"], path + ".signal", out.signal);
   if (!b.contains("kind")) c.fail(path + ".kind", "missing");
   std::string kind = string(c, b["kind"], path + ".kind");
   auto need = [&](const char* key) -> const json& {

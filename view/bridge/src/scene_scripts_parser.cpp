@@ -38,16 +38,6 @@ bool lua_identifier(const std::string& s) {
   return true;
 }
 
-// Numbers at `path`: an array of lo..hi of them (failsafe values, whose count depends on the output).
-std::vector<double> numbers_of(const Ctx& c, const json& j, const std::string& path, std::size_t lo, std::size_t hi) {
-  if (!j.is_array() || j.size() < lo || j.size() > hi) {
-    c.fail(path, "expected an array of " + (lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi)) + " numbers");
-  }
-  std::vector<double> v;
-  for (std::size_t i = 0; i < j.size(); ++i) v.push_back(number(c, j[i], path + "[" + std::to_string(i) + "]"));
-  return v;
-}
-
 struct PropertySpec {
   ScriptOutputKind kind;
   const char* target_key;  // "node", "material" or "animation"
@@ -110,10 +100,12 @@ ScriptOutput parse_output(const Ctx& c, const std::string& name, const json& o, 
       out.failsafe_text = string(c, f, fp);
     } else if (n == 1) {
       out.failsafe_numbers = std::vector<double>{number(c, f, fp)};
+    } else if (out.kind == ScriptOutputKind::Color) {
+      const auto v = config_json::colour(c, f, fp);  // rgb or rgba (alpha 1), components >= 0
+      out.failsafe_numbers = std::vector<double>(v.begin(), v.end());
     } else {
-      auto v = numbers_of(c, f, fp, out.kind == ScriptOutputKind::Color ? 3 : static_cast<std::size_t>(n), static_cast<std::size_t>(n));
-      if (v.size() < static_cast<std::size_t>(n)) v.push_back(1.0);  // colour: alpha 1
-      out.failsafe_numbers = std::move(v);
+      const auto v = config_json::numbers<3>(c, f, fp);
+      out.failsafe_numbers = std::vector<double>(v.begin(), v.end());
     }
   }
   return out;

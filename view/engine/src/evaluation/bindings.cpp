@@ -181,7 +181,7 @@ bool BindingEvaluator::update(const protocol::SignalTable& signals, bool link_up
       }
     }
   }
-  features_.apply(next, bindings_);
+  features_.apply(next);
   animating_ = animating_ || features_.active();
   // Scripts after the bindings (their outputs win), before the link-loss text (which nothing hides).
   if (scripts_) scripts_->update(signals, link_up, next);

@@ -85,9 +85,15 @@ SceneFeatures::SceneFeatures(const Scene& scene) : scene_(scene), config_(scene.
       sweep_animations_.push_back(i);
     }
     sweep_.emplace(*config_.sweep);
+    // The animation bindings whose needles sweep, resolved once: apply() runs every frame.
+    for (const auto& b : scene.config.bindings) {
+      if (b.kind != BindingKind::Animation) continue;
+      const int a = scene.find_animation(b.animation);
+      if (a >= 0 && sweeps(a)) swept_.push_back({a, b.time[0], b.time[1]});
+    }
   }
   state_.exposure_stops = scene.config.exposure;
-  if (pages_) state_.page = state_.previous_page = pages_->current();
+  if (pages_) state_.page = pages_->current();
 }
 
 FeatureInputs SceneFeatures::read_inputs(const protocol::SignalTable& signals, bool link_up) const {
@@ -122,7 +128,6 @@ void SceneFeatures::update(const FeatureInputs& in, double dt) {
   if (pages_) {
     pages_->update(in.page, dt);
     state_.page = pages_->current();
-    state_.previous_page = pages_->previous();
     state_.page_transition = pages_->transition();
   }
   if (config_.theme) {
@@ -151,7 +156,7 @@ bool SceneFeatures::sweeps(int animation) const {
   return false;
 }
 
-void SceneFeatures::apply(BindingOutputs& out, const std::vector<Binding>& bindings) const {
+void SceneFeatures::apply(BindingOutputs& out) const {
   if (pages_) {
     for (std::size_t k = 0; k < page_nodes_.size(); ++k) {
       out.node_visible[static_cast<std::size_t>(page_nodes_[k])] = pages_->shown(static_cast<int>(k)) ? 1 : 0;
@@ -191,11 +196,8 @@ void SceneFeatures::apply(BindingOutputs& out, const std::vector<Binding>& bindi
     show(out, fahrenheit_nodes_, state_.units.fahrenheit);
   }
   if (state_.sweep) {
-    for (const auto& b : bindings) {
-      if (b.kind != BindingKind::Animation) continue;
-      const int a = scene_.find_animation(b.animation);
-      if (a >= 0 && sweeps(a)) out.animation_time[static_cast<std::size_t>(a)] = b.time[0] + *state_.sweep * (b.time[1] - b.time[0]);
-    }
+    for (const auto& s : swept_)
+      out.animation_time[static_cast<std::size_t>(s.animation)] = s.time0 + *state_.sweep * (s.time1 - s.time0);
   }
 }
 

@@ -109,7 +109,7 @@ struct FeatureOverrides {
 };
 
 struct FeatureState {
-  int page = 0, previous_page = 0;
+  int page = 0;
   std::optional<double> page_transition;  // progress of a running page transition
   double theme_progress = 0.0, theme_mix = 0.0;  // mix = theme_curve(progress)
   double exposure_stops = 0.0;             // the config's exposure + brightness
@@ -127,8 +127,7 @@ class SceneFeatures {
   // to the state itself).
   void update(const FeatureInputs& inputs, double dt);
   // Writes pages, theme, exposure, unit nodes and the sweep into `out` (after the bindings).
-  // `bindings` are the evaluator's (animation bindings named by the sweep).
-  void apply(BindingOutputs& out, const std::vector<Binding>& bindings) const;
+  void apply(BindingOutputs& out) const;
   // Looks the feature signals up again by name (the view took its controller's catalog).
   std::vector<std::string> rebind(const protocol::Catalog& catalog);
 
@@ -150,6 +149,11 @@ class SceneFeatures {
   std::vector<int> swatch_nodes_;
   std::vector<int> metric_nodes_, imperial_nodes_, celsius_nodes_, fahrenheit_nodes_;
   std::vector<int> sweep_animations_;
+  struct SweptBinding {
+    int animation;
+    double time0, time1;  // the binding's animation time range
+  };
+  std::vector<SweptBinding> swept_;
   std::optional<SweepTimeline> sweep_;
   FeatureState state_;
 };
