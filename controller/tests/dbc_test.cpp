@@ -96,6 +96,19 @@ TEST(Dbc, ShortFrameAndRangeFlags) {
   EXPECT_EQ(out[0].status, DecodeStatus::OutOfRange);
 }
 
+// A signal whose bytes are missing is decoded from zero padding; with a huge factor that product
+// can overflow, and the padded value must not leak out as inf beside its ShortFrame status (found by
+// the dbc fuzz target).
+TEST(Dbc, FuzzShortFrameOfAHugeFactorSignalStaysFinite) {
+  Database db = parse_dbc("BO_ 1 M: 8 X\n SG_ Big : 0|64@1+ (1e300,0) [0|0] \"\" X\n", "huge.dbc");
+  std::vector<DecodedSignal> out;
+  std::uint8_t p[4] = {0xFF, 0xFF, 0xFF, 0xFF};  // 4 of the 8 bytes: the raw is 2^32 - 1, physical 4.3e309
+  decode(db.messages[0], p, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].status, DecodeStatus::ShortFrame);
+  EXPECT_TRUE(std::isfinite(out[0].physical)) << out[0].physical;
+}
+
 TEST(Dbc, EncodeDecodeRoundTripRandomLayouts) {
   // Every layout (order, sign, start, length) round-trips raw bits, and neighbours stay untouched.
   std::mt19937_64 rng(42);
@@ -175,6 +188,10 @@ TEST(Dbc, ProblemsNameFileLineAndExpectation) {
   expect_problem("BO_ 1 M: 8 X\nCM_ BO_ 1 \"never closed;\n", 2, "unterminated string");
   expect_problem("BO_ x M: 8 X\n", 1, "message id");
   expect_problem("BA_DEF_ BO_ \"X\" INT 0 1\n", 1, "has no ';'");
+  // A number past the largest double (found by the dbc fuzz target as a factor of 0.39e308686...)
+  // would scale every value to inf or NaN.
+  expect_problem("BO_ 1 M: 8 X\n SG_ S : 0|8@1+ (0.39e308686, 0) [0|0] \"\" X\n", 2, "too large for a double");
+  expect_problem("BO_ 1 M: 8 X\n SG_ S : 0|8@1+ (1, -2e308) [0|0] \"\" X\n", 2, "too large for a double");
   EXPECT_THROW(load_dbc("/nonexistent/file.dbc"), DbcError);
 }
 

@@ -158,6 +158,7 @@ std::size_t decode(const DbcMessage& m, std::span<const std::uint8_t> payload, s
     d.physical = raw_to_physical(s, d.raw);
     if (s.bytes_needed() > n) {
       d.status = DecodeStatus::ShortFrame;
+      if (!std::isfinite(d.physical)) d.physical = 0.0;  // the zero padding times a huge factor
     } else if (!std::isfinite(d.physical)) {
       d.status = DecodeStatus::NotFinite;
       d.physical = 0.0;

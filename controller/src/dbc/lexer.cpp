@@ -2,6 +2,7 @@
 #include "lexer.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 
 namespace meter::controller::dbc_parse {
@@ -97,6 +98,9 @@ double DbcLexer::number(const char* what) {
   double v = std::strtod(t.c_str(), &end);
   if (end != t.c_str() + t.size())
     error(std::string("expected a number for ") + what + " but found '" + t + "'");
+  // strtod gives +-HUGE_VAL (inf) past the largest double; an inf factor, offset or limit would turn
+  // every decoded value into inf or NaN. Underflow (a tiny value read as 0 or subnormal) is kept.
+  if (!std::isfinite(v)) error(std::string("number for ") + what + " is too large for a double: '" + t + "'");
   return v;
 }
 

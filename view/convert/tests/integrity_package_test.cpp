@@ -83,3 +83,16 @@ TEST(IntegrityPackage, BadCrossReferencesAreNamedOnLoad) {
   s.integrity.width = 0;
   EXPECT_NE(load_error(s).find("integrity table without a frame size"), std::string::npos) << load_error(s);
 }
+
+// A rect whose far edge lies past INT_MAX must be refused, not wrap to a negative edge that then
+// passes the frame check (found by the package fuzz target).
+TEST(IntegrityPackage, FuzzRectWhoseFarEdgeOverflowsIsRefused) {
+  Scene s = dial_with_table();
+  s.integrity.regions[2].rect = {2147483000, 20, 1000, 24};
+  EXPECT_NE(load_error(s).find("region Text_Speed: rect outside the integrity table's frame"), std::string::npos)
+      << load_error(s);
+  s = dial_with_table();
+  s.integrity.regions[2].rect = {140, 2147483000, 40, 1000};
+  EXPECT_NE(load_error(s).find("region Text_Speed: rect outside the integrity table's frame"), std::string::npos)
+      << load_error(s);
+}

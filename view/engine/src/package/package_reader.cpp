@@ -5,6 +5,7 @@
 #include "meter/engine/merged_draws.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -182,8 +183,9 @@ bridge::IntegrityTable read_integrity(Reader& r) {
     g.node = r.str("region.node");
     for (std::uint32_t m = r.count("region.materials", 4), k = 0; k < m; ++k) g.materials.push_back(r.str("region.material"));
     g.rect = {r.i32("region.rect"), r.i32("region.rect"), r.i32("region.rect"), r.i32("region.rect")};
-    if (g.rect.empty() || g.rect.x < 0 || g.rect.y < 0 || g.rect.x + g.rect.width > t.width ||
-        g.rect.y + g.rect.height > t.height) {
+    // The far edges in 64 bits: a stored x near INT_MAX plus a width would overflow an int.
+    if (g.rect.empty() || g.rect.x < 0 || g.rect.y < 0 ||
+        std::int64_t{g.rect.x} + g.rect.width > t.width || std::int64_t{g.rect.y} + g.rect.height > t.height) {
       r.fail("region " + g.name + ": rect outside the integrity table's frame");
     }
     g.telltale.mask = r.vec<std::uint8_t>("telltale.mask");

@@ -27,7 +27,7 @@ std::string_view to_string(DecodeStatus status);
 struct DecodedSignal {
   int signal = -1;  // index into DbcMessage::signals
   std::uint64_t raw = 0;     // raw bits as unsigned (two's complement for signed)
-  double physical = 0.0;     // 0 when status is NotFinite
+  double physical = 0.0;     // 0 when status is NotFinite, or ShortFrame and not finite
   DecodeStatus status = DecodeStatus::Valid;
   std::int64_t raw_signed() const { return static_cast<std::int64_t>(raw); }
 };
