@@ -107,7 +107,7 @@ def run(drive, out, bin_dir, source_dir, attempt=1, extra=None):
         if ok:
             values = {"run": out, "package": drive["scene"], "frames": os.path.join(out, "frames"),
                       "recording": rec, "bin": bin_dir}
-            rows = checks.read_frames_csv(os.path.join(out, "frames", "frames.csv"))
+            rows = checks.read_csv_rows(os.path.join(out, "frames", "frames.csv"))
             period = max(drive["dump_every"], 1) / drive["fps"]
             for g in drive["golden"]:
                 s = time.monotonic()

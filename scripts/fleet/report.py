@@ -4,12 +4,11 @@ against what the frames drew, frame latency, faults). Static files with relative
 SVG plots: opens from disk, no server. The one script reports a file the page cannot load (a
 thumbnail, a frame) as a console error and on the page's root element (data-load-errors), so a
 broken link is seen in a browser, not only by a link check."""
-import csv
 import html
 import os
 import re
 
-from . import results
+from . import checks, results
 
 STYLE = """body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222}
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:.3em .6em;text-align:left;vertical-align:top}
@@ -79,11 +78,7 @@ def write(run_dir, summary, drives):
 
 
 def _read_csv(path):
-    try:
-        with open(path, newline="") as f:
-            return list(csv.DictReader(f))
-    except OSError:
-        return []
+    return checks.read_csv_rows(path, missing_ok=True)
 
 
 _UPDATE = re.compile(r'(\S+?)=(-?[0-9][^:\s]*|-?inf|nan):([a-z-]+)')
@@ -154,8 +149,7 @@ def svg_plot(title, lines, points, marks, width=640, height=180, unit=""):
     return "".join(out)
 
 
-def _signal_plots(d, r):
-    rows = _read_csv(os.path.join(d, "frames", "frames.csv"))
+def _signal_plots(d, r, rows):
     if not rows:
         return "<p>No frames.csv (nothing dumped).</p>"
     pub = published(os.path.join(d, "link.rec"))
@@ -187,14 +181,14 @@ def _latency(d):
             + svg_plot("render ms per frame", [], [("frame", "#555", pts)], [], unit=" ms"))
 
 
-def _sheet(d, r):
+def _sheet(d, r, frames):
     out = []
     sheet, video = os.path.join(d, "frames", "contact-sheet.png"), os.path.join(d, "frames", "replay.mp4")
     if os.path.isfile(sheet):
         out.append(f"<p><a href=\"frames/contact-sheet.png\"><img src=\"frames/contact-sheet.png\" alt=\"contact sheet\" style=\"max-width:100%\"></a></p>")
     if os.path.isfile(video):
         out.append("<p><video controls preload=\"none\" src=\"frames/replay.mp4\" width=\"640\"></video> <a href=\"frames/replay.mp4\">replay.mp4</a></p>")
-    times = {x["png"]: x["time_s"] for x in _read_csv(os.path.join(d, "frames", "frames.csv"))}
+    times = {x["png"]: x["time_s"] for x in frames}
     if out:  # make-video's sheet and video (video = true in the manifest) stand for the frames
         return "\n".join(out)
     figs = [f"<figure><a href=\"frames/{E(p)}\"><img src=\"frames/{E(p)}\" alt=\"{E(p)}\"></a><figcaption>{E(p)} · t = {float(times.get(p, 'nan')):.2f} s</figcaption></figure>"
@@ -206,6 +200,7 @@ def _sheet(d, r):
 
 def drive_page(run_dir, d, r):
     v = r["verdict"]
+    frames = _read_csv(os.path.join(d, "frames", "frames.csv"))  # read once: the sheet and the plots
     reasons = "".join(f"<li class=\"bad\">{E(x)}</li>" for x in r.get("reasons", []))
     stages = "".join(f"<tr><td>{E(s['name'])}</td><td>{s['exit']}</td><td>{s['wall_s']:.2f}</td><td>{s['cpu_s']:.2f}</td>"
                      f"<td><a href=\"{E(_rel(s['log'], d))}\">{E(os.path.basename(s['log']))}</a></td></tr>"
@@ -221,9 +216,9 @@ def drive_page(run_dir, d, r):
             + f"<p>{r.get('wall_s', 0):.2f} s wall, {r.get('cpu_s', 0):.2f} CPU-s on {E(str(r.get('host', '?')))}, attempt {r.get('attempt', '?')}. {files}</p>"
             + f"<h2>Stages</h2><table><tr><th>stage</th><th>exit</th><th>wall s</th><th>CPU s</th><th>log</th></tr>{stages}</table>"
             + f"<h2>Checks</h2><table><tr><th>kind</th><th>result</th><th>what</th></tr>{checks}</table>"
-            + f"<h2>Frames</h2>{_sheet(d, r)}"
+            + f"<h2>Frames</h2>{_sheet(d, r, frames)}"
             + f"<h2>Signals: published vs drawn</h2><p>Blue: the value the controller published (the recording); orange: "
-              f"the value each dumped frame drew (frames.csv); bars: the expectations (green held, red failed).</p>{_signal_plots(d, r)}"
+              f"the value each dumped frame drew (frames.csv); bars: the expectations (green held, red failed).</p>{_signal_plots(d, r, frames)}"
             + f"<h2>Latency</h2>{_latency(d)}"
             + f"<h2>Faults</h2><ul>{faults}</ul><p>controller: {E(r.get('controller_summary', ''))}</p>"
               f"<p>view: {E(r.get('view_summary', ''))}</p>")
