@@ -139,7 +139,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
       // base is unfolded too and only the ladder setting differs between rows.
       base = convert(s, false);
       state = reference_state(base, s.name == "cluster");
-      if (!s.reference.empty()) ref = read_reference(s.reference, out);
+      if (!s.reference.empty()) ref = platform::read_png(s.reference);
       engine::RendererOptions big;
       big.width = base.config.size[0] * 2, big.height = base.config.size[1] * 2, big.msaa = 4;
       ss = downsample2(render_once(*backend, base, state, big));

@@ -34,19 +34,8 @@ std::vector<SceneSpec> all_scenes() {
   }
   const fs::path c = kRoot / "scenes/cluster";
   s.push_back({"cluster", (c / "cluster.glb").string(), (c / "cluster.scene.json").string(),
-               fs::exists(c / "preview-blender.png") ? (c / "preview-blender.png").string()
-               : fs::exists(c / "preview-blender.jpg") ? (c / "preview-blender.jpg").string() : "",
-               -1.0, ""});
+               (c / "preview-blender.png").string(), -1.0, ""});
   return s;
-}
-
-// The platform reads PNG only; the cluster's Blender preview is a JPEG: ImageMagick converts it.
-platform::Image read_reference(const std::string& file, const fs::path& tmp_dir) {
-  if (fs::path(file).extension() == ".png") return platform::read_png(file);
-  const fs::path png = tmp_dir / (fs::path(file).stem().string() + ".ref.png");
-  const std::string cmd = "convert '" + file + "' -depth 8 'PNG32:" + png.string() + "'";
-  if (std::system(cmd.c_str()) != 0) throw std::runtime_error(file + ": ImageMagick 'convert' failed (package imagemagick)");
-  return platform::read_png(png);
 }
 
 // The state each reference shows. Feature scenes: no signals (animations at config.time).

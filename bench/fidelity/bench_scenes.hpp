@@ -30,8 +30,6 @@ struct SceneSpec {
 
 // The twelve feature scenes (with the paper's Table 1 value) and the cluster.
 std::vector<SceneSpec> all_scenes();
-// The platform reads PNG only; the cluster's Blender preview is a JPEG: ImageMagick converts it.
-platform::Image read_reference(const std::string& file, const fs::path& tmp_dir);
 // The state each reference shows. Feature scenes: no signals (animations at config.time).
 // Cluster: Blender's preview is frame 100, every telltale lit, no text (text is the engine's).
 engine::BindingOutputs reference_state(const engine::Scene& scene, bool cluster);

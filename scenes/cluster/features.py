@@ -103,10 +103,12 @@ def feature_bindings():
         {"signal": "Vehicle.Powertrain.FuelSystem.RelativeLevel", "kind": "text", "node": "Text_TripFuel",
          "format": "fuel %.0f %%", "size_px": 22, "color": WHITE, "align": "center",
          "failsafe": {"text": "fuel -- %"}},
+        # The shift light is advice, not a telltale: "safety": false keeps it out of the integrity
+        # monitor's regions (docs/integrity.md).
         {"signal": "Vehicle.Powertrain.CombustionEngine.Speed", "kind": "visibility", "node": "ShiftLight",
-         "threshold": SHIFT_RPM, "failsafe": {"visible": False}},
+         "threshold": SHIFT_RPM, "safety": False, "failsafe": {"visible": False}},
         {"signal": "Vehicle.Powertrain.CombustionEngine.Speed", "kind": "emissive", "material": "ShiftLight_On",
-         "off": [0.0, 0.0, 0.0], "on": list(SHIFT_COLOUR), "threshold": SHIFT_RPM},
+         "off": [0.0, 0.0, 0.0], "on": list(SHIFT_COLOUR), "threshold": SHIFT_RPM, "safety": False},
     ]
 
 
