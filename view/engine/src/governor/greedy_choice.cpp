@@ -184,6 +184,7 @@ bool prefer_rung(const CostModel& m, const Working& w, const std::optional<UnitM
 QualityChoice normalised(const CostModel& m, const QualityChoice& current) {
   QualityChoice c = current;
   if (c.units.empty()) c.units.assign(m.units.size(), UnitLevel{});
+  if (c.units.size() != m.units.size()) return c;  // predict_ms reports it
   for (std::size_t u = 0; u < m.units.size(); ++u)
     if (m.units[u].safety) c.units[u] = UnitLevel{};
   return c;
