@@ -1,6 +1,7 @@
 // The frame-rate governor (governor.hpp).
 #include "meter/engine/governor/governor.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -42,8 +43,8 @@ QualityChoice Governor::choose(const FrameLoad& load) {
     return current_;
   }
   ++frames_chosen_;
-  ++frames_since_change_;
-  if (load.full_frame) last_full_load_ = load;
+  frames_since_change_ = std::min(frames_since_change_ + 1, 1 << 30);  // no overflow in a year-long run
+  if (load.full_frame && load.unit_pixels.size() == model_.units.size()) last_full_load_ = load;
   const ModelScale scale = online_.scale();
   if (frames_since_change_ < options_.min_frames_between_changes) {
     predicted_ms_ = predict_ms(model_, load, current_, scale);

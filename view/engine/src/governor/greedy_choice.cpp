@@ -199,6 +199,26 @@ QualityChoice full_quality(const CostModel& model) {
   return c;
 }
 
+QualityChoice cheapest_quality(const CostModel& model) {
+  QualityChoice c = full_quality(model);
+  auto cheaper = [](double a1, double b1, double a2, double b2) { return a1 < a2 || (a1 == a2 && b1 <= b2); };
+  for (std::size_t g = 1; g < model.globals.size(); ++g) {
+    const GlobalCost& best = model.globals[std::size_t(global_rung(model, c.global))];
+    if (cheaper(model.globals[g].pixel_factor, model.globals[g].fixed_ms, best.pixel_factor, best.fixed_ms))
+      c.global = model.globals[g].level;
+  }
+  for (std::size_t u = 0; u < model.units.size(); ++u) {
+    const UnitCosts& uc = model.units[u];
+    if (uc.safety) continue;
+    for (int r = 1; r < uc.shadings * uc.lods; ++r) {
+      const LinearCost& now = uc.at(c.units[u]).cost;
+      const UnitLevel l = level_at_rank(uc, r);
+      if (cheaper(uc.at(l).cost.a_ms_per_pixel, uc.at(l).cost.b_ms, now.a_ms_per_pixel, now.b_ms)) c.units[u] = l;
+    }
+  }
+  return c;
+}
+
 GreedyResult greedy_choice(const CostModel& model, const FrameLoad& load, const QualityChoice& current,
                            const GreedyBudget& budget, const ModelScale& scale, const FrameLoad* full_load) {
   if (model.globals.empty()) throw std::invalid_argument("greedy choice: the cost model has no global rung");

@@ -136,6 +136,15 @@ TEST(GreedyChoice, WithPsnrTheRungIsTakenWhereItIsTheCheaperTradePerDb) {
   EXPECT_EQ(greedy_choice(with_rung(30.0, 20.0), load({1000}), {}, {9, 9}).choice, at({{1, 0}}));
 }
 
+TEST(GreedyChoice, CheapestQualityIsByMeasuredCostNotByPosition) {
+  // U: pbr 0.01, blinn-phong 0.002, gouraud 0.004 ms/px: blinn-phong is the cheapest although
+  // gouraud comes later. The safety unit stays; the quarter-pixel rung is cheaper than rung 0.
+  CostModel m = with_rung({}, {});
+  m.units = {unit("U", 3, 1, {0.01, 0.002, 0.004}), testing::safety_unit("T", 0.5)};
+  EXPECT_EQ(cheapest_quality(m), at({{1, 0}, {0, 0}}, {1, 0.5f}));
+  EXPECT_EQ(full_quality(m), at({{0, 0}, {0, 0}}));
+}
+
 TEST(GreedyChoice, ANonDrawnFrameKeepsTheChoice) {
   FrameLoad none;
   none.unit_pixels = {0, 0};
