@@ -7,7 +7,7 @@
 
 #include "meter/engine/governor/cost_model.hpp"
 
-namespace meter::engine::governor::testing {
+namespace meter::engine::governor::fixtures {
 
 // The shadings of a test ladder, best first.
 inline constexpr bridge::ShadingModel kShadingOrder[] = {
@@ -66,4 +66,4 @@ inline QualityChoice at(std::vector<UnitLevel> units, GlobalLevel g = {}) {
   return c;
 }
 
-}  // namespace meter::engine::governor::testing
+}  // namespace meter::engine::governor::fixtures

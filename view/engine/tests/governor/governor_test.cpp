@@ -12,10 +12,7 @@
 namespace meter::engine::governor {
 namespace {
 
-using testing::at;
-using testing::load;
-using testing::model;
-using testing::unit;
+using namespace fixtures;
 
 // One unit: full 0.01 ms/px, level 1 0.005 ms/px. Target 10 ms, headroom 5 %: lower above
 // 10 ms, raise only when full quality stays under 9.5 ms.

@@ -11,10 +11,7 @@
 namespace meter::engine::governor {
 namespace {
 
-using testing::at;
-using testing::load;
-using testing::model;
-using testing::unit;
+using namespace fixtures;
 
 // Two units, each 2 shadings x 2 lods; ms per pixel by rank (s0 l0, s1 l0, s0 l1, s1 l1):
 // 0.01, 0.006, 0.005, 0.003. The small unit S has 100 pixels (1.0, 0.6, 0.5, 0.3 ms), the large
@@ -83,7 +80,7 @@ TEST(GreedyChoice, SafetyUnitsNeverMove) {
   // The telltale T costs 20 ms and cannot be lowered; U goes to its cheapest and the prediction
   // stays over the budget rather than touching T. A current choice that claims T lowered is
   // read as T at level 0 (its only level).
-  const CostModel m = model({testing::safety_unit("T", 0.02), unit("U", 2, 1, {0.01, 0.001})});
+  const CostModel m = model({safety_unit("T", 0.02), unit("U", 2, 1, {0.01, 0.001})});
   const GreedyResult r = greedy_choice(m, load({1000, 1000}), {}, {5, 5});
   EXPECT_EQ(r.choice, at({{0, 0}, {1, 0}}));
   EXPECT_NEAR(r.predicted_ms, 21.0, 1e-9);
@@ -140,7 +137,7 @@ TEST(GreedyChoice, CheapestQualityIsByMeasuredCostNotByPosition) {
   // U: pbr 0.01, blinn-phong 0.002, gouraud 0.004 ms/px: blinn-phong is the cheapest although
   // gouraud comes later. The safety unit stays; the quarter-pixel rung is cheaper than rung 0.
   CostModel m = with_rung({}, {});
-  m.units = {unit("U", 3, 1, {0.01, 0.002, 0.004}), testing::safety_unit("T", 0.5)};
+  m.units = {unit("U", 3, 1, {0.01, 0.002, 0.004}), safety_unit("T", 0.5)};
   EXPECT_EQ(cheapest_quality(m), at({{1, 0}, {0, 0}}, {1, 0.5f}));
   EXPECT_EQ(full_quality(m), at({{0, 0}, {0, 0}}));
 }
