@@ -47,6 +47,17 @@ TEST(CostFile, WriteThenParseGivesTheSameFile) {
   EXPECT_EQ(parse_costs(text, kOrigin), f);
 }
 
+TEST(CostFile, OptionalKeysMayBeLeftOut) {
+  const CostFile f = parse_costs(R"({"format": "meter-costs/1", "overhead": {"a_ms_per_pixel": 0, "b_ms": 0},
+      "globals": [{"msaa": 4, "scale": 1, "pixel_factor": 1, "fixed_ms": 0}],
+      "units": [{"name": "telltale", "levels": [{"shading": "unlit", "lod": 0, "a_ms_per_pixel": 1e-6, "b_ms": 0.01}]}]})",
+                                 kOrigin);
+  EXPECT_TRUE(f.backend.empty());
+  EXPECT_FALSE(f.globals[0].psnr_db.has_value());
+  EXPECT_FALSE(f.units[0].levels[0].psnr_db.has_value());
+  EXPECT_EQ(f.globals[0].level, (GlobalLevel{4, 1.0f}));
+}
+
 TEST(CostFile, BindingOrdersUnitsAndLevelsAsTheLadders) {
   CostFile f = sample();
   std::swap(f.units[0], f.units[1]);                    // file order is free

@@ -71,7 +71,7 @@ TEST(Governor, StateNamesTheUnitsNotAtFullQuality) {
 
 TEST(Governor, ObservedSlowFramesScaleTheModelAndLowerTheQuality) {
   Governor g = one_unit(0);
-  // 900 px predicts 9 ms (in the band's lower side): full quality holds ...
+  // 900 px predicts 9 ms (under the 9.5 ms budget): full quality holds ...
   EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
   // ... until the frames measure 1.5x the model (another process took a core): after a window's
   // worth of such frames the scale is 1.5, the prediction 13.5 ms > 10, and the unit is lowered.
@@ -79,6 +79,11 @@ TEST(Governor, ObservedSlowFramesScaleTheModelAndLowerTheQuality) {
   EXPECT_NEAR(g.state().scale.pixel, 1.5, 1e-6);
   EXPECT_EQ(g.choose(load({900})), at({{1, 0}}));
   EXPECT_EQ(g.state().measured_ms, 13.5);
+  // The other process ends: the lowered frames measure what the model says (4.5 ms); once they
+  // are the window's majority (31 of 60) the scale is 1 again and full quality (9 ms <= 9.5) is back.
+  for (int f = 0; f < 31; ++f) g.observe(load({900}), at({{1, 0}}), 4.5);
+  EXPECT_NEAR(g.state().scale.pixel, 1.0, 1e-6);
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
 }
 
 TEST(Governor, NonFiniteInputsNeverGiveANaN) {

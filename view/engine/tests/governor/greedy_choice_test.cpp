@@ -125,6 +125,17 @@ TEST(GreedyChoice, WithoutPsnrRungsGoDownLastAndComeBackFirst) {
   EXPECT_NEAR(r.predicted_ms, 2.5, 1e-9);
 }
 
+TEST(GreedyChoice, ARungChangeIsJudgedOnTheFullFrameItForces) {
+  // A partial frame of 100 px: 0.25 ms at the quarter-pixel rung, 1 ms at full resolution, so
+  // on this load alone raising the rung fits a 9 ms budget. But a rung change redraws everything:
+  // on the last full frame (1000 px) full resolution is 10 ms > 9, so the rung stays.
+  const CostModel m = with_rung({}, {});
+  const QualityChoice lowered = at({{0, 0}}, {1, 0.5f});
+  EXPECT_EQ(greedy_choice(m, load({100}, false), lowered, {9, 9}).choice, at({{0, 0}}));
+  const FrameLoad full = load({1000});
+  EXPECT_EQ(greedy_choice(m, load({100}, false), lowered, {9, 9}, {}, &full).choice, lowered);
+}
+
 TEST(GreedyChoice, WithPsnrTheRungIsTakenWhereItIsTheCheaperTradePerDb) {
   // Unit step: saves 2 ms for an error of 10^-3 (30 dB): 2000 ms per unit error.
   // Rung at 40 dB (10^-4): saves 7.5 ms, 75000 per unit error: taken first; 2.5 <= 9.
