@@ -88,7 +88,11 @@ GlobalCost global(const Reader& r, const json& j, const std::string& path) {
     r.fail(path + ".msaa", "expected an integer sample count in [1, " + std::to_string(limits::kMaxMsaa) + "]");
   GlobalCost g;
   g.level.msaa = msaa.get<int>();
-  g.level.scale = float(r.number(j, path, "scale", 0.0, 1.0, true));
+  const double scale = r.number(j, path, "scale", 0.0, 1.0, true);
+  g.level.scale = float(scale);
+  // GlobalLevel holds a float: a scale that rounds to 0 would be a rung of no pixels.
+  if (!(g.level.scale > 0))
+    r.fail(path + ".scale", "expected a number in (0, 1] that a float can hold, got " + Reader::format(scale));
   g.pixel_factor = r.number(j, path, "pixel_factor", 0.0, limits::kMaxPixelFactor, true);
   g.fixed_ms = r.number(j, path, "fixed_ms", 0.0, limits::kMaxFixedMs);
   g.psnr_db = r.psnr(j, path);

@@ -119,6 +119,7 @@ TEST(CostFile, EveryBadFileNamesTheFieldAndWhatWasExpected) {
       {[](json& j) { j["globals"][0]["msaa"] = 2.5; }, "$.globals[0].msaa: expected an integer sample count"},
       {[](json& j) { j["globals"][1]["scale"] = 1.5; }, "$.globals[1].scale: expected a number in (0, 1], got 1.5"},
       {[](json& j) { j["globals"][1]["scale"] = 0; }, "$.globals[1].scale: expected a number in (0, 1], got 0"},
+      {[](json& j) { j["globals"][1]["scale"] = 1e-50; }, "$.globals[1].scale: expected a number in (0, 1] that a float can hold, got 1e-50"},
       {[](json& j) { j["globals"][1]["pixel_factor"] = 0; }, "$.globals[1].pixel_factor: expected a number in (0, 1000]"},
       {[](json& j) { j["globals"][1]["fixed_ms"] = -1; }, "$.globals[1].fixed_ms: expected a number in [0, 1000000]"},
       {[](json& j) { j["globals"][1]["psnr_db"] = 0; }, "$.globals[1].psnr_db: expected a number in (0, 1000]"},
