@@ -1,0 +1,93 @@
+// The frame-rate governor: holds a target frame time with the best image it can (pure; no GL,
+// no clock: the runner measures and reports).
+//
+// Each drawn frame: choose(load) predicts the current choice on this frame's load with the
+// calibrated model corrected by the online estimate, and runs the greedy choice
+// (greedy_choice.hpp) with
+//     trigger = target_ms                 (lower when the current choice would miss the target)
+//     budget  = (1 - headroom) x target_ms (what a lowered or raised choice must fit)
+// so between the two is a dead band where nothing changes (hysteresis: a step up is taken only
+// when the higher level's prediction stays under (1 - headroom) x target). A change is made at
+// most once every min_frames_between_changes drawn frames. After the frame is drawn,
+// observe(load, choice, measured_ms) feeds the online estimate.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "meter/engine/governor/cost_model.hpp"
+#include "meter/engine/governor/greedy_choice.hpp"
+#include "meter/engine/governor/online_estimate.hpp"
+
+namespace meter::engine::governor {
+
+struct GovernorOptions {
+  double target_ms = 16.7;
+  double headroom = 0.05;              // in [0, 0.5]
+  int min_frames_between_changes = 8;  // >= 0 (0: may change every frame)
+  int window = 60;                     // online estimate window, frames (>= OnlineEstimate::kMinPoints)
+};
+
+struct ReducedUnit {
+  int unit = 0;
+  std::string name;
+  UnitLevel level;
+  bridge::ShadingModel shading = bridge::ShadingModel::PbrMetallicRoughness;
+};
+
+// For --stats and frames.csv.
+struct GovernorState {
+  std::uint64_t frames_chosen = 0;    // drawn frames choose() was asked about
+  std::uint64_t frames_observed = 0;  // frames observe() accepted
+  std::uint64_t changes = 0;          // choices that differed from the one before
+  int frames_since_change = 0;
+  double predicted_ms = 0.0;          // for the last choice, this frame's load, scaled
+  double measured_ms = 0.0;           // last accepted measurement (0 before any)
+  ModelScale scale;                   // the online correction in use
+  int global_rung = 0;                // index in CostModel::globals
+  GlobalLevel global;
+  std::vector<ReducedUnit> reduced;   // units not at full quality, in unit order
+};
+
+// "needle=gouraud/lod1 dial=pbr/lod2" (empty when every unit is at full quality).
+std::string reduced_summary(const GovernorState& state);
+
+class Governor {
+ public:
+  // Throws std::invalid_argument for a model without rungs, or options out of range
+  // (target_ms not finite or <= 0, headroom outside [0, 0.5], negative min frames, small window).
+  Governor(CostModel model, GovernorOptions options = {});
+
+  // The choice to draw this frame with. A frame that is not drawn keeps the current choice (and
+  // does not count toward the frames between changes). Non-finite pixel counts are read as
+  // cost_model.hpp says; the prediction stays finite.
+  QualityChoice choose(const FrameLoad& load);
+
+  // After the frame drawn with `choice` (normally the last choose() result) took measured_ms;
+  // `load` is the frame's load as drawn (when a changed choice made the renderer re-plan, the
+  // re-planned load: the prediction it is compared with must describe the same work).
+  // Ignored when measured_ms is not finite or <= 0 or the frame was not drawn. Throws
+  // std::invalid_argument when the choice does not fit the model.
+  void observe(const FrameLoad& load, const QualityChoice& choice, double measured_ms);
+
+  double predicted_ms() const { return predicted_ms_; }
+  const QualityChoice& current() const { return current_; }
+  const CostModel& model() const { return model_; }
+  const GovernorOptions& options() const { return options_; }
+  GovernorState state() const;
+
+ private:
+  CostModel model_;
+  GovernorOptions options_;
+  OnlineEstimate online_;
+  QualityChoice current_;
+  std::optional<FrameLoad> last_full_load_;
+  double predicted_ms_ = 0.0;
+  double measured_ms_ = 0.0;
+  std::uint64_t frames_chosen_ = 0, frames_observed_ = 0, changes_ = 0;
+  int frames_since_change_ = 0;
+};
+
+}  // namespace meter::engine::governor
