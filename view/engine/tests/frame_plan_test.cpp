@@ -286,7 +286,8 @@ TEST_F(FramePlanTest, StaticLayerIsBuiltOnceThenCopiedUnderDamagedRegions) {
   EXPECT_TRUE(p.copy_layer);
   for (const auto& pass : p.passes) EXPECT_EQ(pass.set, DrawSet::OverStatic);
 
-  // A static draw that changes anyway (misjudged) makes the layer stale: rebuilt, full frame.
+  // A static draw that changes anyway (misjudged) makes the layer stale: rebuilt (here a full frame:
+  // the face covers more than half the target).
   outputs_.base_color[0] = glm::vec4(0.25f);
   now = frame();
   EXPECT_FALSE(layer_current(classes_, now, layer_));
