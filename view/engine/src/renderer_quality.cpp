@@ -31,7 +31,6 @@ void Renderer::make_targets() {
   drawn_ = DrawnFrame{};
   layer_drawn_ = DrawnFrame{};
   unresolved_ = {platform::PixelRegion{0, 0, draw_width_, draw_height_}};
-  written_ = {platform::PixelRegion{0, 0, width_, height_}};
 }
 
 void Renderer::set_quality(const governor::QualityChoice& choice) {
@@ -59,6 +58,7 @@ FramePlan Renderer::plan_at_quality(bool force, FrameState& now, const LevelChoo
     if (global_changed_) {
       make_targets();
       text_ = std::make_unique<TextDrawing>(backend_, options_.font_file, scene_.config.size[1], draw_height_);
+      written_ = {platform::PixelRegion{0, 0, width_, height_}};  // every pixel is drawn anew
       global_changed_ = false;
     }
     now = evaluator_.evaluate(draw_width_, draw_height_, *text_);
