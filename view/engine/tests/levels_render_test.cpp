@@ -88,6 +88,9 @@ TEST_P(LevelsRender, EveryLevelDiffersAndLevelZeroIsBitIdentical) {
   Renderer a(*backend_, scene, options()), never(*backend_, scene, options());
   const auto units = a.draw_units();
   ASSERT_FALSE(units.empty());
+  std::size_t listed = 0;
+  for (std::size_t u = 0; u < units.size(); ++u) listed += a.unit_draws(u).size();
+  EXPECT_EQ(listed, scene.draws.size()) << "every draw belongs to exactly one unit";
   a.apply(outputs), never.apply(outputs);
   a.render(false, true), never.render(false, true);
   const platform::Image full = a.last_image();
