@@ -232,6 +232,17 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
   EXPECT_FALSE(a.render(false, false, chooser).drawn);
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_FALSE(seen[1].drawn);
+  // An idle frame whose chooser raises the quality draws what that changes, asking once.
+  auto back_to_full = [&](const governor::FrameLoad& load) -> std::optional<governor::QualityChoice> {
+    seen.push_back(load);
+    return governor::QualityChoice{};
+  };
+  EXPECT_TRUE(a.render(false, true, back_to_full).drawn);
+  EXPECT_EQ(seen.size(), 3u) << "the chooser was asked more than once in one frame";
+  Renderer full(*backend_, scene, options());
+  full.apply(outputs);
+  full.render(false, true);
+  EXPECT_EQ(differing_pixels(a.last_image(), full.last_image()), 0u) << "raised on an idle frame, the image is not full quality";
 }
 
 TEST_P(LevelsRender, BadChoicesAreRefusedNamingTheUnitAndLevel) {
