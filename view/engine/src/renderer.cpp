@@ -85,6 +85,8 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
   } else {
     gl_.Disable(GL_SCISSOR_TEST);
     unresolved_.insert(unresolved_.end(), plan.regions.begin(), plan.regions.end());
+    // Reads of a few boxes leave the rest pending: bounded as resolve_pending would (past 16, all).
+    if (unresolved_.size() > 16) unresolved_ = {all};
   }
 }
 
@@ -104,6 +106,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   // A skipped frame still answers a read with the frame that stands.
   auto skip = [&] {
     ++stats_.skipped;
+    watched_.clear();
     if (read_back) {
       auto t2 = Clock::now();
       read();
@@ -130,6 +133,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   if (fault_) execute_faulty(plan, now);
   else execute(plan, now);
   note_written(plan);
+  resolve_watched(plan);
   if (plan.full) {
     t.redrawn_fraction = 1.0;
   } else {

@@ -121,9 +121,14 @@ double expected_angle(const NeedleModel& needle, double time) {
   return lo->angle_deg + (hi->angle_deg - lo->angle_deg) * (time - lo->time) / span;
 }
 
-std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& frame, int* pixels) {
+NeedlePixels needle_pixels(const SafetyRegion& region, const RgbaView& frame, const PixelRect& within) {
   const NeedleModel& m = region.needle;
   const PixelRect& r = region.rect;
+  const int x0 = std::max(r.x, within.x), x1 = std::min(r.x + r.width, within.x + within.width);
+  const int y0 = std::max(r.y, within.y), y1 = std::min(r.y + r.height, within.y + within.height);
+  // The inner sides: a side of `within` that is not a side of the rect.
+  const int edge_l = x0 > r.x ? x0 + kNeedleWindowEdge : x0 - 1, edge_r = x1 < r.x + r.width ? x1 - kNeedleWindowEdge : x1;
+  const int edge_t = y0 > r.y ? y0 + kNeedleWindowEdge : y0 - 1, edge_b = y1 < r.y + r.height ? y1 - kNeedleWindowEdge : y1;
   // Cheapest test first: most of a needle's box is dial face, refused by its colour alone; the
   // ring (squared radii, no square root) and the sector (one atan2) are tested only for pixels of
   // the needle's colour. The pixels counted are the ones the ring-sector-colour rule selects in
@@ -131,13 +136,12 @@ std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& f
   // exactly r_min or r_max).
   const double r_min2 = m.r_min > 0.0 ? m.r_min * m.r_min : 0.0, r_max2 = m.r_max * m.r_max;
   const bool sector = m.sector_half_deg < 180.0;
-  double sx = 0.0, sy = 0.0;
-  int n = 0;
-  for (int y = r.y; y < r.y + r.height; ++y) {
+  NeedlePixels n;
+  for (int y = y0; y < y1; ++y) {
     const double dy = y + 0.5 - m.pivot_y;
     if (dy * dy > r_max2) continue;
-    for (int x = r.x; x < r.x + r.width; ++x) {
-      const std::uint8_t* p = frame.pixel(x, y);
+    const std::uint8_t* p = frame.pixel(x0, y);
+    for (int x = x0; x < x1; ++x, p += 4) {
       if (p[0] < m.color_min[0] || p[0] > m.color_max[0] || p[1] < m.color_min[1] || p[1] > m.color_max[1] ||
           p[2] < m.color_min[2] || p[2] > m.color_max[2]) {
         continue;
@@ -148,24 +152,37 @@ std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& f
       if (sector && std::abs(wrap_degrees(std::atan2(dx, -dy) * 180.0 / M_PI - m.sector_center_deg)) > m.sector_half_deg) {
         continue;
       }
-      sx += dx, sy += dy, ++n;
+      ++n.count, n.sum_x += x, n.sum_y += y;
+      if (x < edge_l || x >= edge_r || y < edge_t || y >= edge_b) ++n.at_edge;
     }
   }
-  if (pixels) *pixels = n;
-  if (n < std::max(1, m.min_pixels)) return std::nullopt;
-  // Screen direction (sin a, -cos a) for angle a clockwise from up, y pointing down.
-  return std::atan2(sx / n, -sy / n) * 180.0 / M_PI;
+  return n;
 }
 
-Verdict check_needle(const SafetyRegion& region, const RgbaView& frame, double expected_deg, const std::string& label) {
-  const std::string expected = (label.empty() ? std::string() : label + " at ") + fmt("%.2f deg", expected_deg);
-  if (!frame.covers(region.rect)) return uncovered(region, frame, expected);
+std::optional<double> centroid_angle(const NeedleModel& m, const NeedlePixels& n) {
+  if (n.count < std::max(1, m.min_pixels)) return std::nullopt;
+  // The centroid relative to the pivot (pixel centres); screen direction (sin a, -cos a) for
+  // angle a clockwise from up, y pointing down.
+  const double cx = double(n.sum_x) / n.count + 0.5 - m.pivot_x, cy = double(n.sum_y) / n.count + 0.5 - m.pivot_y;
+  return std::atan2(cx, -cy) * 180.0 / M_PI;
+}
+
+std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& frame, int* pixels) {
+  const NeedlePixels n = needle_pixels(region, frame, region.rect);
+  if (pixels) *pixels = n.count;
+  return centroid_angle(region.needle, n);
+}
+
+namespace {
+
+// check_needle's verdict from the needle pixels counted.
+Verdict needle_verdict(const SafetyRegion& region, const NeedlePixels& n, double expected_deg, const std::string& label) {
   Verdict v;
-  v.expected = expected;
-  int n = 0;
-  const auto seen = needle_angle(region, frame, &n);
+  v.expected = (label.empty() ? std::string() : label + " at ") + fmt("%.2f deg", expected_deg);
+  const auto seen = centroid_angle(region.needle, n);
   if (!seen) {
-    v.seen = "no needle (" + std::to_string(n) + " needle pixels, at least " + std::to_string(region.needle.min_pixels) + " needed)";
+    v.seen = "no needle (" + std::to_string(n.count) + " needle pixels, at least " +
+             std::to_string(region.needle.min_pixels) + " needed)";
     v.difference = 180.0;
     return v;
   }
@@ -174,6 +191,49 @@ Verdict check_needle(const SafetyRegion& region, const RgbaView& frame, double e
   v.difference = std::abs(d);
   v.seen = fmt("%.2f deg", expected_deg + d);
   v.ok = v.difference <= region.needle.tolerance_deg;
+  return v;
+}
+
+PixelRect intersect(const PixelRect& a, const PixelRect& b) {
+  const int x0 = std::max(a.x, b.x), y0 = std::max(a.y, b.y);
+  const int x1 = std::min(a.x + a.width, b.x + b.width), y1 = std::min(a.y + a.height, b.y + b.height);
+  return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
+}
+
+}  // namespace
+
+Verdict check_needle(const SafetyRegion& region, const RgbaView& frame, double expected_deg, const std::string& label) {
+  if (!frame.covers(region.rect))
+    return uncovered(region, frame, (label.empty() ? std::string() : label + " at ") + fmt("%.2f deg", expected_deg));
+  return needle_verdict(region, needle_pixels(region, frame, region.rect), expected_deg, label);
+}
+
+PixelRect needle_window(const SafetyRegion& region, double expected_deg, int half_width) {
+  const NeedleModel& m = region.needle;
+  const double a = expected_deg * M_PI / 180.0, ux = std::sin(a), uy = -std::cos(a);
+  const double r_min = std::max(0.0, m.r_min);
+  const double margin = m.r_max * std::sin(kNeedleWindowSlackDeg * M_PI / 180.0) + std::max(0, half_width) + kNeedleWindowEdge;
+  const double xa = m.pivot_x + r_min * ux, xb = m.pivot_x + m.r_max * ux;
+  const double ya = m.pivot_y + r_min * uy, yb = m.pivot_y + m.r_max * uy;
+  const double fx0 = std::floor(std::min(xa, xb) - margin), fx1 = std::ceil(std::max(xa, xb) + margin);
+  const double fy0 = std::floor(std::min(ya, yb) - margin), fy1 = std::ceil(std::max(ya, yb) + margin);
+  const PixelRect& r = region.rect;
+  // Clamped to the rect before the conversion to int (a model's numbers are the package's).
+  auto clamp = [](double v, int lo, int hi) { return std::isfinite(v) ? int(std::clamp(v, double(lo), double(hi))) : lo; };
+  const int x0 = clamp(fx0, r.x, r.x + r.width), x1 = clamp(fx1, r.x, r.x + r.width);
+  const int y0 = clamp(fy0, r.y, r.y + r.height), y1 = clamp(fy1, r.y, r.y + r.height);
+  return intersect(r, {x0, y0, x1 - x0, y1 - y0});
+}
+
+std::optional<Verdict> check_needle_window(const SafetyRegion& region, const RgbaView& frame, const PixelRect& window,
+                                           double expected_deg, NeedlePixels* pixels) {
+  const PixelRect w = intersect(region.rect, window);
+  if (w.empty() || !frame.covers(w)) return std::nullopt;
+  const NeedlePixels n = needle_pixels(region, frame, w);
+  if (pixels) *pixels = n;
+  if (n.at_edge > 0) return std::nullopt;
+  Verdict v = needle_verdict(region, n, expected_deg, "");
+  if (!v.ok) return std::nullopt;
   return v;
 }
 

@@ -1,5 +1,6 @@
 // The Renderer's integrity side: region readback, the safe-path redraw and the injected faults'
 // GL execution (meter/engine/integrity/fault_injection.hpp).
+#include <algorithm>
 #include <utility>
 
 #include "gl/text_drawing.hpp"
@@ -8,20 +9,59 @@
 
 namespace meter::engine {
 
+namespace {
+bool inside(const platform::PixelRegion& a, const platform::PixelRegion& b) {
+  return a.x >= b.x && a.y >= b.y && a.x + a.width <= b.x + b.width && a.y + a.height <= b.y + b.height;
+}
+}  // namespace
+
 std::vector<platform::Image> Renderer::read_regions(std::span<const platform::PixelRegion> regions) {
   if (regions.empty()) return {};
-  // Only what was drawn since the last resolve is resolved (on llvmpipe an sRGB MSAA resolve costs
-  // per pixel as much as drawing it): the rest of the single-sample image is current already.
-  resolve_pending();
+  // Only the boxes read that were drawn since the last resolve are resolved (on llvmpipe an sRGB
+  // MSAA resolve costs per pixel as much as drawing it), and not those render() resolved with the
+  // frame when nothing was drawn after: the rest of the single-sample image is current already,
+  // and what else is pending stays so for the next full read (resolving a box twice gives the
+  // same pixels).
+  if (target_->samples() > 1) {
+    const bool clean_valid = clean_after_ == draws_;
+    std::vector<platform::PixelRegion> due;
+    for (const auto& box : regions) {
+      const bool drawn = std::any_of(unresolved_.begin(), unresolved_.end(), [&](const auto& p) { return overlap(box, p); });
+      const bool clean = clean_valid && std::any_of(clean_.begin(), clean_.end(), [&](const auto& c) { return inside(box, c); });
+      if (drawn && !clean) due.push_back(box);
+    }
+    if (!due.empty()) target_->resolve(due);
+  }
   return target_->read_resolved_regions(regions);
+}
+
+void Renderer::resolve_with_frame(std::vector<platform::PixelRegion> boxes) { watched_ = std::move(boxes); }
+
+void Renderer::resolve_watched(const FramePlan& plan) {
+  std::vector<platform::PixelRegion> watched = std::exchange(watched_, {});
+  clean_.clear();
+  if (watched.empty() || target_->samples() <= 1) return;
+  for (const auto& box : watched) {
+    const bool drawn = plan.full || std::any_of(plan.regions.begin(), plan.regions.end(), [&](const auto& r) { return overlap(box, r); });
+    if (drawn) clean_.push_back(box);
+  }
+  if (!clean_.empty()) target_->resolve(clean_);
+  clean_after_ = draws_;
 }
 
 std::vector<platform::PixelRegion> Renderer::take_written() { return std::exchange(written_, {}); }
 
 void Renderer::note_written(const FramePlan& plan) {
+  ++draws_;
   // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
   if (plan.full || written_.size() > 64) written_ = {platform::PixelRegion{0, 0, width_, height_}};
   if (!plan.full) written_.insert(written_.end(), plan.regions.begin(), plan.regions.end());
+}
+
+void Renderer::note_written(const platform::PixelRegion& region) {
+  ++draws_;
+  unresolved_.push_back(region);
+  written_.push_back(region);
 }
 
 void Renderer::fill(const platform::PixelRegion& region, const glm::vec4& linear_colour) {
@@ -31,8 +71,7 @@ void Renderer::fill(const platform::PixelRegion& region, const glm::vec4& linear
   gl_.ClearColor(linear_colour.r, linear_colour.g, linear_colour.b, linear_colour.a);
   gl_.Clear(GL_COLOR_BUFFER_BIT);
   gl_.Disable(GL_SCISSOR_TEST);
-  unresolved_.push_back(region);
-  written_.push_back(region);
+  note_written(region);
 }
 
 void Renderer::redraw_safe(const platform::PixelRegion& region, const std::optional<glm::vec4>& linear_colour) {
@@ -40,8 +79,7 @@ void Renderer::redraw_safe(const platform::PixelRegion& region, const std::optio
     fill(region, *linear_colour);
   } else if (layer_ && layer_drawn_.valid) {
     target_->copy_from(*layer_, std::span<const platform::PixelRegion>(&region, 1));
-    unresolved_.push_back(region);
-    written_.push_back(region);
+    note_written(region);
   } else {
     const auto& cc = scene_.config.clear_color;
     fill(region, glm::vec4(float(cc[0]), float(cc[1]), float(cc[2]), float(cc[3])));
@@ -73,8 +111,7 @@ void Renderer::execute_faulty(const FramePlan& plan, const FrameState& now) {
     gl_.Scissor(f.box.x, f.box.y, f.box.width, f.box.height);
     text_->draw(*target_, {cover});
     gl_.Disable(GL_SCISSOR_TEST);
-    unresolved_.push_back(f.box);
-    written_.push_back(f.box);
+    note_written(f.box);
   }
 }
 
