@@ -78,18 +78,21 @@ std::vector<IntegrityFault> judge_reads(const bridge::IntegrityTable& table,
   for (std::size_t i = 0; i < table.regions.size(); ++i) {
     const bridge::SafetyRegion& r = table.regions[i];
     const engine::RegionExpectation& e = expected.at(i);
-    if (!e.known || i >= reads.size() || reads[i].image.empty()) continue;
-    const engine::RgbaView v = view_of(reads[i].image, reads[i].rect);
+    if (!e.known || i >= reads.size() || !reads[i].read()) continue;
+    RegionRead& got = reads[i];
+    std::vector<engine::RgbaView> views;
+    for (std::size_t k = 0; k < got.images.size() && k < got.rects.size(); ++k) views.push_back(view_of(got.images[k], got.rects[k]));
+    const bool whole = got.rects.size() == 1 && got.rects.front() == r.rect;
     std::optional<engine::Verdict> verdict;
     std::vector<std::uint8_t> shown;
-    if (r.kind == bridge::SafetyKind::Telltale) verdict = engine::check_telltale(r, v, e.lit);
+    if (r.kind == bridge::SafetyKind::Telltale) verdict = engine::check_telltale(r, views.front(), e.lit);
     if (r.kind == bridge::SafetyKind::Needle) {
       engine::NeedlePixels n;
-      if (reads[i].rect == r.rect) {
-        verdict = engine::check_needle(r, v, e.angle_deg);
-        n = engine::needle_pixels(r, v, r.rect);
+      if (whole) {
+        verdict = engine::check_needle(r, views.front(), e.angle_deg);
+        n = engine::needle_pixels(r, views.front(), r.rect);
       } else {
-        verdict = engine::check_needle_window(r, v, reads[i].rect, e.angle_deg, &n);
+        verdict = engine::check_needle_window(r, views, got.rects, e.angle_deg, &n);
         if (!verdict) {
           if (undecided) undecided->push_back(i);
           continue;
@@ -97,7 +100,7 @@ std::vector<IntegrityFault> judge_reads(const bridge::IntegrityTable& table,
       }
       shown = needle_key(n);
     } else {
-      shown = std::move(reads[i].image.rgba);
+      shown = std::move(got.images.front().rgba);
     }
     if (verdict && !verdict->ok)
       faults.push_back({r.name, r.kind, false, verdict->expected, verdict->seen, verdict->difference});
@@ -119,7 +122,7 @@ std::vector<IntegrityFault> judge_frame(const bridge::IntegrityTable& table,
                                         const std::vector<engine::RegionExpectation>& expected,
                                         const std::vector<platform::Image>& pixels, std::vector<RegionMemory>& memory) {
   std::vector<RegionRead> reads(pixels.size());
-  for (std::size_t i = 0; i < pixels.size() && i < table.regions.size(); ++i) reads[i] = {pixels[i], table.regions[i].rect};
+  for (std::size_t i = 0; i < pixels.size() && i < table.regions.size(); ++i) reads[i] = {{pixels[i]}, {table.regions[i].rect}};
   return judge_reads(table, expected, reads, memory);
 }
 
@@ -140,15 +143,15 @@ IntegrityMonitor::IntegrityMonitor(const engine::Scene& scene, int width, int he
   memory_.resize(table_.regions.size());
   read_at_.resize(table_.regions.size());
   read_expected_.resize(table_.regions.size());
-  whole_at_.resize(table_.regions.size());
+  whole_due_.resize(table_.regions.size());
   half_width_.assign(table_.regions.size(), kStartHalfWidth);
 }
 
 void IntegrityMonitor::read_whole(std::size_t i) {
-  // The first whole reads are spread over kRefreshFrames calls (region i's next one comes i calls
-  // early), so the needles' heartbeat reads do not all fall on one frame.
-  const std::uint64_t early = whole_at_[i] ? 0 : std::min<std::uint64_t>(i % kRefreshFrames, frame_);
-  whole_at_[i] = frame_ - early;
+  // The first whole reads are spread over kRefreshFrames calls (region i's second one comes
+  // i % kRefreshFrames calls early), so the needles' heartbeat reads do not all fall on one frame.
+  const std::uint64_t early = whole_due_[i] ? 0 : i % kRefreshFrames;
+  whole_due_[i] = frame_ + kRefreshFrames - early;
   ++needles_whole_;
 }
 
@@ -168,11 +171,12 @@ platform::PixelRegion IntegrityMonitor::gl_box(const bridge::PixelRect& r) const
   return {r.x, height_ - r.y - r.height, r.width, r.height};
 }
 
-bridge::PixelRect IntegrityMonitor::read_rect(std::size_t i, std::uint64_t frame) const {
+std::vector<bridge::PixelRect> IntegrityMonitor::read_rects(std::size_t i, std::uint64_t frame) const {
   const bridge::SafetyRegion& r = table_.regions[i];
-  if (r.kind != bridge::SafetyKind::Needle || !whole_at_[i] || frame - *whole_at_[i] >= kRefreshFrames) return r.rect;
-  const bridge::PixelRect w = engine::needle_window(r, expected_[i].angle_deg, half_width_[i]);
-  return w.empty() ? r.rect : w;
+  if (r.kind != bridge::SafetyKind::Needle || !whole_due_[i] || frame >= *whole_due_[i]) return {r.rect};
+  auto bands = engine::needle_window(r, expected_[i].angle_deg, half_width_[i]);
+  if (bands.empty()) return {r.rect};
+  return bands;
 }
 
 void IntegrityMonitor::prepare(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator) {
@@ -180,7 +184,8 @@ void IntegrityMonitor::prepare(engine::Renderer& renderer, const engine::Binding
   expectations_.evaluate(evaluator, expected_);
   std::vector<platform::PixelRegion> boxes;
   for (std::size_t i = 0; i < table_.regions.size(); ++i)
-    if (expected_[i].known) boxes.push_back(gl_box(read_rect(i, frame_ + 1)));
+    if (expected_[i].known)
+      for (const auto& rect : read_rects(i, frame_ + 1)) boxes.push_back(gl_box(rect));
   renderer.resolve_with_frame(std::move(boxes));
 }
 
@@ -205,16 +210,18 @@ const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& ren
     if (!need) continue;
     read_at_[i] = frame_;
     read_expected_[i] = expected_[i];
-    reads[i].rect = read_rect(i, frame_);
-    if (r.kind == bridge::SafetyKind::Needle && reads[i].rect == r.rect) read_whole(i);
+    reads[i].rects = read_rects(i, frame_);
+    if (r.kind == bridge::SafetyKind::Needle && reads[i].rects.front() == r.rect) read_whole(i);
     read.push_back(i);
-    boxes.push_back(gl_box(reads[i].rect));
+    for (const auto& rect : reads[i].rects) boxes.push_back(gl_box(rect));
   }
   if (read.empty()) return frame_faults_;
   ++frames_checked_;
   regions_read_ += read.size();
   std::vector<platform::Image> got = renderer.read_regions(boxes);
-  for (std::size_t k = 0; k < read.size(); ++k) reads[read[k]].image = std::move(got[k]);
+  std::size_t next = 0;
+  for (std::size_t i : read)
+    for (std::size_t k = 0; k < reads[i].rects.size(); ++k) reads[i].images.push_back(std::move(got[next++]));
   std::vector<std::size_t> undecided;
   frame_faults_ = judge_reads(table_, expected_, reads, memory_, &undecided);
   if (!undecided.empty()) {
@@ -225,7 +232,7 @@ const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& ren
     for (std::size_t i : undecided) boxes.push_back(boxes_[i]);
     got = renderer.read_regions(boxes);
     for (std::size_t k = 0; k < undecided.size(); ++k) {
-      again[undecided[k]] = {std::move(got[k]), table_.regions[undecided[k]].rect};
+      again[undecided[k]] = {{std::move(got[k])}, {table_.regions[undecided[k]].rect}};
       read_whole(undecided[k]);
     }
     auto more = judge_reads(table_, expected_, again, memory_);

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -86,39 +87,44 @@ double expected_angle(const NeedleModel& needle, double time);
 // fewer than min_pixels needle pixels.
 std::optional<double> needle_angle(const SafetyRegion& region, const RgbaView& frame, int* pixels = nullptr);
 // Needle: the pixels the angle is read from (the needle's colour box, inside the annulus and the
-// sector), counted inside `within` (a part of the region's rect; pixels outside the rect never
-// count): their number, the sums of their columns and rows (integers: the same pixels give the
-// same sums whatever part of the frame holds them), and how many lie within kNeedleWindowEdge
-// pixels of a side of `within` that is not a side of the region's rect (there the needle may go
-// on outside `within`).
+// sector), counted inside `bands` (disjoint parts of the region's rect, `views[j]` holding
+// `bands[j]`; pixels outside the rect never count): their number, the sums of their columns and
+// rows (integers: the same pixels give the same sums whatever parts of the frame hold them), and
+// how many lie within kNeedleWindowEdge pixels of the bands' outline where it is not a side of the
+// rect (there the needle may go on outside the bands).
 struct NeedlePixels {
   int count = 0;
   std::int64_t sum_x = 0, sum_y = 0;
   int at_edge = 0;
   bool operator==(const NeedlePixels&) const = default;
 };
+NeedlePixels needle_pixels(const SafetyRegion& region, std::span<const RgbaView> views, std::span<const PixelRect> bands);
 NeedlePixels needle_pixels(const SafetyRegion& region, const RgbaView& frame, const PixelRect& within);
 // The centroid's angle (deg clockwise from up) of those pixels, nullopt below min_pixels.
 std::optional<double> centroid_angle(const NeedleModel& needle, const NeedlePixels& pixels);
 
 // The part of a needle's rect the runtime monitor reads on a frame (docs/integrity.md, "Cost"):
-// the box around the segment from r_min to r_max at the expected angle, widened on every side by
-// r_max * sin(kNeedleWindowSlackDeg) + half_width + kNeedleWindowEdge pixels, clipped to the
-// rect: a needle up to half_width pixels wide on each side of its axis and within the slack of
-// the expected angle lies inside it off its edge band. A needle further off, or wider, is cut by
-// a side; check_needle_window then does not decide.
+// the segment from r_min to r_max at the expected angle widened on every side by
+// r_max * sin(kNeedleWindowSlackDeg) + half_width + kNeedleWindowEdge pixels, as disjoint bands
+// kNeedleWindowBand pixels long across the segment's longer screen axis (each band the box of
+// its piece of the widened segment), clipped to the rect. A needle up to half_width pixels wide
+// on each side of its axis and within the slack of the expected angle lies inside them, off
+// their edge; a needle further off, or wider, reaches their outline and check_needle_window
+// then does not decide.
 inline constexpr double kNeedleWindowSlackDeg = 0.5;
 inline constexpr int kNeedleWindowEdge = 2;
-PixelRect needle_window(const SafetyRegion& region, double expected_deg, int half_width);
-// check_needle on a window only. It decides only when the needle it finds there is within the
-// tolerance and touches no inner side of the window (no needle pixel within kNeedleWindowEdge of
-// a side that cuts the rect); then its verdict is check_needle's on the whole rect unless the
-// rect holds needle-coloured pixels in the annulus and sector that are outside the window and not
-// joined to the needle (a second needle). Anything else (a needle off by more than the tolerance,
-// at an old angle, missing, cut by a side) is nullopt: read the whole rect and call check_needle.
-// `pixels` (optional) receives what was counted in the window.
-std::optional<Verdict> check_needle_window(const SafetyRegion& region, const RgbaView& frame, const PixelRect& window,
-                                           double expected_deg, NeedlePixels* pixels = nullptr);
+inline constexpr int kNeedleWindowBand = 48;
+std::vector<PixelRect> needle_window(const SafetyRegion& region, double expected_deg, int half_width);
+// check_needle on the window's bands only (`views[j]` holds `bands[j]`). It decides only when the
+// needle it finds there is within the tolerance and reaches no inner part of the outline (no
+// needle pixel within kNeedleWindowEdge of it); then its verdict is check_needle's on the whole
+// rect unless the rect holds needle-coloured pixels in the annulus and sector outside the bands
+// and not joined to the needle (a second needle). Anything else (a needle off by more than the
+// tolerance, at an old angle, missing, cut by the outline) is nullopt: read the whole rect and
+// call check_needle. `pixels` (optional) receives what was counted in the bands.
+std::optional<Verdict> check_needle_window(const SafetyRegion& region, std::span<const RgbaView> views,
+                                           std::span<const PixelRect> bands, double expected_deg,
+                                           NeedlePixels* pixels = nullptr);
 
 // Telltale: mean colour over the lamp mask.
 std::array<double, 3> lamp_mean(const SafetyRegion& region, const RgbaView& frame);

@@ -38,11 +38,12 @@ struct RegionMemory {
   engine::RegionExpectation expected;
 };
 
-// What was read back of one region in a frame: its whole rect, or for a needle only its window
-// (engine::needle_window). An empty image: not read.
+// What was read back of one region in a frame: its whole rect (one image), or for a needle only
+// the bands of its window (engine::needle_window), one image each. No image: not read.
 struct RegionRead {
-  platform::Image image;
-  bridge::PixelRect rect;  // frame position and size of `image`
+  std::vector<platform::Image> images;
+  std::vector<bridge::PixelRect> rects;  // frame position and size of each image
+  bool read() const { return !images.empty() && !images.front().empty(); }
 };
 
 // True when the look `b` must differ from `a` in pixels: a telltale switched, a needle turned by
@@ -106,7 +107,7 @@ class IntegrityMonitor {
  private:
   void redraw_safe(engine::Renderer& renderer, std::size_t region, const engine::RegionExpectation& expected);
   platform::PixelRegion gl_box(const bridge::PixelRect& rect) const;  // GL window coordinates
-  bridge::PixelRect read_rect(std::size_t region, std::uint64_t call) const;  // what check() reads
+  std::vector<bridge::PixelRect> read_rects(std::size_t region, std::uint64_t call) const;  // what check() reads
   void read_whole(std::size_t region);  // a needle read whole in this call
   std::size_t region_index(const std::string& name) const;
 
@@ -119,7 +120,7 @@ class IntegrityMonitor {
   engine::ExpectedStates expectations_;
   std::vector<engine::RegionExpectation> expected_;  // this frame's, one per region
   std::vector<RegionMemory> memory_;
-  std::vector<std::optional<std::uint64_t>> whole_at_;     // needles: the call they were last read whole in
+  std::vector<std::optional<std::uint64_t>> whole_due_;    // needles: the call they are next read whole in
   // Needles: the half width (pixels) their window allows for; it starts at kStartHalfWidth and
   // doubles whenever a window cut a needle that the whole rect then showed right.
   std::vector<int> half_width_;
