@@ -84,8 +84,14 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
     unresolved_ = {all};
   } else {
     gl_.Disable(GL_SCISSOR_TEST);
-    unresolved_.insert(unresolved_.end(), plan.regions.begin(), plan.regions.end());
-    // Reads of a few boxes leave the rest pending: bounded as resolve_pending would (past 16, all).
+    // Reads of a few boxes (the integrity monitor's) leave the rest pending over frames: a box
+    // already pending is not added again (a moving needle redraws the same box every frame), and
+    // the list is bounded as resolve_pending would bound it (past 16, all).
+    for (const auto& r : plan.regions) {
+      if (std::any_of(unresolved_.begin(), unresolved_.end(), [&](const auto& p) { return contains(p, r); })) continue;
+      std::erase_if(unresolved_, [&](const auto& p) { return contains(r, p); });
+      unresolved_.push_back(r);
+    }
     if (unresolved_.size() > 16) unresolved_ = {all};
   }
 }

@@ -9,12 +9,6 @@
 
 namespace meter::engine {
 
-namespace {
-bool inside(const platform::PixelRegion& a, const platform::PixelRegion& b) {
-  return a.x >= b.x && a.y >= b.y && a.x + a.width <= b.x + b.width && a.y + a.height <= b.y + b.height;
-}
-}  // namespace
-
 std::vector<platform::Image> Renderer::read_regions(std::span<const platform::PixelRegion> regions) {
   if (regions.empty()) return {};
   // Only the boxes read that were drawn since the last resolve are resolved (on llvmpipe an sRGB
@@ -27,7 +21,7 @@ std::vector<platform::Image> Renderer::read_regions(std::span<const platform::Pi
     std::vector<platform::PixelRegion> due;
     for (const auto& box : regions) {
       const bool drawn = std::any_of(unresolved_.begin(), unresolved_.end(), [&](const auto& p) { return overlap(box, p); });
-      const bool clean = clean_valid && std::any_of(clean_.begin(), clean_.end(), [&](const auto& c) { return inside(box, c); });
+      const bool clean = clean_valid && std::any_of(clean_.begin(), clean_.end(), [&](const auto& c) { return contains(c, box); });
       if (drawn && !clean) due.push_back(box);
     }
     if (!due.empty()) target_->resolve(due);
