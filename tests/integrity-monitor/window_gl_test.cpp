@@ -11,11 +11,13 @@
 #include "meter/engine/integrity_check.hpp"
 #include "monitor_rig.hpp"
 
-using meter::bridge::SafetyKind;
-using meter::bridge::SafetyRegion;
-using meter::engine::RgbaView;
+namespace {
+using SafetyKind = meter::bridge::SafetyKind;
+using SafetyRegion = meter::bridge::SafetyRegion;
+using RgbaView = meter::engine::RgbaView;
+using Image = meter::platform::Image;
+}  // namespace
 using meter::platform::BackendKind;
-using meter::platform::Image;
 using meter::testing::MonitorRig;
 
 namespace {
