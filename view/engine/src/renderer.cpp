@@ -82,7 +82,15 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
     unresolved_ = {all};
   } else {
     gl_.Disable(GL_SCISSOR_TEST);
-    unresolved_.insert(unresolved_.end(), plan.regions.begin(), plan.regions.end());
+    // Reads of a few boxes (the integrity monitor's) leave the rest pending over frames: a box
+    // already pending is not added again (a moving needle redraws the same box every frame), and
+    // the list is bounded as resolve_pending would bound it (past 16, all).
+    for (const auto& r : plan.regions) {
+      if (std::any_of(unresolved_.begin(), unresolved_.end(), [&](const auto& p) { return contains(p, r); })) continue;
+      std::erase_if(unresolved_, [&](const auto& p) { return contains(r, p); });
+      unresolved_.push_back(r);
+    }
+    if (unresolved_.size() > 16) unresolved_ = {all};
   }
 }
 
@@ -116,6 +124,7 @@ FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& cho
   // A skipped frame still answers a read with the frame that stands.
   auto skip = [&] {
     ++stats_.skipped;
+    watched_.clear();
     if (read_back) {
       auto t2 = Clock::now();
       read();
@@ -148,6 +157,7 @@ FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& cho
   if (fault_) execute_faulty(plan, now);
   else execute(plan, now);
   note_written(plan);
+  resolve_watched(plan);
   if (plan.full) {
     t.redrawn_fraction = 1.0;
   } else {

@@ -147,6 +147,84 @@ TEST(IntegrityCheck, ARegionReadBackAloneGivesTheSameVerdict) {
   EXPECT_NE(v.seen.find("pixels not available"), std::string::npos) << v.seen;
 }
 
+// A window's bands copied out of a frame, as the monitor reads a needle's window back.
+struct WindowRead {
+  std::vector<PixelRect> bands;
+  std::vector<std::vector<std::uint8_t>> bytes;
+  std::vector<RgbaView> views;
+  long long area = 0;
+};
+WindowRead read_window(const platform::Image& img, std::vector<PixelRect> bands) {
+  WindowRead out;
+  out.bands = std::move(bands);
+  for (const auto& w : out.bands) {
+    auto& b = out.bytes.emplace_back();
+    for (int y = w.y; y < w.y + w.height; ++y) b.insert(b.end(), img.pixel(w.x, y), img.pixel(w.x, y) + 4 * w.width);
+    out.area += (long long)w.width * w.height;
+  }
+  for (std::size_t j = 0; j < out.bands.size(); ++j) {
+    const auto& w = out.bands[j];
+    out.views.push_back({out.bytes[j].data(), w.width, w.height, w.x, w.y, 0});
+  }
+  return out;
+}
+
+// The window check decides only where the whole rect's check gives the same verdict: a right
+// needle at every angle of the sweep is decided in its window with the very angle the whole rect
+// gives (the same pixels), and so are its freeze key's sums.
+TEST(IntegrityCheck, NeedleWindowDecidesARightNeedleExactlyAsTheWholeRect) {
+  const SafetyRegion r = needle();
+  for (double angle = -120.0; angle <= 120.0; angle += 7.5) {
+    for (double off : {0.0, 0.2, -0.2}) {
+      platform::Image img(100, 100, 20, 20, 24);
+      draw_needle(img, 50.5, 50.5, angle + off, 40);
+      const WindowRead part = read_window(img, needle_window(r, angle, 4));
+      ASSERT_FALSE(part.bands.empty());
+      EXPECT_LT(part.area, r.rect.width * r.rect.height) << angle;
+      NeedlePixels in_window;
+      const auto decided = check_needle_window(r, part.views, part.bands, angle, &in_window);
+      ASSERT_TRUE(decided.has_value()) << "a needle " << off << " deg off at " << angle << " deg was cut by its window";
+      const Verdict whole = check_needle(r, view_of(img), angle);
+      EXPECT_TRUE(decided->ok);
+      EXPECT_EQ(decided->seen, whole.seen);
+      EXPECT_DOUBLE_EQ(decided->difference, whole.difference);
+      EXPECT_EQ(in_window, needle_pixels(r, view_of(img), r.rect));
+    }
+  }
+}
+
+// What the window cannot vouch for it leaves to the whole rect (nullopt): a needle 3 degrees off
+// (the tolerance is 1), a needle at an old angle, no needle, a needle cut by the window's side;
+// the whole rect's check then fails each of them as before.
+TEST(IntegrityCheck, NeedleWindowLeavesEveryWrongNeedleToTheWholeRect) {
+  const SafetyRegion r = needle();
+  for (double expected : {-100.0, -30.0, 0.0, 45.0, 110.0}) {
+    const auto w = needle_window(r, expected, 4);
+    for (double seen : {expected + 3.0, expected - 3.0, expected + 1.5, expected - 60.0, expected + 90.0}) {
+      platform::Image img(100, 100, 20, 20, 24);
+      draw_needle(img, 50.5, 50.5, seen, 40);
+      const WindowRead part = read_window(img, w);
+      EXPECT_FALSE(check_needle_window(r, part.views, part.bands, expected).has_value())
+          << "needle at " << seen << " for " << expected;
+      EXPECT_FALSE(check_needle(r, view_of(img), expected).ok) << "needle at " << seen << " for " << expected;
+    }
+    platform::Image none(100, 100, 20, 20, 24);
+    const WindowRead empty = read_window(none, w);
+    EXPECT_FALSE(check_needle_window(r, empty.views, empty.bands, expected).has_value());
+  }
+  // A right needle wider than the window allows for is cut by its sides: not decided either.
+  platform::Image wide(100, 100, 20, 20, 24);
+  for (double d = -3.0; d <= 3.0; d += 0.5) draw_needle(wide, 50.5 + d * std::cos(0.3), 50.5 + d * std::sin(0.3), 0.0, 40);
+  const WindowRead narrow = read_window(wide, needle_window(r, 0.0, 0));
+  EXPECT_FALSE(check_needle_window(r, narrow.views, narrow.bands, 0.0).has_value());
+  // Views that do not hold the bands are not read.
+  std::vector<RgbaView> short_views = narrow.views;
+  short_views.back().height -= 1;
+  EXPECT_FALSE(check_needle_window(r, short_views, narrow.bands, 0.0).has_value());
+  EXPECT_FALSE(check_needle_window(r, std::span<const RgbaView>(narrow.views).first(narrow.views.size() - 1), narrow.bands, 0.0)
+                   .has_value());
+}
+
 TEST(IntegrityCheck, RegionHashSeesOnlyTheRegion) {
   const SafetyRegion r = lamp();
   platform::Image img(40, 20, 10, 10, 10);

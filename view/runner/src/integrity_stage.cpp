@@ -80,6 +80,7 @@ IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, s
 }
 
 void IntegrityStage::before_frame(std::uint64_t frame) {
+  monitor_.prepare(ctx_.renderer, ctx_.evaluator);
   if (!schedule_) return;
   if (frame == schedule_->first) ctx_.renderer.inject(schedule_->fault);
   if (schedule_->last && frame == *schedule_->last + 1) ctx_.renderer.inject(std::nullopt);

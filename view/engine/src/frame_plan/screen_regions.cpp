@@ -14,6 +14,11 @@ PixelRegion unite(const PixelRegion& a, const PixelRegion& b) {
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
+bool contains(const PixelRegion& outer, const PixelRegion& inner) {
+  return inner.x >= outer.x && inner.y >= outer.y && inner.x + inner.width <= outer.x + outer.width &&
+         inner.y + inner.height <= outer.y + outer.height;
+}
+
 bool overlap(const PixelRegion& a, const PixelRegion& b) {
   return a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
 }

@@ -34,10 +34,41 @@ bool looks_as_measured(const Scene& scene, const BindingEvaluator& ev, SafetyKin
   return !f.sweep || kind == SafetyKind::Needle;
 }
 
-RegionExpectation expect(const SafetyRegion& region, const Scene& scene, const BindingEvaluator& ev,
-                         const std::vector<char>& visible) {
+}  // namespace
+
+ExpectedStates::ExpectedStates(const IntegrityTable& table, const Scene& scene) : table_(table), scene_(scene) {
+  parent_.assign(scene.nodes.size(), -1);
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    for (int c : scene.nodes[n].children)
+      if (c >= 0 && std::size_t(c) < parent_.size()) parent_[std::size_t(c)] = int(n);
+  const auto& bindings = scene.config.bindings;
+  resolved_.reserve(table.regions.size());
+  for (const auto& region : table.regions) {
+    Resolved r;
+    for (int i : region.bindings) {
+      const bool in = i >= 0 && std::size_t(i) < bindings.size();
+      r.nodes.push_back(in ? scene.find_node(bindings[std::size_t(i)].node) : -1);
+      r.materials.push_back(in ? scene.find_material(bindings[std::size_t(i)].material) : -1);
+    }
+    r.node = scene.find_node(region.node);
+    if (region.kind == SafetyKind::Needle) r.animation = scene.find_animation(region.needle.animation);
+    resolved_.push_back(std::move(r));
+  }
+}
+
+// Effective visibility of one node: it and every ancestor shown (effective_visibility's rule).
+bool ExpectedStates::visible(const BindingOutputs& outputs, int node) const {
+  if (node < 0) return false;
+  for (int n = node; n >= 0; n = parent_[std::size_t(n)])
+    if (std::size_t(n) < outputs.node_visible.size() && outputs.node_visible[std::size_t(n)] == 0) return false;
+  return true;
+}
+
+RegionExpectation ExpectedStates::of(std::size_t index, const BindingEvaluator& ev) const {
+  const SafetyRegion& region = table_.regions[index];
+  const Resolved& res = resolved_[index];
   RegionExpectation e;
-  if (!looks_as_measured(scene, ev, region.kind)) return e;
+  if (!looks_as_measured(scene_, ev, region.kind)) return e;
   const auto& out = ev.outputs();
   const auto& bindings = ev.bindings();
   auto binding = [&](int i) -> const Binding* {
@@ -47,30 +78,26 @@ RegionExpectation expect(const SafetyRegion& region, const Scene& scene, const B
     case SafetyKind::Telltale: {
       e.known = !region.bindings.empty();
       bool lit = true;
-      for (int i : region.bindings) {
-        const Binding* b = binding(i);
+      for (std::size_t k = 0; k < region.bindings.size(); ++k) {
+        const Binding* b = binding(region.bindings[k]);
         if (b == nullptr) return {};
         if (b->kind == BindingKind::Visibility) {
-          const int n = scene.find_node(b->node);
-          lit = lit && n >= 0 && visible[std::size_t(n)] != 0;
+          lit = lit && visible(out, res.nodes[k]);
         } else if (b->kind == BindingKind::Emissive || b->kind == BindingKind::Color) {
-          const int m = scene.find_material(b->material);
+          const int m = res.materials[k];
           if (m < 0) return {};
-          const glm::vec4 c = b->kind == BindingKind::Emissive ? glm::vec4(effective_emissive(scene, out, m), 0.0f)
-                                                              : effective_base_color(scene, out, m);
+          const glm::vec4 c = b->kind == BindingKind::Emissive ? glm::vec4(effective_emissive(scene_, out, m), 0.0f)
+                                                              : effective_base_color(scene_, out, m);
           lit = lit && colour_on(*b, c, b->kind == BindingKind::Emissive);
         }
       }
-      if (!region.node.empty()) {
-        const int n = scene.find_node(region.node);
-        lit = lit && n >= 0 && visible[std::size_t(n)] != 0;
-      }
+      if (!region.node.empty()) lit = lit && visible(out, res.node);
       e.lit = lit;
       return e;
     }
     case SafetyKind::Needle: {
       const Binding* b = region.bindings.empty() ? nullptr : binding(region.bindings.front());
-      const int a = scene.find_animation(region.needle.animation);
+      const int a = res.animation;
       if (b == nullptr || a < 0 || std::size_t(a) >= out.animation_time.size()) return {};
       const auto& st = ev.states()[std::size_t(region.bindings.front())];
       e.known = true;
@@ -82,29 +109,31 @@ RegionExpectation expect(const SafetyRegion& region, const Scene& scene, const B
     case SafetyKind::Readout: {
       if (region.bindings.empty() || binding(region.bindings.front()) == nullptr) return {};
       const auto& st = ev.states()[std::size_t(region.bindings.front())];
-      const int n = scene.find_node(region.node);
       e.text = st.text;
       e.value = st.value;
-      e.known = !st.text.empty() && n >= 0 && visible[std::size_t(n)] != 0;
+      e.known = !st.text.empty() && visible(out, res.node);
       return e;
     }
   }
   return e;
 }
 
-}  // namespace
+void ExpectedStates::evaluate(const BindingEvaluator& evaluator, std::vector<RegionExpectation>& out) const {
+  out.resize(table_.regions.size());
+  for (std::size_t i = 0; i < table_.regions.size(); ++i) out[i] = of(i, evaluator);
+}
 
 std::vector<RegionExpectation> expected_states(const IntegrityTable& table, const Scene& scene,
                                                const BindingEvaluator& evaluator) {
-  const auto visible = effective_visibility(scene, evaluator.outputs().node_visible);
   std::vector<RegionExpectation> out;
-  out.reserve(table.regions.size());
-  for (const auto& r : table.regions) out.push_back(expect(r, scene, evaluator, visible));
+  ExpectedStates(table, scene).evaluate(evaluator, out);
   return out;
 }
 
 RegionExpectation expected_state(const SafetyRegion& region, const Scene& scene, const BindingEvaluator& evaluator) {
-  return expect(region, scene, evaluator, effective_visibility(scene, evaluator.outputs().node_visible));
+  IntegrityTable one;
+  one.regions = {region};
+  return ExpectedStates(one, scene).of(0, evaluator);
 }
 
 }  // namespace meter::engine

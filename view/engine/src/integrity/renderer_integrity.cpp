@@ -1,5 +1,6 @@
 // The Renderer's integrity side: region readback, the safe-path redraw and the injected faults'
 // GL execution (meter/engine/integrity/fault_injection.hpp).
+#include <algorithm>
 #include <utility>
 
 #include "gl/text_drawing.hpp"
@@ -10,19 +11,59 @@ namespace meter::engine {
 
 std::vector<platform::Image> Renderer::read_regions(std::span<const platform::PixelRegion> regions) {
   if (regions.empty()) return {};
-  // Only what was drawn since the last resolve is resolved (on llvmpipe an sRGB MSAA resolve costs
-  // per pixel as much as drawing it): the rest of the single-sample image is current already.
-  resolve_pending();
-  return output_target().read_resolved_regions(regions);
+  if (output_) {
+    // Drawn at a smaller scale: the regions are in upscaled output pixels, so what is pending is
+    // resolved and upscaled as a whole.
+    resolve_pending();
+    return output_->read_resolved_regions(regions);
+  }
+  // Only the boxes read that were drawn since the last resolve are resolved (on llvmpipe an sRGB
+  // MSAA resolve costs per pixel as much as drawing it), and not those render() resolved with the
+  // frame when nothing was drawn after: the rest of the single-sample image is current already,
+  // and what else is pending stays so for the next full read (resolving a box twice gives the
+  // same pixels).
+  if (target_->samples() > 1) {
+    const bool clean_valid = clean_after_ == draws_;
+    std::vector<platform::PixelRegion> due;
+    for (const auto& box : regions) {
+      const bool drawn = std::any_of(unresolved_.begin(), unresolved_.end(), [&](const auto& p) { return overlap(box, p); });
+      const bool clean = clean_valid && std::any_of(clean_.begin(), clean_.end(), [&](const auto& c) { return contains(c, box); });
+      if (drawn && !clean) due.push_back(box);
+    }
+    if (!due.empty()) target_->resolve(due);
+  }
+  return target_->read_resolved_regions(regions);
+}
+
+void Renderer::resolve_with_frame(std::vector<platform::PixelRegion> boxes) { watched_ = std::move(boxes); }
+
+void Renderer::resolve_watched(const FramePlan& plan) {
+  std::vector<platform::PixelRegion> watched = std::exchange(watched_, {});
+  clean_.clear();
+  // At a scale below 1 the reads upscale what is pending as a whole (read_regions).
+  if (watched.empty() || target_->samples() <= 1 || output_) return;
+  for (const auto& box : watched) {
+    const bool drawn = plan.full || std::any_of(plan.regions.begin(), plan.regions.end(), [&](const auto& r) { return overlap(box, r); });
+    if (drawn) clean_.push_back(box);
+  }
+  if (!clean_.empty()) target_->resolve(clean_);
+  clean_after_ = draws_;
 }
 
 std::vector<platform::PixelRegion> Renderer::take_written() { return std::exchange(written_, {}); }
 
 void Renderer::note_written(const FramePlan& plan) {
+  ++draws_;
   // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
   if (plan.full || written_.size() > 64) written_ = {platform::PixelRegion{0, 0, width_, height_}};
   if (!plan.full)
     for (const auto& r : plan.regions) written_.push_back(to_output(r));
+}
+
+void Renderer::note_written(const platform::PixelRegion& drawn, const platform::PixelRegion& output) {
+  ++draws_;
+  unresolved_.push_back(drawn);
+  written_.push_back(output);
 }
 
 void Renderer::fill(const platform::PixelRegion& output_region, const glm::vec4& linear_colour) {
@@ -34,8 +75,7 @@ void Renderer::fill(const platform::PixelRegion& output_region, const glm::vec4&
   gl_.ClearColor(linear_colour.r, linear_colour.g, linear_colour.b, linear_colour.a);
   gl_.Clear(GL_COLOR_BUFFER_BIT);
   gl_.Disable(GL_SCISSOR_TEST);
-  unresolved_.push_back(region);
-  written_.push_back(output_region);
+  note_written(region, output_region);
 }
 
 void Renderer::redraw_safe(const platform::PixelRegion& region, const std::optional<glm::vec4>& linear_colour) {
@@ -44,8 +84,7 @@ void Renderer::redraw_safe(const platform::PixelRegion& region, const std::optio
   } else if (layer_ && layer_drawn_.valid) {
     const platform::PixelRegion drawn = to_drawn(region);
     target_->copy_from(*layer_, std::span<const platform::PixelRegion>(&drawn, 1));
-    unresolved_.push_back(drawn);
-    written_.push_back(region);
+    note_written(drawn, region);
   } else {
     const auto& cc = scene_.config.clear_color;
     fill(region, glm::vec4(float(cc[0]), float(cc[1]), float(cc[2]), float(cc[3])));
@@ -77,8 +116,7 @@ void Renderer::execute_faulty(const FramePlan& plan, const FrameState& now) {
     gl_.Scissor(f.box.x, f.box.y, f.box.width, f.box.height);
     text_->draw(*target_, {cover});
     gl_.Disable(GL_SCISSOR_TEST);
-    unresolved_.push_back(f.box);
-    written_.push_back(f.box);
+    note_written(f.box, to_output(f.box));  // the cover is drawn in the target's pixels
   }
 }
 

@@ -140,9 +140,15 @@ class Renderer {
   glm::vec2 project(int node) const;
 
   // The integrity monitor's side (docs/integrity.md). Reads back only `regions` of the last drawn
-  // frame (GL window coordinates); what was drawn since the last resolve is resolved first. An
-  // empty list reads and resolves nothing.
+  // frame (GL window coordinates); of what was drawn since the last resolve, only the boxes read
+  // are resolved first (the rest stays pending for a later read). An empty list reads and
+  // resolves nothing.
   std::vector<platform::Image> read_regions(std::span<const platform::PixelRegion> regions);
+  // The boxes (GL window coordinates) the monitor will read after the next render(): those the
+  // frame draws into are resolved by render() before it waits for the frame, in the same GPU
+  // flush, so the read_regions after it has nothing to resolve and waits for nothing. Used by one
+  // render(); without it read_regions resolves what it reads itself (the same pixels).
+  void resolve_with_frame(std::vector<platform::PixelRegion> boxes);
   // The target's boxes (GL window coordinates) drawn since the last call: each drawn frame's
   // regions (all of it for a full frame) as planned, safe-path redraws and injected covers. Only
   // these can hold pixels other than the ones read before.
@@ -190,6 +196,9 @@ class Renderer {
   void execute_faulty(const FramePlan& plan, const FrameState& now);
   void fill(const platform::PixelRegion& region, const glm::vec4& linear_colour);
   void note_written(const FramePlan& plan);
+  // A safe-path or injected draw: `drawn` in the target's pixels, `output` in output pixels.
+  void note_written(const platform::PixelRegion& drawn, const platform::PixelRegion& output);
+  void resolve_watched(const FramePlan& plan);
   void resolve_pending();
   // Quality levels (renderer_quality.cpp): the targets for quality_.global (drawn at
   // draw_width_ x draw_height_; output_ holds the upscaled frame when that is smaller than the output).
@@ -234,6 +243,10 @@ class Renderer {
   bool global_changed_ = false;                 // targets to recreate at the next render()
   int draw_width_ = 0, draw_height_ = 0;        // target_'s size: the output size times the scale
   std::unique_ptr<platform::RenderTarget> output_;  // scale < 1: the frame upscaled to the output size
+  std::uint64_t draws_ = 0;                      // counts what was drawn into the target
+  std::vector<platform::PixelRegion> watched_;  // see resolve_with_frame()
+  std::vector<platform::PixelRegion> clean_;    // resolved after draw number clean_after_
+  std::uint64_t clean_after_ = 0;
 };
 
 }  // namespace meter::engine

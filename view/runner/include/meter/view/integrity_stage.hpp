@@ -49,7 +49,8 @@ class IntegrityStage {
   // Logs whether the monitor is on (and why not) and any injected fault.
   IntegrityStage(RenderContext& ctx, const ViewOptions& options, std::ostream& log);
   bool on() const { return monitor_.on(); }
-  // Before frame `frame` renders: the injected fault starts or ends.
+  // Before frame `frame` renders: the monitor names the boxes it will read (IntegrityMonitor::
+  // prepare); the injected fault starts or ends.
   void before_frame(std::uint64_t frame);
   // After it rendered: checks it; a fault is logged and reported to `health` at `now`.
   void after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now);

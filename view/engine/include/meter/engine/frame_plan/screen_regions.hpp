@@ -17,6 +17,7 @@ using platform::PixelRegion;
 long long area(const PixelRegion& r);
 PixelRegion unite(const PixelRegion& a, const PixelRegion& b);
 bool overlap(const PixelRegion& a, const PixelRegion& b);
+bool contains(const PixelRegion& outer, const PixelRegion& inner);  // inner lies wholly in outer
 
 // Clips to the width x height target, then merges until the regions are disjoint (text is
 // alpha-blended: a pixel in two regions would get it twice) and at most kMaxRegions remain (each
