@@ -6,6 +6,7 @@
 
 #include "gl/draw_submission.hpp"
 #include "gl/gpu_scene.hpp"
+#include "gl/scene_resolve.hpp"
 #include "gl/text_drawing.hpp"
 #include "meter/platform/gl_api.hpp"
 
@@ -28,6 +29,7 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
   rt.height = height_;
   rt.samples = std::max(1, options.msaa);
   rt.depth = platform::DepthFormat::Depth24;
+  rt.resolve = scene_resolve_filter(scene.config);
   target_ = std::make_unique<platform::RenderTarget>(backend, rt);
   unresolved_ = {platform::PixelRegion{0, 0, width_, height_}};
   if (options_.uber_shader) options_.concatenate = false;  // the uber-shader has no vertex-alpha input
@@ -65,6 +67,7 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
     if (!layer_) {
       platform::RenderTargetOptions rt;
       rt.width = width_, rt.height = height_, rt.samples = target_->samples(), rt.depth = target_->depth();
+      rt.resolve = target_->resolve_filter();  // same colour storage: the layer copy is texel for texel
       layer_ = std::make_unique<platform::RenderTarget>(backend_, rt);
     }
     submission_->submit(*layer_, *plan.layer_build, now, stats_);

@@ -163,6 +163,18 @@ TEST_P(PartialRedraw, ClusterWithoutMsaaEqualsFullRedraw) {
   EXPECT_EQ(s.layer_builds, 1u);
 }
 
+TEST_P(PartialRedraw, ClusterWithTheFilmFilterResolveEqualsFullRedraw) {
+  // The film filter resolve reads the samples of each pixel's neighbourhood: a change drawn in a
+  // region changes resolved pixels outside it, which the resolve of that region must cover
+  // (RenderTarget::resolve grows it by resolve_margin_px()). At the default 1.5 px the reach (1 px)
+  // stays inside the damage boxes' own 1 px pad; the widest filter (3 px, reach 3 px) does not.
+  Scene film = cluster();
+  film.config.resolve.filter = ResolveConfig::Filter::BlackmanHarris;
+  film.config.resolve.width_px = 3.0;
+  const RendererStats s = run(film, 640, 240, 4);
+  EXPECT_GE(s.partial_frames, 8u);
+}
+
 TEST_P(PartialRedraw, MorphingSceneEqualsFullRedraw) {
   // The dial's fuel bar morphs: its bounds are not the primitive's, so such frames are full.
   run(dial(), 320, 160, 4);

@@ -16,7 +16,16 @@ std::vector<platform::Image> Renderer::read_regions(std::span<const platform::Pi
   return target_->read_resolved_regions(regions);
 }
 
-std::vector<platform::PixelRegion> Renderer::take_written() { return std::exchange(written_, {}); }
+std::vector<platform::PixelRegion> Renderer::take_written() {
+  // A wide resolve filter carries a change up to its margin beyond the box it was drawn in.
+  std::vector<platform::PixelRegion> out = std::exchange(written_, {});
+  if (const int m = target_->resolve_margin_px(); m > 0)
+    for (auto& r : out) {
+      r = platform::clip(r, width_, height_);  // first: the growth cannot overflow
+      if (!r.empty()) r = platform::clip({r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m}, width_, height_);
+    }
+  return out;
+}
 
 void Renderer::note_written(const FramePlan& plan) {
   // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
