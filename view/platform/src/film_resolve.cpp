@@ -6,12 +6,10 @@
 namespace meter::platform {
 namespace {
 
-// One triangle covering the target; the scissor picks the region.
+// One triangle over the whole target (its corners past two edges); the scissor picks the region.
 constexpr const char* kVertex = R"(#version 310 es
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
+const vec2 corner[3] = vec2[3](vec2(-1.0, -1.0), vec2(3.0, -1.0), vec2(-1.0, 3.0));
+void main() { gl_Position = vec4(corner[gl_VertexID], 0.0, 1.0); }
 )";
 
 // The weighted mean of every sample of the (2K + 1)^2 pixels around this one, pixels outside the

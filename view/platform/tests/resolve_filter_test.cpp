@@ -81,12 +81,7 @@ TEST(ResolveFilterWeights, ReachAndNormalization) {
   EXPECT_LT(corner, 0.02);
 }
 
-class ResolveFilterGl : public ::testing::TestWithParam<BackendKind> {
- protected:
-  void SetUp() override { backend_ = mp::create_backend(GetParam()); }
-  const mp::Gl& gl() const { return backend_->gl(); }
-  std::unique_ptr<mp::GpuBackend> backend_;
-};
+class ResolveFilterGl : public mp::test::GlBackendTest {};
 
 INSTANTIATE_TEST_SUITE_P(Both, ResolveFilterGl, ::testing::Values(BackendKind::Egl, BackendKind::OSMesa),
                          mp::test::backend_param_name);
