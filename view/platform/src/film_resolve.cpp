@@ -1,6 +1,7 @@
 // The film filter's resolve pass (film_resolve.hpp).
 #include "film_resolve.hpp"
 
+#include <cstdio>
 #include <string>
 
 namespace meter::platform {
@@ -12,28 +13,35 @@ const vec2 corner[3] = vec2[3](vec2(-1.0, -1.0), vec2(3.0, -1.0), vec2(-1.0, 3.0
 void main() { gl_Position = vec4(corner[gl_VertexID], 0.0, 1.0); }
 )";
 
-// The weighted mean of every sample of the (2K + 1)^2 pixels around this one, pixels outside the
-// target clamped to its edge. An sRGB texture's samples are decoded to linear by texelFetch and the
-// sum is encoded on write: the filter works in linear light.
-std::string fragment_source(int reach, int samples) {
-  const int vectors = (samples + 3) / 4;
-  const int side = 2 * reach + 1;
+// The weighted mean of the samples of the (2K + 1)^2 pixels around this one, pixels outside the
+// target clamped to its edge. The weights are constants of the program, unrolled, and a sample of
+// weight 0 is not fetched. An sRGB texture's samples are decoded to linear by texelFetch and the sum
+// is encoded on write: the filter works in linear light.
+std::string fragment_source(int reach, int samples, const std::vector<float>& weights) {
   std::string s = "#version 310 es\nprecision highp float;\nprecision highp int;\n"
-                  "uniform highp sampler2DMS u_samples;\n";
-  s += "uniform vec4 u_weights[" + std::to_string(side * side * vectors) + "];\n";
-  s += "out vec4 o_color;\nvoid main() {\n"
-       "  ivec2 p = ivec2(gl_FragCoord.xy);\n"
-       "  ivec2 last = textureSize(u_samples) - 1;\n"
-       "  vec4 sum = vec4(0.0);\n"
-       "  int i = 0;\n";
-  s += "  for (int dy = -" + std::to_string(reach) + "; dy <= " + std::to_string(reach) + "; ++dy) {\n";
-  s += "    for (int dx = -" + std::to_string(reach) + "; dx <= " + std::to_string(reach) + "; ++dx) {\n";
-  s += "      ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), last);\n";
-  static const char* lane[4] = {"x", "y", "z", "w"};
-  for (int k = 0; k < samples; ++k)
-    s += "      sum += u_weights[i + " + std::to_string(k / 4) + "]." + lane[k % 4] + " * texelFetch(u_samples, q, " +
-         std::to_string(k) + ");\n";
-  s += "      i += " + std::to_string(vectors) + ";\n    }\n  }\n  o_color = sum;\n}\n";
+                  "uniform highp sampler2DMS u_samples;\n"
+                  "out vec4 o_color;\nvoid main() {\n"
+                  "  ivec2 p = ivec2(gl_FragCoord.xy);\n"
+                  "  ivec2 last = textureSize(u_samples) - 1;\n"
+                  "  vec4 sum = vec4(0.0);\n"
+                  "  ivec2 q;\n";
+  const int side = 2 * reach + 1;
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const std::size_t first = static_cast<std::size_t>(((dy + reach) * side + dx + reach) * samples);
+      bool any = false;
+      for (int k = 0; k < samples; ++k) any = any || weights[first + std::size_t(k)] > 0.0f;
+      if (!any) continue;
+      s += "  q = clamp(p + ivec2(" + std::to_string(dx) + ", " + std::to_string(dy) + "), ivec2(0), last);\n";
+      for (int k = 0; k < samples; ++k) {
+        const float w = weights[first + std::size_t(k)];
+        if (!(w > 0.0f)) continue;
+        char literal[32];
+        std::snprintf(literal, sizeof literal, "%.9e", double(w));  // always a float literal in GLSL
+        s += std::string("  sum += ") + literal + " * texelFetch(u_samples, q, " + std::to_string(k) + ");\n";
+      }
+    }
+  s += "  o_color = sum;\n}\n";
   return s;
 }
 
@@ -56,18 +64,10 @@ FilmResolve::FilmResolve(const Gl& gl, const ResolveFilter& filter, int samples,
   gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_draw));
   check_gl(gl_, "film filter resolve: querying the " + std::to_string(samples_) + " sample positions");
 
-  const std::vector<float> w = resolve_weights(filter, positions_);
-  const int vectors = (samples_ + 3) / 4, side = 2 * reach_ + 1;
-  weights_.assign(static_cast<std::size_t>(side * side * vectors * 4), 0.0f);
-  for (int p = 0; p < side * side; ++p)
-    for (int s = 0; s < samples_; ++s)
-      weights_[static_cast<std::size_t>((p * vectors + s / 4) * 4 + s % 4)] = w[static_cast<std::size_t>(p * samples_ + s)];
-
-  program_ = compile_program(gl_, kVertex, fragment_source(reach_, samples_),
+  program_ = compile_program(gl_, kVertex, fragment_source(reach_, samples_, resolve_weights(filter, positions_)),
                              std::string("film filter resolve (") + to_string(filter.kind) + ", " +
                                  std::to_string(filter.width_px) + " px, " + std::to_string(samples_) + " samples)");
   samples_loc_ = gl_.GetUniformLocation(program_, "u_samples");
-  weights_loc_ = gl_.GetUniformLocation(program_, "u_weights");
   gl_.GenVertexArrays(1, &vao_);
   check_gl(gl_, "film filter resolve: creating the program");
 }
@@ -96,7 +96,6 @@ void FilmResolve::run(GLuint ms_texture, GLuint dst_fbo, int width, int height, 
   gl_.UseProgram(program_);
   gl_.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, ms_texture);
   gl_.Uniform1i(samples_loc_, 0);
-  gl_.Uniform4fv(weights_loc_, static_cast<GLsizei>(weights_.size() / 4), weights_.data());
   gl_.BindVertexArray(vao_);
   gl_.Enable(GL_SCISSOR_TEST);
   for (const PixelRegion& region : regions) {

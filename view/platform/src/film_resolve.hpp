@@ -37,9 +37,8 @@ class FilmResolve {
   const Gl& gl_;
   int samples_ = 0, reach_ = 0;
   std::vector<std::array<float, 2>> positions_;
-  std::vector<float> weights_;  // vec4-packed: ceil(samples / 4) vec4 per neighbour pixel
-  GLuint program_ = 0, vao_ = 0;
-  GLint samples_loc_ = -1, weights_loc_ = -1;
+  GLuint program_ = 0, vao_ = 0;  // the weights are the program's constants
+  GLint samples_loc_ = -1;
 };
 
 }  // namespace meter::platform

@@ -48,8 +48,14 @@ std::vector<float> resolve_weights(const ResolveFilter& filter, std::span<const 
   if (!(sum > 0.0))
     throw std::invalid_argument("resolve_weights: a " + std::string(to_string(filter.kind)) + " filter " +
                                 std::to_string(filter.width_px) + " px wide covers no sample");
+  // The kernel's far corners: dropped, the rest renormalized (a flat area still resolves exactly).
+  double kept = 0.0;
+  for (double& v : w) {
+    if (v < kNegligibleWeight * sum) v = 0.0;
+    kept += v;
+  }
   std::vector<float> out(w.size());
-  for (std::size_t i = 0; i < w.size(); ++i) out[i] = static_cast<float>(w[i] / sum);
+  for (std::size_t i = 0; i < w.size(); ++i) out[i] = static_cast<float>(w[i] / kept);
   return out;
 }
 

@@ -74,6 +74,8 @@ TEST(ResolveFilterWeights, ReachAndNormalization) {
     sum += w;
   }
   EXPECT_NEAR(sum, 1.0, 1e-6);
+  // The 8 samples nearest the far corners weigh under kNegligibleWeight each: left out.
+  EXPECT_EQ(std::count(film.begin(), film.end(), 0.0f), 8);
   // The centre pixel's samples (index 4 of the 3 x 3) carry most of the weight, the corners least.
   double centre = 0, corner = 0;
   for (int s = 0; s < 4; ++s) centre += film[4 * 4 + s], corner += film[0 * 4 + s];
