@@ -25,6 +25,9 @@ import numpy as np  # noqa: E402
 import bscene as b  # noqa: E402
 
 WIDTH, HEIGHT, FPS = 640, 480, 24
+# Render > Film > Filter Size (EEVEE's Blackman-Harris pixel filter, Blender's default), written into
+# the scene config's "resolve" so the engine's MSAA resolve spreads edges the same way.
+FILTER_SIZE_PX = 1.5
 FEATURES = ("ambient", "diffuse", "specular", "shininess", "emission", "bump", "reflection",
             "envmap2d", "skinning", "morphing", "spot", "omni")
 ANIM_FRAMES = 24      # skinning / morphing: one second of animation
@@ -369,7 +372,7 @@ def render_settings(scene):
     ee.use_soft_shadows = False
     ee.use_volumetric_lights = False
     ee.gi_cubemap_resolution = "512"
-    scene.render.filter_size = 1.5
+    scene.render.filter_size = FILTER_SIZE_PX
     scene.render.film_transparent = False
     scene.render.image_settings.file_format = "PNG"
     scene.render.image_settings.color_mode = "RGB"
@@ -397,6 +400,8 @@ def main():
         "clear_color": [0.0, 0.0, 0.0, 1.0],
         "time": round(config_time, 6),
         "ambient": ambient,
+        # The engine resolves MSAA with the same film filter the reference is rendered with.
+        "resolve": {"filter": "blackman-harris", "width_px": FILTER_SIZE_PX},
         "bindings": [],
         "groups": [],
     })

@@ -125,6 +125,23 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
   return out;
 }
 
+ResolveConfig parse_resolve(const Ctx& c, const json& r) {
+  if (!r.is_object()) c.fail("$.resolve", "expected an object {\"filter\": \"box\" | \"blackman-harris\", \"width_px\": 1.5}");
+  check_keys(c, r, "$.resolve", {"filter", "width_px"});
+  ResolveConfig out;
+  if (r.contains("filter")) {
+    const std::string f = string(c, r["filter"], "$.resolve.filter");
+    if (f == "box") out.filter = ResolveConfig::Filter::Box;
+    else if (f == "blackman-harris") out.filter = ResolveConfig::Filter::BlackmanHarris;
+    else c.fail("$.resolve.filter", "unknown filter \"" + f + "\" (expected box or blackman-harris)");
+  }
+  if (r.contains("width_px")) {
+    out.width_px = number(c, r["width_px"], "$.resolve.width_px");
+    if (out.width_px < 0.5 || out.width_px > 3.0) c.fail("$.resolve.width_px", "expected 0.5 .. 3 pixels");
+  }
+  return out;
+}
+
 }  // namespace
 
 SceneConfig parse_scene_config(std::string_view text, const std::string& origin) {
@@ -142,7 +159,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   if (!j.is_object()) c.fail("$", "expected a JSON object");
   check_keys(c, j, "$",
              {"format", "size", "camera", "clear_color", "time", "ambient", "exposure", "bindings",
-              "link_loss", "groups", "materials", "scripts", "comment", "pages", "theme", "units", "sweep"});
+              "link_loss", "groups", "materials", "scripts", "comment", "pages", "theme", "units", "sweep", "resolve"});
   SceneConfig out;
   out.source_json = std::string(text);
   out.origin = origin;
@@ -174,6 +191,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
       out.bindings.push_back(parse_binding(c, bs[i], "$.bindings[" + std::to_string(i) + "]"));
     }
   }
+  if (j.contains("resolve")) out.resolve = parse_resolve(c, j["resolve"]);
   if (j.contains("link_loss")) {
     const json& l = j["link_loss"];
     if (!l.is_object()) c.fail("$.link_loss", "expected an object");

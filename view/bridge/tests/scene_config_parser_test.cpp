@@ -92,3 +92,20 @@ TEST(SceneConfig, FuzzNumberOverflowIsAnErrorNamingTheFile) {
     FAIL() << "escaped as another exception: " << e.what();
   }
 }
+
+TEST(SceneConfig, ResolveFilterDefaultsToTheBoxAndIsChecked) {
+  const std::string head = R"({"format": "meter-scene-config/1")";
+  EXPECT_EQ(parse_scene_config(head + "}", "t.json").resolve, ResolveConfig{});
+  EXPECT_EQ(ResolveConfig{}.filter, ResolveConfig::Filter::Box);
+  const ResolveConfig film =
+      parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris", "width_px": 2.0}})", "t.json").resolve;
+  EXPECT_EQ(film.filter, ResolveConfig::Filter::BlackmanHarris);
+  EXPECT_EQ(film.width_px, 2.0);
+  EXPECT_EQ(parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris"}})", "t.json").resolve.width_px, 1.5);
+  EXPECT_NE(error_of(head + R"(, "resolve": {"filter": "gauss"}})").find("t.json: $.resolve.filter: unknown filter \"gauss\""),
+            std::string::npos);
+  EXPECT_NE(error_of(head + R"(, "resolve": {"filter": "box", "width_px": 4}})").find("$.resolve.width_px: expected 0.5 .. 3"),
+            std::string::npos);
+  EXPECT_NE(error_of(head + R"(, "resolve": {"filtre": "box"}})").find("$.resolve.filtre: unknown key"), std::string::npos);
+  EXPECT_NE(error_of(head + R"(, "resolve": "box"})").find("$.resolve: expected an object"), std::string::npos);
+}

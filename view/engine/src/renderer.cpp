@@ -6,6 +6,7 @@
 
 #include "gl/draw_submission.hpp"
 #include "gl/gpu_scene.hpp"
+#include "gl/scene_resolve.hpp"
 #include "gl/text_drawing.hpp"
 #include "meter/platform/gl_api.hpp"
 
@@ -63,6 +64,7 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
     if (!layer_) {
       platform::RenderTargetOptions rt;
       rt.width = draw_width_, rt.height = draw_height_, rt.samples = target_->samples(), rt.depth = target_->depth();
+      rt.resolve = target_->resolve_filter();  // same colour storage: the layer copy is texel for texel
       layer_ = std::make_unique<platform::RenderTarget>(backend_, rt);
     }
     submission_->submit(*layer_, *plan.layer_build, now, stats_);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gl/scene_resolve.hpp"
 #include "gl/text_drawing.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/gl_api.hpp"
@@ -18,6 +19,7 @@ void Renderer::make_targets() {
   rt.height = draw_height_;
   rt.samples = quality_.global.msaa;
   rt.depth = platform::DepthFormat::Depth24;
+  rt.resolve = scene_resolve_filter(scene_.config);
   target_.reset();
   layer_.reset();
   output_.reset();

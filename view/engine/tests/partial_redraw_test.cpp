@@ -163,6 +163,48 @@ TEST_P(PartialRedraw, ClusterWithoutMsaaEqualsFullRedraw) {
   EXPECT_EQ(s.layer_builds, 1u);
 }
 
+TEST_P(PartialRedraw, ClusterWithTheFilmFilterResolveEqualsFullRedraw) {
+  // The film filter resolve reads the samples of each pixel's neighbourhood: a change drawn in a
+  // region changes resolved pixels outside it, which the resolve of that region must cover
+  // (RenderTarget::resolve grows it by resolve_margin_px()). At the default 1.5 px the reach (1 px)
+  // stays inside the damage boxes' own 1 px pad; the widest filter (3 px, reach 3 px) does not.
+  Scene film = cluster();
+  film.config.resolve.filter = ResolveConfig::Filter::BlackmanHarris;
+  film.config.resolve.width_px = 3.0;
+  const RendererStats s = run(film, 640, 240, 4);
+  EXPECT_GE(s.partial_frames, 8u);
+}
+
+TEST_P(PartialRedraw, WrittenBoxesGrowByTheResolveFiltersReach) {
+  // The integrity monitor re-reads a safety region when a written box meets it: under the film
+  // filter a box's change reaches resolve_margin_px() beyond it, so the boxes say so.
+  Scene film = cluster();
+  film.config.resolve.filter = ResolveConfig::Filter::BlackmanHarris;
+  film.config.resolve.width_px = 3.0;  // reach 3 px
+  RendererOptions o;
+  o.width = 640, o.height = 240;
+  Renderer box(*backend_, cluster(), o), wide(*backend_, film, o);
+  BindingEvaluator ev(cluster());
+  int partial_boxes = 0;
+  for (const Step& st : drive()) {
+    protocol::SignalTable values;
+    for (const auto& [name, x] : st.values)
+      if (const auto* info = protocol::find_signal(name)) values.set(info->id, {x, protocol::SignalStatus::Valid, ""});
+    ev.update(values, st.link_up, -1.0);
+    box.apply(ev.outputs()), wide.apply(ev.outputs());
+    box.render(false, false), wide.render(false, false);
+    const auto a = box.take_written(), b = wide.take_written();
+    ASSERT_EQ(a.size(), b.size()) << st.name << ": the plan does not depend on the resolve";
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const platform::PixelRegion grown =
+          platform::clip({a[i].x - 3, a[i].y - 3, a[i].width + 6, a[i].height + 6}, 640, 240);
+      EXPECT_EQ(b[i], grown) << st.name << " box " << i;
+      partial_boxes += a[i].width < 640;
+    }
+  }
+  EXPECT_GT(partial_boxes, 4);
+}
+
 TEST_P(PartialRedraw, MorphingSceneEqualsFullRedraw) {
   // The dial's fuel bar morphs: its bounds are not the primitive's, so such frames are full.
   run(dial(), 320, 160, 4);

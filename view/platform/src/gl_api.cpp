@@ -82,6 +82,13 @@ Gl load_gl(GetProcAddress get_proc, std::string_view backend_name, bool is_gles)
     gl.CopyImageSubData = reinterpret_cast<PfnCopyImageSubData>(load((std::string("glCopyImageSubData") + copy_suffix).c_str()));
     info.has_copy_image = gl.CopyImageSubData != nullptr;
   }
+  // Multisample textures and sample positions: GLES 3.1 core; desktop GL 4.3 core (GL 4.5 also
+  // compiles GLSL ES 3.10, ARB_ES3_1_compatibility). Version decides, as above.
+  if (is_gles ? (info.major > 3 || (info.major == 3 && info.minor >= 1)) : (info.major > 4 || (info.major == 4 && info.minor >= 5))) {
+    gl.TexStorage2DMultisample = reinterpret_cast<PfnTexStorage2DMultisample>(load("glTexStorage2DMultisample"));
+    gl.GetMultisamplefv = reinterpret_cast<PfnGetMultisamplefv>(load("glGetMultisamplefv"));
+    info.has_multisample_texture = gl.TexStorage2DMultisample && gl.GetMultisamplefv;
+  }
   while (gl.GetError() != GL_NO_ERROR) {
   }
   return gl;

@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "film_resolve.hpp"
+
 namespace meter::platform {
 namespace {
 
@@ -64,6 +66,27 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
     std::fprintf(stderr, "warning: %s\n", warning_.c_str());
   }
 
+  resolve_ = options.resolve;
+  if (resolve_.kind != ResolveFilter::Kind::Box) {
+    if (!(resolve_.width_px >= ResolveFilter::kMinWidthPx && resolve_.width_px <= ResolveFilter::kMaxWidthPx)) {
+      throw std::invalid_argument("RenderTarget: " + std::string(to_string(resolve_.kind)) + " resolve width " +
+                                  std::to_string(resolve_.width_px) + " px outside " +
+                                  std::to_string(ResolveFilter::kMinWidthPx) + " .. " +
+                                  std::to_string(ResolveFilter::kMaxWidthPx) + " px");
+    }
+    if (samples_ == 1) {
+      if (!warning_.empty()) warning_ += "; ";
+      warning_ += std::string("RenderTarget: the ") + to_string(resolve_.kind) +
+                  " resolve filters MSAA samples; with 1 sample per pixel there is nothing to resolve";
+      resolve_ = ResolveFilter{};
+    } else if (!info.has_multisample_texture) {
+      throw GlError("RenderTarget: the " + std::string(to_string(resolve_.kind)) + " resolve needs multisample textures " +
+                    "read per sample (glTexStorage2DMultisample, glGetMultisamplefv, GLSL ES 3.10 sampler2DMS: " +
+                    "GLES 3.1 or desktop GL 4.5); " + std::string(backend.name()) + " has " + info.version);
+    }
+  }
+  const bool film = resolve_.kind != ResolveFilter::Kind::Box;
+
   const GLenum color_format = srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8;
   const GLenum depth_format = depth_ == DepthFormat::Depth32F ? GL_DEPTH_COMPONENT32F : GL_DEPTH_COMPONENT24;
   try {
@@ -91,12 +114,23 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
                     "): framebuffer incomplete: " + status_name(status));
     }
     if (samples_ > 1) {
-      gl.GenRenderbuffers(1, &msaa_color_rb_);
-      gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_color_rb_);
-      gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, color_format, width_, height_);
       gl.GenFramebuffers(1, &msaa_fbo_);
-      gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
-      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color_rb_);
+      if (film) {
+        // A texture, so the resolve pass can read each sample. Fixed sample locations: required
+        // beside a renderbuffer depth attachment, and the filter's weights assume them.
+        gl.GenTextures(1, &msaa_color_tex_);
+        gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_);
+        gl.TexStorage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples_, color_format, width_, height_, GL_TRUE);
+        gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_, 0);
+      } else {
+        gl.GenRenderbuffers(1, &msaa_color_rb_);
+        gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_color_rb_);
+        gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, color_format, width_, height_);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color_rb_);
+      }
       if (depth_ != DepthFormat::None) {
         gl.GenRenderbuffers(1, &msaa_depth_rb_);
         gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_depth_rb_);
@@ -108,6 +142,7 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
         throw GlError("RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_) +
                       "): multisample framebuffer incomplete: " + status_name(status));
       }
+      if (film) film_ = std::make_unique<FilmResolve>(gl, resolve_, samples_, msaa_fbo_);
     }
     gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
     check_gl(gl, "RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
@@ -137,6 +172,9 @@ RenderTarget& RenderTarget::operator=(RenderTarget&& other) noexcept {
     msaa_fbo_ = std::exchange(other.msaa_fbo_, 0);
     msaa_color_rb_ = std::exchange(other.msaa_color_rb_, 0);
     msaa_depth_rb_ = std::exchange(other.msaa_depth_rb_, 0);
+    msaa_color_tex_ = std::exchange(other.msaa_color_tex_, 0);
+    resolve_ = other.resolve_;
+    film_ = std::move(other.film_);
     warning_ = std::move(other.warning_);
   }
   return *this;
@@ -145,6 +183,9 @@ RenderTarget& RenderTarget::operator=(RenderTarget&& other) noexcept {
 void RenderTarget::release() noexcept {
   if (!gl_) return;
   const Gl& gl = *gl_;
+  film_.reset();
+  if (msaa_color_tex_) gl.DeleteTextures(1, &msaa_color_tex_);
+  msaa_color_tex_ = 0;
   if (fbo_) gl.DeleteFramebuffers(1, &fbo_);
   if (msaa_fbo_) gl.DeleteFramebuffers(1, &msaa_fbo_);
   if (color_tex_) gl.DeleteTextures(1, &color_tex_);
@@ -183,13 +224,17 @@ void RenderTarget::resolve(std::span<const PixelRegion> regions) {
   }
   // The scissor test clips blits too; a partial redraw leaves it enabled for its last region.
   gl.Disable(GL_SCISSOR_TEST);
-  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
-  gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
-  for (const PixelRegion& region : regions) {
-    const PixelRegion r = clip(region, width_, height_);
-    if (r.empty()) continue;
-    gl.BlitFramebuffer(r.x, r.y, r.x + r.width, r.y + r.height, r.x, r.y, r.x + r.width, r.y + r.height,
-                       GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  if (film_) {
+    film_->run(msaa_color_tex_, fbo_, width_, height_, regions);
+  } else {
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
+    gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+    for (const PixelRegion& region : regions) {
+      const PixelRegion r = clip(region, width_, height_);
+      if (r.empty()) continue;
+      gl.BlitFramebuffer(r.x, r.y, r.x + r.width, r.y + r.height, r.x, r.y, r.x + r.width, r.y + r.height,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
   check_gl(gl, "RenderTarget::resolve (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
@@ -208,15 +253,21 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
                                 describe(source.width_, source.height_, source.samples_, source.srgb_, source.depth_) +
                                 " differs from target " + describe(width_, height_, samples_, srgb_, depth_));
   }
-  // Single-sample targets draw into a colour texture; multisample ones into renderbuffers.
+  // Single-sample targets draw into a colour texture; multisample ones into renderbuffers, or a
+  // multisample texture under the film filter (copies between the two kinds are allowed).
   const bool ms = samples_ > 1;
-  const GLuint src_color = ms ? source.msaa_color_rb_ : source.color_tex_, dst_color = ms ? msaa_color_rb_ : color_tex_;
-  const GLenum color_target = ms ? GL_RENDERBUFFER : GL_TEXTURE_2D;
+  auto colour = [ms](const RenderTarget& t) -> std::pair<GLuint, GLenum> {
+    if (!ms) return {t.color_tex_, GL_TEXTURE_2D};
+    if (t.msaa_color_tex_) return {t.msaa_color_tex_, GL_TEXTURE_2D_MULTISAMPLE};
+    return {t.msaa_color_rb_, GL_RENDERBUFFER};
+  };
+  const auto [src_color, src_color_target] = colour(source);
+  const auto [dst_color, dst_color_target] = colour(*this);
   const GLuint src_depth = ms ? source.msaa_depth_rb_ : source.depth_rb_, dst_depth = ms ? msaa_depth_rb_ : depth_rb_;
   for (const PixelRegion& region : regions) {
     const PixelRegion r = clip(region, width_, height_);
     if (r.empty()) continue;
-    gl.CopyImageSubData(src_color, color_target, 0, r.x, r.y, 0, dst_color, color_target, 0, r.x, r.y, 0, r.width,
+    gl.CopyImageSubData(src_color, src_color_target, 0, r.x, r.y, 0, dst_color, dst_color_target, 0, r.x, r.y, 0, r.width,
                         r.height, 1);
     if (depth_ != DepthFormat::None)
       gl.CopyImageSubData(src_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0, dst_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0,
@@ -224,6 +275,8 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
   }
   check_gl(gl, "RenderTarget::copy_from (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
 }
+
+int RenderTarget::resolve_margin_px() const { return film_ ? film_->reach() : 0; }
 
 Image RenderTarget::read_resolved() {
   if (!gl_) throw std::logic_error("RenderTarget::read_resolved on a moved-from target");

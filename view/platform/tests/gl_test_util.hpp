@@ -24,6 +24,14 @@ inline std::string backend_param_name(const ::testing::TestParamInfo<BackendKind
   return std::string(to_string(info.param));
 }
 
+// A GL test run once per backend (INSTANTIATE_TEST_SUITE_P with both kinds and backend_param_name).
+class GlBackendTest : public ::testing::TestWithParam<BackendKind> {
+ protected:
+  void SetUp() override { backend_ = create_backend(GetParam()); }
+  const Gl& gl() const { return backend_->gl(); }
+  std::unique_ptr<GpuBackend> backend_;
+};
+
 // Draws triangles given as x, y (NDC) + r, g, b, a (written straight to the fragment output).
 class ColorProgram {
  public:

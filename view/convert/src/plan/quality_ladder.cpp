@@ -125,6 +125,7 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     return e;
   };
 
+  if (q.resolve) s.config.resolve.filter = *q.resolve;
   if (q.environment == false && s.environment.present()) {
     // The texture stays in the list (indices of other textures are unchanged); nothing samples it.
     s.environment = Environment{};
@@ -257,13 +258,17 @@ QualitySettings parse_quality(const std::string& text) {
       if (v == "on") q.environment = true;
       else if (v == "off") q.environment = false;
       else throw bad("on or off");
+    } else if (k == "resolve") {
+      if (v == "box") q.resolve = bridge::ResolveConfig::Filter::Box;
+      else if (v == "blackman-harris") q.resolve = bridge::ResolveConfig::Filter::BlackmanHarris;
+      else throw bad("box or blackman-harris");
     } else if (k == "lod") {
       char* end = nullptr;
       const float f = std::strtof(v.c_str(), &end);
       if (v.empty() || *end != '\0' || !(f > 0.0f && f <= 1.0f)) throw bad("a fraction of triangles in (0, 1]");
       q.global.lod = f;
     } else {
-      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, interpolation)");
+      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, interpolation, resolve)");
     }
   }
   return q;
@@ -283,6 +288,7 @@ std::string describe_quality(const QualitySettings& q) {
   if (q.msaa) add("msaa=" + std::to_string(*q.msaa));
   if (q.environment) add(std::string("environment=") + (*q.environment ? "on" : "off"));
   if (q.affine) add(std::string("interpolation=") + (*q.affine ? "affine" : "perspective"));
+  if (q.resolve) add(std::string("resolve=") + (*q.resolve == bridge::ResolveConfig::Filter::Box ? "box" : "blackman-harris"));
   return out.empty() ? "default" : out;
 }
 

@@ -1,6 +1,7 @@
 // The Renderer's integrity side: region readback, the safe-path redraw and the injected faults'
 // GL execution (meter/engine/integrity/fault_injection.hpp).
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "gl/text_drawing.hpp"
@@ -50,7 +51,18 @@ void Renderer::resolve_watched(const FramePlan& plan) {
   clean_after_ = draws_;
 }
 
-std::vector<platform::PixelRegion> Renderer::take_written() { return std::exchange(written_, {}); }
+std::vector<platform::PixelRegion> Renderer::take_written() {
+  // A wide resolve filter carries a change up to its margin beyond the box it was drawn in.
+  std::vector<platform::PixelRegion> out = std::exchange(written_, {});
+  // The margin is in drawn pixels; below scale 1 it spans more output pixels.
+  const float scale = quality_.global.scale;
+  if (const int m = int(std::ceil(float(target_->resolve_margin_px()) / scale)); m > 0)
+    for (auto& r : out) {
+      r = platform::clip(r, width_, height_);  // first: the growth cannot overflow
+      if (!r.empty()) r = platform::clip({r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m}, width_, height_);
+    }
+  return out;
+}
 
 void Renderer::note_written(const FramePlan& plan) {
   ++draws_;

@@ -68,6 +68,17 @@ struct MaterialOverride {
   std::optional<std::string> shading;  // "unlit" | "flat" | "gouraud" | "blinn-phong" | "pbr"
 };
 
+// "resolve": how the engine turns its MSAA samples into pixels (docs/scene-config.md). Box: the
+// samples of each pixel averaged (the default, the fastest). BlackmanHarris: the authoring tool's
+// film filter (Blender: Render > Film > Filter Size, EEVEE's default 1.5 px), edges spread over
+// about three pixels as in its renders.
+struct ResolveConfig {
+  enum class Filter { Box, BlackmanHarris };
+  Filter filter = Filter::Box;
+  double width_px = 1.5;  // BlackmanHarris radius in pixels of the config's size, 0.5 .. 3
+  bool operator==(const ResolveConfig&) const = default;
+};
+
 struct SceneConfig {
   std::array<int, 2> size{1280, 480};
   std::string camera;  // camera node name or camera name; empty = first camera in the scene
@@ -81,6 +92,7 @@ struct SceneConfig {
   std::map<std::string, MaterialOverride> materials;
   std::vector<Script> scripts;  // "scripts" (scene_scripts.hpp, docs/scene-logic.md)
   SceneFeaturesConfig features;  // pages, theme, units, sweep (scene_features.hpp)
+  ResolveConfig resolve = {};    // "resolve"
   std::string source_json;  // the original text, stored in the package
   std::string origin;       // the file (or name) it was parsed from, for later messages
 };

@@ -15,7 +15,10 @@
 //                   fails to compile and says so). Global: every program is patched;
 //   environment     off: drop the scene's environment map (programs regenerated without it; the
 //                   config's uniform ambient lights the scene instead), as the engine drew before it
-//                   supported environment maps. Only scenes that have one are affected.
+//                   supported environment maps. Only scenes that have one are affected;
+//   resolve         box / blackman-harris: the MSAA resolve (the scene config's "resolve" filter;
+//                   its width stays the config's), a RendererOptions-free setting: the Renderer
+//                   reads it from the scene.
 //
 // Why after conversion and not inside convert_gltf: the ladder is a runtime choice (the frame-rate
 // governor picks a level on the target), and a Scene already holds the features
@@ -51,6 +54,7 @@ struct QualitySettings {
   std::optional<int> msaa;                         // 1, 2, 4 or 8: give to RendererOptions::msaa
   std::optional<bool> environment;                 // false: no environment map (global)
   std::optional<bool> affine;                      // true: no perspective correction (global)
+  std::optional<bridge::ResolveConfig::Filter> resolve;  // the MSAA resolve filter (global)
 };
 
 struct QualityReport {
@@ -73,7 +77,8 @@ std::optional<shadergen::ShadingModel> parse_shading_model(const std::string& te
 const char* filter_name(TextureFilter f);  // "nearest" | "bilinear" | "trilinear" | "anisotropic"
 
 // Parses a ladder point written as comma-separated key=value pairs, e.g.
-// "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2,environment=off,interpolation=affine"
+// "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2,environment=off,interpolation=affine,
+// resolve=blackman-harris"
 // (every key optional; "" = no change). Throws SceneError naming the pair and what was expected.
 QualitySettings parse_quality(const std::string& text);
 // The canonical text of the global part ("shading=..,msaa=.." in a fixed order; "default" if empty).

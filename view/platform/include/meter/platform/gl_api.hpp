@@ -35,6 +35,15 @@
 #ifndef GL_DEPTH_COMPONENT32F
 #define GL_DEPTH_COMPONENT32F 0x8CAC
 #endif
+#ifndef GL_TEXTURE_2D_MULTISAMPLE
+#define GL_TEXTURE_2D_MULTISAMPLE 0x9100  // GLES 3.1 / GL 3.2
+#endif
+#ifndef GL_TEXTURE_BINDING_2D_MULTISAMPLE
+#define GL_TEXTURE_BINDING_2D_MULTISAMPLE 0x9104
+#endif
+#ifndef GL_SAMPLE_POSITION
+#define GL_SAMPLE_POSITION 0x8E50
+#endif
 
 namespace meter::platform {
 
@@ -197,10 +206,17 @@ using PfnCopyImageSubData = void(GL_APIENTRYP)(GLuint src, GLenum src_target, GL
                                                GLint src_y, GLint src_z, GLuint dst, GLenum dst_target,
                                                GLint dst_level, GLint dst_x, GLint dst_y, GLint dst_z,
                                                GLsizei width, GLsizei height, GLsizei depth);
+// Multisample textures (GLES 3.1 / desktop GL 4.3 core) and the sample positions of the bound
+// draw framebuffer (GLES 3.1 / GL 3.2): a resolve that reads each sample (sampler2DMS) needs both.
+using PfnTexStorage2DMultisample = void(GL_APIENTRYP)(GLenum target, GLsizei samples, GLenum internalformat,
+                                                      GLsizei width, GLsizei height, GLboolean fixedsamplelocations);
+using PfnGetMultisamplefv = void(GL_APIENTRYP)(GLenum pname, GLuint index, GLfloat* val);
 #define METER_GL_OPTIONAL_FUNCTIONS(X)                 \
   X(QueryCounter, PfnQueryCounter)                     \
   X(GetQueryObjectui64v, PfnGetQueryObjectui64v)       \
-  X(CopyImageSubData, PfnCopyImageSubData)
+  X(CopyImageSubData, PfnCopyImageSubData)             \
+  X(TexStorage2DMultisample, PfnTexStorage2DMultisample) \
+  X(GetMultisamplefv, PfnGetMultisamplefv)
 
 // What kind of GL the table talks to; decides the few places where desktop GL and GLES differ.
 struct GlInfo {
@@ -211,6 +227,9 @@ struct GlInfo {
   int max_texture_size = 0;     // GL_MAX_TEXTURE_SIZE
   bool has_timer_query = false; // GL_TIME_ELAPSED queries usable (QueryCounter/GetQueryObjectui64v)
   bool has_copy_image = false;  // CopyImageSubData usable (RenderTarget::copy_from)
+  // TexStorage2DMultisample, GetMultisamplefv and GLSL ES 3.10's sampler2DMS usable (the film
+  // filter resolve, resolve_filter.hpp)
+  bool has_multisample_texture = false;
   // Desktop GL encodes into sRGB attachments only with glEnable(GL_FRAMEBUFFER_SRGB); on GLES the
   // encode is always on. RenderTarget::bind() enables it when this is true.
   bool needs_framebuffer_srgb_enable = false;

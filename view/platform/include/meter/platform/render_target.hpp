@@ -11,7 +11,9 @@
 #include "meter/platform/backend.hpp"
 #include "meter/platform/gl_api.hpp"
 #include "meter/platform/image.hpp"
+#include "meter/platform/resolve_filter.hpp"
 
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,7 +48,15 @@ struct RenderTargetOptions {
   int samples = 1;
   DepthFormat depth = DepthFormat::Depth24;
   bool srgb = true;
+  // How resolve() turns the samples into pixels (resolve_filter.hpp). Box: a blit. BlackmanHarris:
+  // the film filter's shader pass over a multisample colour texture; needs
+  // GlInfo::has_multisample_texture (GLES 3.1 / GL 4.5; GlError naming it otherwise) and width_px
+  // in ResolveFilter's range (std::invalid_argument). Without MSAA (samples 1) there are no samples
+  // to filter: the target then resolves nothing, as a box one, and says so in warning().
+  ResolveFilter resolve = {};
 };
+
+class FilmResolve;
 
 // Owns GL objects in the backend's context; the backend must outlive the target and be current.
 class RenderTarget {
@@ -63,12 +73,15 @@ class RenderTarget {
   // Binds the drawing framebuffer (the multisample one when samples > 1) for draw and read, sets
   // the viewport to the full target, and enables sRGB encoding where the API needs it.
   void bind();
-  // Resolves MSAA by a blit into the single-sample framebuffer (in linear space for sRGB targets),
-  // reads RGBA8 and flips rows to top-down. Leaves the drawing framebuffer bound.
+  // Resolves MSAA into the single-sample framebuffer (in linear space for sRGB targets; a blit, or
+  // the film filter: options.resolve), reads RGBA8 and flips rows to top-down. Leaves the drawing
+  // framebuffer bound.
   Image resolve_and_read();
   // Resolves only `regions` into the single-sample framebuffer (no-op without MSAA). After a redraw
   // limited to those regions the rest of the resolved image is still current, and an sRGB MSAA
-  // resolve costs as much as a full-screen pass on llvmpipe. Regions are clipped to the target.
+  // resolve costs as much as a full-screen pass on llvmpipe. Regions are clipped to the target. The
+  // film filter resolves each region grown by resolve_margin_px(): its pixels that far outside
+  // read samples inside, so they change with them.
   void resolve(std::span<const PixelRegion> regions);
   // Reads the single-sample framebuffer (the last resolve) as a top-down RGBA8 image.
   Image read_resolved();
@@ -90,6 +103,11 @@ class RenderTarget {
   int samples() const { return samples_; }  // effective count after clamping
   bool srgb() const { return srgb_; }
   DepthFormat depth() const { return depth_; }
+  // The resolve in effect (Box when samples() == 1, whatever was asked).
+  const ResolveFilter& resolve_filter() const { return resolve_; }
+  // Pixels a resolved pixel reads beyond itself (0 for the box resolve): a change drawn in a
+  // region changes the resolved image up to this far outside it.
+  int resolve_margin_px() const;
   // The framebuffer draws go to (multisample one when samples() > 1).
   GLuint draw_framebuffer() const { return samples_ > 1 ? msaa_fbo_ : fbo_; }
   // The single-sample framebuffer holding the last resolve (what read_resolved() reads; a caller
@@ -115,6 +133,10 @@ class RenderTarget {
   GLuint msaa_fbo_ = 0;   // multisample: colour + depth renderbuffers (when samples > 1)
   GLuint msaa_color_rb_ = 0;
   GLuint msaa_depth_rb_ = 0;
+  // Film filter resolve: the multisample colour is this texture (msaa_color_rb_ stays 0).
+  GLuint msaa_color_tex_ = 0;
+  ResolveFilter resolve_;
+  std::unique_ptr<FilmResolve> film_;
   std::string warning_;
 };
 
