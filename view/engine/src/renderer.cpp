@@ -23,18 +23,15 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
     : backend_(backend), gl_(backend.gl()), scene_(scene), options_(options), evaluator_(scene) {
   width_ = options.width > 0 ? options.width : scene.config.size[0];
   height_ = options.height > 0 ? options.height : scene.config.size[1];
-  platform::RenderTargetOptions rt;
-  rt.width = width_;
-  rt.height = height_;
-  rt.samples = std::max(1, options.msaa);
-  rt.depth = platform::DepthFormat::Depth24;
-  target_ = std::make_unique<platform::RenderTarget>(backend, rt);
-  unresolved_ = {platform::PixelRegion{0, 0, width_, height_}};
+  quality_.global.msaa = std::max(1, options.msaa);
+  make_targets();
   if (options_.uber_shader) options_.concatenate = false;  // the uber-shader has no vertex-alpha input
   gpu_ = std::make_unique<GpuScene>(gl_, scene, options_.uber_shader, options_.concatenate);
   submission_ = std::make_unique<DrawSubmission>(gl_, scene, *gpu_, evaluator_.light_nodes());
-  text_ = std::make_unique<TextDrawing>(backend, options_.font_file, scene.config.size[1], height_);
+  text_ = std::make_unique<TextDrawing>(backend, options_.font_file, scene.config.size[1], draw_height_);
   classes_ = classify_draws(scene, options_.concatenate, evaluator_.camera_node());
+  units_ = make_draw_units(scene, classes_, options_.uber_shader == nullptr);
+  quality_.units.assign(units_.ladders.size(), governor::UnitLevel{});
   stats_.animation_samples = evaluator_.animation_samples();
 }
 
@@ -64,14 +61,14 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
   if (plan.layer_build) {
     if (!layer_) {
       platform::RenderTargetOptions rt;
-      rt.width = width_, rt.height = height_, rt.samples = target_->samples(), rt.depth = target_->depth();
+      rt.width = draw_width_, rt.height = draw_height_, rt.samples = target_->samples(), rt.depth = target_->depth();
       layer_ = std::make_unique<platform::RenderTarget>(backend_, rt);
     }
     submission_->submit(*layer_, *plan.layer_build, now, stats_);
     layer_drawn_ = drawn_frame(now);
     ++stats_.layer_builds;
   }
-  const platform::PixelRegion all{0, 0, width_, height_};
+  const platform::PixelRegion all{0, 0, draw_width_, draw_height_};
   if (plan.copy_layer) {
     if (plan.full) target_->copy_from(*layer_, std::span<const platform::PixelRegion>(&all, 1));
     else target_->copy_from(*layer_, plan.regions);
@@ -89,13 +86,27 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
 }
 
 void Renderer::resolve_pending() {
+  if (unresolved_.empty()) return;
   // Many small resolves cost more than one full one; past 16, resolve everything.
-  if (unresolved_.size() > 16) unresolved_ = {platform::PixelRegion{0, 0, width_, height_}};
+  if (unresolved_.size() > 16) unresolved_ = {platform::PixelRegion{0, 0, draw_width_, draw_height_}};
   target_->resolve(unresolved_);
   unresolved_.clear();
+  if (!output_) return;
+  // A frame drawn smaller than the output: upscaled (linear filter) over the whole output.
+  if (gl_.info.needs_framebuffer_srgb_enable) gl_.Enable(GL_FRAMEBUFFER_SRGB);
+  gl_.Disable(GL_SCISSOR_TEST);
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, target_->resolved_framebuffer());
+  gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, output_->resolved_framebuffer());
+  gl_.BlitFramebuffer(0, 0, draw_width_, draw_height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, target_->draw_framebuffer());
+  platform::check_gl(gl_, scene_.source_name + ": upscaling a frame drawn at scale " + std::to_string(quality_.global.scale));
 }
 
-FrameTiming Renderer::render(bool force, bool read_back) {
+platform::RenderTarget& Renderer::output_target() { return output_ ? *output_ : *target_; }
+
+FrameTiming Renderer::render(bool force, bool read_back) { return render(force, read_back, LevelChooser{}); }
+
+FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& choose) {
   FrameTiming t;
   ++stats_.frames;
   auto t0 = Clock::now();
@@ -112,15 +123,20 @@ FrameTiming Renderer::render(bool force, bool read_back) {
     return t;
   };
   force = force || std::exchange(redraw_all_, false);
-  if (!dirty_ && !force) return skip();
+  if (!dirty_ && !force && !global_changed_) {
+    // Nothing to evaluate: the chooser still sees the (empty) load and may change the quality,
+    // which then draws what the change damages.
+    last_load_ = governor::FrameLoad{};
+    last_load_.unit_pixels.assign(units_.ladders.size(), 0.0);
+    std::optional<governor::QualityChoice> c;
+    if (choose) c = choose(last_load_);
+    if (c) set_quality(*c);
+    if (!dirty_ && !global_changed_) return skip();
+  }
   auto t1 = Clock::now();
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
-  FrameState now = evaluator_.evaluate(width_, height_, *text_);
-  PlanSettings settings;
-  settings.width = width_, settings.height = height_, settings.force = force;
-  settings.partial_redraw = options_.partial_redraw;
-  settings.static_layer = options_.static_layer && gl_.info.has_copy_image;
-  const FramePlan plan = plan_frame(scene_, classes_, now, drawn_, layer_drawn_, settings);
+  FrameState now;
+  const FramePlan plan = plan_at_quality(force, now, choose ? &choose : nullptr);
   t.plan_ms = ms_since(t1);
   dirty_ = false;
   if (!plan.draw) {
@@ -135,7 +151,7 @@ FrameTiming Renderer::render(bool force, bool read_back) {
   } else {
     long long pixels = 0;
     for (const auto& r : plan.regions) pixels += area(r);
-    t.redrawn_fraction = double(pixels) / (double(width_) * double(height_));
+    t.redrawn_fraction = double(pixels) / (double(draw_width_) * double(draw_height_));
     t.regions = static_cast<int>(plan.regions.size());
     ++stats_.partial_frames;
   }
@@ -154,18 +170,18 @@ FrameTiming Renderer::render(bool force, bool read_back) {
 
 GLuint Renderer::resolved_framebuffer() {
   resolve_pending();
-  return target_->resolved_framebuffer();
+  return output_target().resolved_framebuffer();
 }
 
 const platform::Image& Renderer::read() {
   resolve_pending();
-  image_ = target_->read_resolved();
+  image_ = output_target().read_resolved();
   return image_;
 }
 
 const platform::RenderTarget& Renderer::resolved_target() {
   resolve_pending();
-  return *target_;
+  return output_target();
 }
 
 }  // namespace meter::engine

@@ -13,7 +13,7 @@ std::vector<platform::Image> Renderer::read_regions(std::span<const platform::Pi
   // Only what was drawn since the last resolve is resolved (on llvmpipe an sRGB MSAA resolve costs
   // per pixel as much as drawing it): the rest of the single-sample image is current already.
   resolve_pending();
-  return target_->read_resolved_regions(regions);
+  return output_target().read_resolved_regions(regions);
 }
 
 std::vector<platform::PixelRegion> Renderer::take_written() { return std::exchange(written_, {}); }
@@ -21,10 +21,13 @@ std::vector<platform::PixelRegion> Renderer::take_written() { return std::exchan
 void Renderer::note_written(const FramePlan& plan) {
   // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
   if (plan.full || written_.size() > 64) written_ = {platform::PixelRegion{0, 0, width_, height_}};
-  if (!plan.full) written_.insert(written_.end(), plan.regions.begin(), plan.regions.end());
+  if (!plan.full)
+    for (const auto& r : plan.regions) written_.push_back(to_output(r));
 }
 
-void Renderer::fill(const platform::PixelRegion& region, const glm::vec4& linear_colour) {
+void Renderer::fill(const platform::PixelRegion& output_region, const glm::vec4& linear_colour) {
+  // `output_region` is in output pixels; the target may be drawn at a smaller scale.
+  const platform::PixelRegion region = to_drawn(output_region);
   target_->bind();
   gl_.Enable(GL_SCISSOR_TEST);
   gl_.Scissor(region.x, region.y, region.width, region.height);
@@ -32,15 +35,16 @@ void Renderer::fill(const platform::PixelRegion& region, const glm::vec4& linear
   gl_.Clear(GL_COLOR_BUFFER_BIT);
   gl_.Disable(GL_SCISSOR_TEST);
   unresolved_.push_back(region);
-  written_.push_back(region);
+  written_.push_back(output_region);
 }
 
 void Renderer::redraw_safe(const platform::PixelRegion& region, const std::optional<glm::vec4>& linear_colour) {
   if (linear_colour) {
     fill(region, *linear_colour);
   } else if (layer_ && layer_drawn_.valid) {
-    target_->copy_from(*layer_, std::span<const platform::PixelRegion>(&region, 1));
-    unresolved_.push_back(region);
+    const platform::PixelRegion drawn = to_drawn(region);
+    target_->copy_from(*layer_, std::span<const platform::PixelRegion>(&drawn, 1));
+    unresolved_.push_back(drawn);
     written_.push_back(region);
   } else {
     const auto& cc = scene_.config.clear_color;

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "meter/bridge/draw_levels.hpp"
 #include "meter/bridge/integrity.hpp"
 #include "meter/bridge/program.hpp"
 #include "meter/bridge/scene_config.hpp"
@@ -80,6 +81,7 @@ struct Primitive {
   std::vector<std::uint32_t> indices;   // triangles; always present (generated when absent)
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // POSITION bounds (no morph)
   int morph_targets = 0;
+  std::vector<LodLevel> lods;  // cheaper index lists, most detailed first (draw_levels.hpp)
 };
 
 struct Mesh {
@@ -200,6 +202,7 @@ struct Scene {
   glm::vec3 ambient{0.0f};       // config "ambient" (linear)
   Environment environment;       // from the glTF scene extras; absent for most scenes
   IntegrityTable integrity;      // safety regions measured by the converter (integrity.hpp); empty without telltale / needle / readout bindings
+  std::vector<DrawLevels> draw_levels;  // per draw, or empty: every draw at level 0 (draw_levels.hpp)
 
   int find_node(std::string_view name) const;       // -1 when absent
   int find_material(std::string_view name) const;

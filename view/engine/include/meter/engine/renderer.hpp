@@ -16,6 +16,7 @@
 //                 (RendererOptions).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -26,7 +27,9 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/scene_evaluator.hpp"
+#include "meter/engine/frame_plan/draw_units.hpp"
 #include "meter/engine/frame_plan/frame_plan.hpp"
+#include "meter/engine/governor/quality_choice.hpp"
 #include "meter/engine/integrity/fault_injection.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/platform/backend.hpp"
@@ -89,6 +92,11 @@ struct RendererStats {
   double redrawn_fraction_sum = 0.0;    // sum over drawn frames of FrameTiming::redrawn_fraction
 };
 
+// Called by Renderer::render(force, read, choose) once the frame is evaluated and planned, before it
+// is drawn, with the frame's planned load; a returned choice other than the current one is applied
+// (set_quality) and the frame planned again before drawing. nullopt: keep the current choice.
+using LevelChooser = std::function<std::optional<governor::QualityChoice>(const governor::FrameLoad&)>;
+
 class GpuScene;
 class DrawSubmission;
 class TextDrawing;
@@ -146,6 +154,28 @@ class Renderer {
   // A StaleNeedle fault holds the world matrices of the last evaluated frame.
   void inject(std::optional<FaultInjection> fault);
 
+  // Quality levels (the frame-rate governor's side; meter/engine/governor/quality_choice.hpp and
+  // docs/engine.md "Quality levels").
+  using LevelChooser = engine::LevelChooser;
+  // One ladder per draw unit, fixed at construction. Order: Scene::draws order, one entry per draw
+  // drawn on its own and one per merged group at its first member's (representative's) place
+  // (with RendererOptions::concatenate off every draw is a unit). A safety unit has one shading and
+  // one LOD; so has every unit of a package without levels.
+  std::span<const governor::UnitLadder> draw_units() const { return units_.ladders; }
+  // Takes effect at the next render(). Throws std::invalid_argument naming the unit and the level
+  // when an index is out of its ladder, a safety unit is moved, units has neither 0 nor
+  // draw_units().size() entries, msaa is not 1, 2 or 4, or scale is not in (0, 1]. Damages exactly
+  // what changes: the boxes of the units whose level changed (a static-layer member's change
+  // rebuilds the layer); a GlobalLevel change recreates the targets and draws a full frame. The
+  // output (last_image(), read(), read_regions()) keeps width() x height(): a frame drawn at a
+  // scale < 1 is upscaled with a linear blit when it is resolved.
+  void set_quality(const governor::QualityChoice& choice);
+  const governor::QualityChoice& quality() const { return quality_; }
+  // As render(force, read), with `choose` asked between planning and drawing (see LevelChooser).
+  FrameTiming render(bool force, bool read, const LevelChooser& choose);
+  // The planned load of the last frame render() evaluated (drawn or skipped).
+  const governor::FrameLoad& last_load() const { return last_load_; }
+
 
  private:
   // Runs the plan's passes: the static layer build, the layer copy, each pass and its texts.
@@ -154,6 +184,16 @@ class Renderer {
   void fill(const platform::PixelRegion& region, const glm::vec4& linear_colour);
   void note_written(const FramePlan& plan);
   void resolve_pending();
+  // Quality levels (renderer_quality.cpp): the targets for quality_.global (drawn at
+  // draw_width_ x draw_height_; output_ holds the upscaled frame when that is smaller than the output).
+  void make_targets();
+  // The frame evaluated at the current quality and planned; with `choose`, re-planned once after
+  // the chooser changed the quality.
+  FramePlan plan_at_quality(bool force, FrameState& now, const LevelChooser* choose);
+  PlanSettings plan_settings(bool force) const;
+  platform::PixelRegion to_output(const platform::PixelRegion& r) const;
+  platform::PixelRegion to_drawn(const platform::PixelRegion& r) const;
+  platform::RenderTarget& output_target();  // output_, or target_ at scale 1
 
   platform::GpuBackend& backend_;
   const platform::Gl& gl_;
@@ -180,6 +220,13 @@ class Renderer {
   std::optional<FaultInjection> fault_;
   std::vector<glm::mat4> held_world_;
   std::vector<platform::PixelRegion> written_;  // see take_written()
+  // Quality levels (see set_quality()).
+  DrawUnits units_;
+  governor::QualityChoice quality_;             // units always has draw_units().size() entries
+  governor::FrameLoad last_load_;
+  bool global_changed_ = false;                 // targets to recreate at the next render()
+  int draw_width_ = 0, draw_height_ = 0;        // target_'s size: the output size times the scale
+  std::unique_ptr<platform::RenderTarget> output_;  // scale < 1: the frame upscaled to the output size
 };
 
 }  // namespace meter::engine

@@ -26,6 +26,9 @@ struct DrawState {
   // Morph target weights as the shader gets them: the pose's, then the morph bindings' overrides
   // (index = target). Empty for a primitive without morph targets. A function of `deform`.
   std::vector<float> morph_weights;
+  // The quality level it is drawn at (Renderer::set_quality): index into its DrawLevels' shadings
+  // (0 = its own program) and its primitive's LOD (0 = Primitive::indices, k = Primitive::lods[k-1]).
+  int shading = 0, lod = 0;
   bool operator==(const DrawState&) const = default;
 };
 
