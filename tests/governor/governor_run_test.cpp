@@ -1,0 +1,122 @@
+// meter-view --target-ms on the cluster: under an injected cost (busy time per drawn pixel, the
+// hidden --inject-cost) the governor steps the quality down, and once the cost is removed it comes
+// back to full quality, drawing the very image an ungoverned run draws. The drive is a link
+// recording played on its own clock (--play), so frame k shows the same state in every run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "live_run.hpp"
+#include "meter/platform/image.hpp"
+#include "meter/view/dump_policy.hpp"
+#include "process.hpp"
+
+namespace fs = std::filesystem;
+using meter::testing::built_executable;
+using meter::testing::ChildProcess;
+using meter::testing::read_csv;
+
+namespace {
+
+const std::string kSource = METER_SOURCE_DIR;
+const fs::path kDir = fs::path(METER_BINARY_DIR) / "governor-run";
+constexpr int kFps = 30;
+constexpr double kSeconds = 10.0;       // 301 frames
+constexpr std::uint64_t kFirst = 60, kLast = 120;  // the injected frames
+
+void run(std::vector<std::string> argv, const std::string& log, int timeout_s) {
+  ChildProcess p(std::move(argv), (kDir / log).string());
+  const auto rc = p.wait_for(std::chrono::seconds(timeout_s));
+  if (!rc || *rc != 0) throw std::runtime_error(log + ": exit " + (rc ? std::to_string(*rc) : "none (hung)") + "\n" + p.log());
+}
+
+struct Prepared {
+  fs::path msp, rec;
+};
+
+// The cluster with its levels, calibrated (one timed frame per point: the online estimate corrects
+// the scale), and the demo drive recorded once.
+const Prepared& prepared() {
+  static const Prepared p = [] {
+    fs::remove_all(kDir);
+    fs::create_directories(kDir);
+    Prepared r{kDir / "cluster.msp", kDir / "drive.rec"};
+    run({built_executable("meter-convert"), kSource + "/scenes/cluster/cluster.glb", "--config",
+         kSource + "/scenes/cluster/cluster.scene.json", "-o", r.msp.string()},
+        "convert.log", 300);
+    run({built_executable("meter-calibrate"), r.msp.string(), "--frames", "1"}, "calibrate.log", 600);
+    run({built_executable("meter-controller"), "run", "--dbc", kSource + "/controller/vehicles/demo/demo.dbc", "--map",
+         kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + kSource + "/vcan/logs/demo-drive.log", "--replay",
+         "fast", "--exit-at-end", "--record", r.rec.string(), "--link", "unix:" + (kDir / "rec.sock").string(), "--state-dir",
+         (kDir / "state").string()},
+        "record.log", 120);
+    return r;
+  }();
+  return p;
+}
+
+// One --play run of the drive, every frame redrawn in full, the last frame dumped.
+fs::path play(const std::string& tag, const std::vector<std::string>& extra) {
+  const fs::path out = kDir / tag;
+  fs::remove_all(out);
+  fs::create_directories(out);
+  std::vector<std::string> argv = {built_executable("meter-view"), "--scene", prepared().msp.string(), "--play",
+                                   prepared().rec.string(), "--fps", std::to_string(kFps), "--duration", std::to_string(kSeconds),
+                                   "--full-redraw", "--dump-last", "--dump-every", "30", "--out", out.string(),
+                                   "--timing-csv", (out / "timing.csv").string()};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  run(argv, tag + ".log", 600);
+  return out;
+}
+
+double frame_ms(const std::map<std::string, std::string>& row) {
+  return std::stod(row.at("update_ms")) + std::stod(row.at("submit_ms")) + std::stod(row.at("gpu_readback_ms"));
+}
+
+bool at_full(const std::map<std::string, std::string>& row) {
+  return row.at("units_reduced") == "0" && row.at("msaa") == "4" && std::stod(row.at("scale")) == 1.0;
+}
+
+TEST(GovernorRun, StepsDownUnderAnInjectedCostAndComesBackToTheUngovernedImage) {
+  const fs::path ref = play("ungoverned", {});
+  const auto ref_rows = read_csv(ref / "timing.csv");
+  ASSERT_GE(ref_rows.size(), 290u);
+  EXPECT_EQ(read_csv(ref / "frames.csv").front().count("predicted_ms"), 0u) << "governor columns without a governor";
+  std::vector<double> ms;
+  for (const auto& r : ref_rows)
+    if (r.at("drawn") == "1") ms.push_back(frame_ms(r));
+  ASSERT_GE(ms.size(), 100u) << "the drive must keep the frames drawn";
+  std::nth_element(ms.begin(), ms.begin() + long(ms.size() / 2), ms.end());
+  const double median = ms[ms.size() / 2];
+  // A target 3x the full-quality median holds full quality with room for this machine's jitter;
+  // the injected cost adds 8x the median per frame (per drawn pixel: 1280 x 480 at scale 1), so
+  // every frame it touches is far over the target whatever the units' levels are.
+  const double target = 3.0 * median;
+  const double ns_per_pixel = 8.0 * median * 1e6 / (1280.0 * 480.0);
+  const fs::path gov = play("governed", {"--target-ms", std::to_string(target), "--inject-cost",
+                                         std::to_string(ns_per_pixel) + "@" + std::to_string(kFirst) + "-" + std::to_string(kLast)});
+  const auto rows = read_csv(gov / "timing.csv");
+  ASSERT_EQ(rows.size(), ref_rows.size());
+  ASSERT_EQ(rows.front().count("units_reduced"), 1u) << "the governor's columns are missing from the timing CSV";
+  EXPECT_EQ(read_csv(gov / "frames.csv").front().count("predicted_ms"), 1u);
+  bool stepped_down = false;
+  for (std::uint64_t k = kFirst; k <= kLast + 10; ++k) stepped_down = stepped_down || !at_full(rows.at(k));
+  EXPECT_TRUE(stepped_down) << "frames " << kFirst << "-" << kLast << " took 9x the median of " << median
+                            << " ms against a target of " << target << " ms, and the quality never dropped";
+  // Back at full quality for the last 30 frames (the cost ended 170 frames before: the online
+  // estimate's 60-frame window has long forgotten it).
+  for (std::size_t k = rows.size() - 30; k < rows.size(); ++k)
+    EXPECT_TRUE(at_full(rows[k])) << "frame " << k << " units_reduced " << rows[k].at("units_reduced") << " msaa "
+                                  << rows[k].at("msaa") << " scale " << rows[k].at("scale");
+  const std::string last = meter::view::png_name(rows.size() - 1);
+  const auto a = meter::platform::read_png(gov / last), b = meter::platform::read_png(ref / last);
+  ASSERT_EQ(a.width, b.width);
+  ASSERT_EQ(a.height, b.height);
+  EXPECT_TRUE(a.rgba == b.rgba) << last << " differs from the ungoverned run's";
+}
+
+}  // namespace
