@@ -1,4 +1,4 @@
-// meter-calibrate PACKAGE [--out FILE] [--backend egl|osmesa] [--frames N] [--size WxH] [--msaa N]:
+// meter-calibrate PACKAGE [--out FILE] [--backend egl|osmesa] [--frames N] [--size WxH] [--msaa N] [--samples CSV]:
 // the cost of every draw unit at every level and of each global rung, measured on this machine,
 // written as the meter-costs/1 file meter-view --target-ms reads (docs/uniform-frame-rate.md).
 #include <iostream>
@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   app.add_option("--frames", o.frames, "timed frames per point (their median is used)")->check(CLI::Range(1, 1000))->capture_default_str();
   app.add_option("--size", o.size, "render size WxH (default: the scene config's size), as meter-view --size");
   app.add_option("--msaa", o.msaa, "MSAA samples of full quality, as meter-view --msaa")->check(CLI::IsMember({1, 2, 4}))->capture_default_str();
+  app.add_option("--samples", o.samples, "also write every timed point to this CSV (kind, unit, level, node scale, pixels, ms)");
   CLI11_PARSE(app, argc, argv);
   return meter::calibrate::run_calibrate_tool(o, std::cout, std::cerr);
 }

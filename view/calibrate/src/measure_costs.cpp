@@ -126,7 +126,8 @@ CostMeasurements measure_costs(platform::GpuBackend& backend, const engine::Scen
         ls.level = {static_cast<int>(sh), static_cast<int>(lod)};
         const auto choice = unit_at(units, u, ls.level);
         for (std::size_t k = 0; k < rs.size(); ++k)
-          ls.samples.push_back({m.unit_pixels[k][u], timed(*rs[k], alone, choice, options.frames) - empty[k]});
+          // Below the empty frame is timing noise on a unit too small to time: 0.
+          ls.samples.push_back({m.unit_pixels[k][u], std::max(0.0, timed(*rs[k], alone, choice, options.frames) - empty[k])});
         if (sh > 0 || lod > 0) ls.psnr_db = psnr_or_identical(drawn(*rs.front(), state, choice), reference);
         m.levels.push_back(std::move(ls));
       }

@@ -41,7 +41,7 @@ CostMeasurements measurements() {
   return m;
 }
 
-TEST(CostFile, EveryLevelsLineIsRecoveredFromTheMeasurements) {
+TEST(CalibrationCostFile, EveryLevelsLineIsRecoveredFromTheMeasurements) {
   const gov::CostFile f = cost_file(measurements());
   ASSERT_EQ(f.units.size(), 2u);
   ASSERT_EQ(f.units[0].levels.size(), 4u);  // shading x lod, in that order
@@ -57,7 +57,7 @@ TEST(CostFile, EveryLevelsLineIsRecoveredFromTheMeasurements) {
   EXPECT_DOUBLE_EQ(f.overhead.b_ms, 0.5);
 }
 
-TEST(CostFile, RungsGetTheirFactorAndFixedPartAndComeBestPsnrFirst) {
+TEST(CalibrationCostFile, RungsGetTheirFactorAndFixedPartAndComeBestPsnrFirst) {
   const gov::CostFile f = cost_file(measurements());
   ASSERT_EQ(f.globals.size(), 3u);
   EXPECT_EQ(f.globals[0].level, (gov::GlobalLevel{4, 1.0f}));
@@ -73,7 +73,25 @@ TEST(CostFile, RungsGetTheirFactorAndFixedPartAndComeBestPsnrFirst) {
   EXPECT_EQ(gov::parse_costs(gov::write_costs(f), "test"), f);
 }
 
-TEST(CostFile, AUnitTooSmallToTimeGetsItsMedianAsAFixedCost) {
+TEST(CalibrationCostFile, UnitsTimedAloneAreRescaledToTheWholeFrame) {
+  // The units alone took half their time (A and B halved: the B's sum to 0.125) and the whole frame
+  // has 0.25 ms more fixed time than their B's (0.5 in all): A x 2, B x 4, the rungs' factors and
+  // fixed parts unchanged.
+  auto m = measurements();
+  for (auto& l : m.levels)
+    for (auto& s : l.samples) s.ms = s.ms * 0.5;
+  for (auto& r : m.rungs)
+    for (auto& t : r.frame_ms) t += 0.25;
+  const gov::CostFile f = cost_file(m);
+  EXPECT_NEAR(f.units[0].levels[0].cost.a_ms_per_pixel, 2e-5, 1e-12);
+  EXPECT_NEAR(f.units[0].levels[0].cost.b_ms, 0.4, 1e-9);
+  EXPECT_NEAR(f.units[0].levels[3].cost.a_ms_per_pixel, 0.5e-5, 1e-12);  // gouraud/lod1: (2 - 1 - 0.5) x 1e-5
+  EXPECT_NEAR(f.units[1].levels[0].cost.b_ms, 0.1, 1e-9);
+  EXPECT_NEAR(f.globals[1].pixel_factor, 0.3, 1e-9);
+  EXPECT_NEAR(f.globals[2].fixed_ms, 0.1, 1e-9);
+}
+
+TEST(CalibrationCostFile, AUnitTooSmallToTimeGetsItsMedianAsAFixedCost) {
   // Noise: the time falls as the pixels grow. A negative A is no cost model: A = 0, B = median.
   const auto c = level_cost({{100, 0.30}, {200, 0.10}, {300, 0.20}});
   EXPECT_EQ(c.a_ms_per_pixel, 0.0);
@@ -83,7 +101,7 @@ TEST(CostFile, AUnitTooSmallToTimeGetsItsMedianAsAFixedCost) {
   EXPECT_EQ(one.b_ms, 0.0);
 }
 
-TEST(CostFile, IncompleteMeasurementsAreNamed) {
+TEST(CalibrationCostFile, IncompleteMeasurementsAreNamed) {
   auto m = measurements();
   m.levels.erase(m.levels.begin() + 2);  // dial gouraud/lod0
   try {

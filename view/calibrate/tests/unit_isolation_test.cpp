@@ -15,8 +15,10 @@ namespace gov = meter::engine::governor;
 meter::engine::Scene little_scene() {
   meter::engine::Scene s;
   const char* names[] = {"root", "a", "b", "c", "d"};
-  for (const char* n : names) s.nodes.push_back({});
-  for (int i = 0; i < 5; ++i) s.nodes[std::size_t(i)].name = names[i];
+  for (const char* n : names) {
+    s.nodes.emplace_back();
+    s.nodes.back().name = n;
+  }
   s.nodes[1].parent = 0, s.nodes[2].parent = 0, s.nodes[3].parent = 2, s.nodes[4].parent = 0;
   s.nodes[0].children = {1, 2, 4};
   s.nodes[2].children = {3};

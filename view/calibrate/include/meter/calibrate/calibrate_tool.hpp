@@ -1,4 +1,5 @@
-// meter-calibrate PACKAGE [--out FILE] [--backend egl|osmesa] [--frames N] [--size WxH] [--msaa N]:
+// meter-calibrate PACKAGE [--out FILE] [--backend egl|osmesa] [--frames N] [--size WxH] [--msaa N]
+// [--samples CSV]:
 // measures the package's costs on this machine (calibration.hpp) and writes the meter-costs/1
 // file (default PACKAGE.costs.json beside the package), which meter-view --target-ms reads.
 #pragma once
@@ -15,6 +16,7 @@ struct CalibrateToolOptions {
   int frames = 5;
   std::string size;              // WxH; empty = the scene config's size
   int msaa = 4;
+  std::string samples;           // non-empty: every timed point as CSV (kind,unit,level,scale,pixels,ms)
 };
 
 // 0 on success; 1 with "meter-calibrate: error: ..." on `err` for any failure.

@@ -5,8 +5,10 @@
 // scale times s, so each unit covers fewer pixels at the same level) with partial redraw off:
 //   - per unit and level: the unit alone (every other unit hidden) minus the frame with nothing
 //     drawn, against the unit's screen pixels at that scale -> time = A x pixels + B (fit_cost);
-//   - per global rung: the whole frame at level 0 -> pixel factor and fixed part against the sum of
-//     the level-0 fits (time - overhead - sum of B = factor x sum of A x pixels + fixed);
+//   - rung 0's whole frame at level 0 -> the units' A and B rescaled so that their sum predicts it
+//     (time - overhead = alpha x sum of A x pixels + c: A times alpha, B times c / sum of B);
+//   - every other rung: the whole frame at level 0 -> its pixel factor and fixed part against that
+//     (time - overhead - c = factor x sum of A x pixels + fixed);
 //   - the frame with no unit drawn (clear, texts, resolve of the target) -> the frame overhead;
 //   - PSNR of the config-size frame with one unit at one level (or at one rung) against full quality.
 #pragma once
@@ -52,7 +54,7 @@ struct CostMeasurements {
 engine::governor::LinearCost level_cost(const std::vector<engine::governor::CostSample>& samples);
 
 // The cost file: units keyed by ladder name, levels by (shading, lod); overhead = the empty frame;
-// rungs fitted as the header says, [0] first and the others by PSNR, best first (an unmeasured
+// rung 0 (factor 1, fixed 0) first, the others fitted as above and ordered by PSNR, best first (an unmeasured
 // PSNR last). Throws std::invalid_argument when the measurements are incomplete (a ladder level
 // without samples, a rung without one time per node scale, two units of one name).
 engine::governor::CostFile cost_file(const CostMeasurements& m);
