@@ -13,6 +13,7 @@ namespace meter::engine::governor {
 namespace {
 
 using nlohmann::json;
+using nlohmann::ordered_json;
 
 struct Reader {
   const std::string& origin;
@@ -68,7 +69,11 @@ struct Reader {
     return j.get<std::string>();
   }
 
-  static std::string format(double v) { return json(v).dump(); }
+  // Whole numbers without a fraction ("1000", not "1000.0"), others as JSON writes them.
+  static std::string format(double v) {
+    if (std::abs(v) < 1e15 && v == std::floor(v)) return std::to_string(static_cast<long long>(v));
+    return json(v).dump();
+  }
 };
 
 LinearCost linear(const Reader& r, const json& j, const std::string& path) {
@@ -83,7 +88,11 @@ GlobalCost global(const Reader& r, const json& j, const std::string& path) {
     r.fail(path + ".msaa", "expected an integer sample count in [1, " + std::to_string(limits::kMaxMsaa) + "]");
   GlobalCost g;
   g.level.msaa = msaa.get<int>();
-  g.level.scale = float(r.number(j, path, "scale", 0.0, 1.0, true));
+  const double scale = r.number(j, path, "scale", 0.0, 1.0, true);
+  g.level.scale = float(scale);
+  // GlobalLevel holds a float: a scale that rounds to 0 would be a rung of no pixels.
+  if (!(g.level.scale > 0))
+    r.fail(path + ".scale", "expected a number in (0, 1] that a float can hold, got " + Reader::format(scale));
   g.pixel_factor = r.number(j, path, "pixel_factor", 0.0, limits::kMaxPixelFactor, true);
   g.fixed_ms = r.number(j, path, "fixed_ms", 0.0, limits::kMaxFixedMs);
   g.psnr_db = r.psnr(j, path);
@@ -128,7 +137,7 @@ CostFile parse_costs(const std::string& text, const std::string& origin) {
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e400
     throw std::invalid_argument(origin + ": invalid JSON: " + e.what());
   }
   const Reader r{origin};
@@ -158,26 +167,26 @@ CostFile parse_costs(const std::string& text, const std::string& origin) {
 }
 
 std::string write_costs(const CostFile& file) {
-  auto linear_json = [](json& j, const LinearCost& c) {
+  auto linear_json = [](ordered_json& j, const LinearCost& c) {
     j["a_ms_per_pixel"] = c.a_ms_per_pixel;
     j["b_ms"] = c.b_ms;
   };
-  json doc = json::object();
+  ordered_json doc = ordered_json::object();
   doc["format"] = kCostFormat;
   if (!file.backend.empty()) doc["backend"] = file.backend;
   if (!file.package.empty()) doc["package"] = file.package;
   linear_json(doc["overhead"], file.overhead);
-  doc["globals"] = json::array();
+  doc["globals"] = ordered_json::array();
   for (const GlobalCost& g : file.globals) {
-    json j = {{"msaa", g.level.msaa}, {"scale", g.level.scale}, {"pixel_factor", g.pixel_factor}, {"fixed_ms", g.fixed_ms}};
+    ordered_json j = {{"msaa", g.level.msaa}, {"scale", g.level.scale}, {"pixel_factor", g.pixel_factor}, {"fixed_ms", g.fixed_ms}};
     if (g.psnr_db) j["psnr_db"] = *g.psnr_db;
     doc["globals"].push_back(j);
   }
-  doc["units"] = json::array();
+  doc["units"] = ordered_json::array();
   for (const UnitCostEntry& u : file.units) {
-    json levels = json::array();
+    ordered_json levels = ordered_json::array();
     for (const LevelCost& l : u.levels) {
-      json j = {{"shading", bridge::to_string(l.shading)}, {"lod", l.lod}};
+      ordered_json j = {{"shading", bridge::to_string(l.shading)}, {"lod", l.lod}};
       linear_json(j, l.cost);
       if (l.psnr_db) j["psnr_db"] = *l.psnr_db;
       levels.push_back(j);

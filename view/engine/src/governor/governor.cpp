@@ -1,6 +1,7 @@
 // The frame-rate governor (governor.hpp).
 #include "meter/engine/governor/governor.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -42,8 +43,8 @@ QualityChoice Governor::choose(const FrameLoad& load) {
     return current_;
   }
   ++frames_chosen_;
-  ++frames_since_change_;
-  if (load.full_frame) last_full_load_ = load;
+  frames_since_change_ = std::min(frames_since_change_ + 1, 1 << 30);  // no overflow in a year-long run
+  if (load.full_frame && load.unit_pixels.size() == model_.units.size()) last_full_load_ = load;
   const ModelScale scale = online_.scale();
   if (frames_since_change_ < options_.min_frames_between_changes) {
     predicted_ms_ = predict_ms(model_, load, current_, scale);
@@ -70,16 +71,16 @@ void Governor::observe(const FrameLoad& load, const QualityChoice& choice, doubl
 }
 
 GovernorState Governor::state() const {
-  GovernorState s;
-  s.frames_chosen = frames_chosen_;
-  s.frames_observed = frames_observed_;
-  s.changes = changes_;
-  s.frames_since_change = frames_since_change_;
-  s.predicted_ms = predicted_ms_;
-  s.measured_ms = measured_ms_;
-  s.scale = online_.scale();
-  s.global_rung = std::max(0, global_rung(model_, current_.global));
-  s.global = current_.global;
+  GovernorState s{.frames_chosen = frames_chosen_,
+                  .frames_observed = frames_observed_,
+                  .changes = changes_,
+                  .frames_since_change = frames_since_change_,
+                  .predicted_ms = predicted_ms_,
+                  .measured_ms = measured_ms_,
+                  .scale = online_.scale(),
+                  .global_rung = std::max(0, global_rung(model_, current_.global)),
+                  .global = current_.global,
+                  .reduced = {}};
   for (std::size_t u = 0; u < current_.units.size(); ++u) {
     const UnitLevel& l = current_.units[u];
     if (l == UnitLevel{}) continue;

@@ -181,9 +181,24 @@ bool prefer_rung(const CostModel& m, const Working& w, const std::optional<UnitM
   return *rung_worth > *unit_worth;
 }
 
+// One step down (lowering) or up: the unit step in the paper's order or the rung step, whichever
+// prefer_rung picks. False when neither exists.
+bool take_step(const CostModel& m, Working& w, const std::vector<std::size_t>& order, double budget, bool lowering) {
+  const auto unit = lowering ? unit_step_down(m, w, order) : unit_step_up(m, w, order, budget);
+  const auto rung = rung_step(m, w, lowering, budget);
+  if (rung && prefer_rung(m, w, unit, *rung, lowering))
+    w.move_rung(*rung);
+  else if (unit)
+    w.move_unit(unit->unit, unit->level);
+  else
+    return false;
+  return true;
+}
+
 QualityChoice normalised(const CostModel& m, const QualityChoice& current) {
   QualityChoice c = current;
   if (c.units.empty()) c.units.assign(m.units.size(), UnitLevel{});
+  if (c.units.size() != m.units.size()) return c;  // predict_ms reports it
   for (std::size_t u = 0; u < m.units.size(); ++u)
     if (m.units[u].safety) c.units[u] = UnitLevel{};
   return c;
@@ -195,6 +210,26 @@ QualityChoice full_quality(const CostModel& model) {
   QualityChoice c;
   if (!model.globals.empty()) c.global = model.globals[0].level;
   c.units.assign(model.units.size(), UnitLevel{});
+  return c;
+}
+
+QualityChoice cheapest_quality(const CostModel& model) {
+  QualityChoice c = full_quality(model);
+  auto cheaper = [](double a1, double b1, double a2, double b2) { return a1 < a2 || (a1 == a2 && b1 <= b2); };
+  for (std::size_t g = 1; g < model.globals.size(); ++g) {
+    const GlobalCost& best = model.globals[std::size_t(global_rung(model, c.global))];
+    if (cheaper(model.globals[g].pixel_factor, model.globals[g].fixed_ms, best.pixel_factor, best.fixed_ms))
+      c.global = model.globals[g].level;
+  }
+  for (std::size_t u = 0; u < model.units.size(); ++u) {
+    const UnitCosts& uc = model.units[u];
+    if (uc.safety) continue;
+    for (int r = 1; r < uc.shadings * uc.lods; ++r) {
+      const LinearCost& now = uc.at(c.units[u]).cost;
+      const UnitLevel l = level_at_rank(uc, r);
+      if (cheaper(uc.at(l).cost.a_ms_per_pixel, uc.at(l).cost.b_ms, now.a_ms_per_pixel, now.b_ms)) c.units[u] = l;
+    }
+  }
   return c;
 }
 
@@ -221,30 +256,9 @@ GreedyResult greedy_choice(const CostModel& model, const FrameLoad& load, const 
                    [&](std::size_t a, std::size_t b) { return w.size(a) > w.size(b); });
 
   GreedyResult result;
-  if (w.total() > budget.trigger_ms) {
-    while (w.total() > budget.budget_ms) {
-      const auto unit = unit_step_down(model, w, smallest_first);
-      const auto rung = rung_step(model, w, true, budget.budget_ms);
-      if (rung && prefer_rung(model, w, unit, *rung, true))
-        w.move_rung(*rung);
-      else if (unit)
-        w.move_unit(unit->unit, unit->level);
-      else
-        break;
-      result.lowered = true;
-    }
-  }
-  for (;;) {
-    const auto unit = unit_step_up(model, w, largest_first, budget.budget_ms);
-    const auto rung = rung_step(model, w, false, budget.budget_ms);
-    if (rung && prefer_rung(model, w, unit, *rung, false))
-      w.move_rung(*rung);
-    else if (unit)
-      w.move_unit(unit->unit, unit->level);
-    else
-      break;
-    result.raised = true;
-  }
+  if (w.total() > budget.trigger_ms)
+    while (w.total() > budget.budget_ms && take_step(model, w, smallest_first, budget.budget_ms, true)) result.lowered = true;
+  while (take_step(model, w, largest_first, budget.budget_ms, false)) result.raised = true;
   result.choice = w.choice();
   result.predicted_ms = w.total();
   return result;

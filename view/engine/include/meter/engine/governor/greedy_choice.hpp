@@ -58,4 +58,10 @@ GreedyResult greedy_choice(const CostModel& model, const FrameLoad& load, const 
 // The full-quality choice of the model: rung 0, every unit at level 0.
 QualityChoice full_quality(const CostModel& model);
 
+// The cheapest choice by the measured costs (a fixed-quality reference for benchmarks): the rung
+// with the smallest pixel factor (ties: smaller fixed part, then the later rung), every
+// non-safety unit at its level of smallest A (ties: smaller B, then the later level in the
+// quality order). Measured, so it need not be the last level: flat may cost more than Gouraud.
+QualityChoice cheapest_quality(const CostModel& model);
+
 }  // namespace meter::engine::governor

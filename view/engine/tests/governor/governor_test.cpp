@@ -1,0 +1,129 @@
+// The Governor: the dead band between (1 - headroom) x target and the target, the minimum frames
+// between changes, the state it reports, and what bad inputs do.
+#include "meter/engine/governor/governor.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "governor_models.hpp"
+
+namespace meter::engine::governor {
+namespace {
+
+using namespace fixtures;
+
+// One unit: full 0.01 ms/px, level 1 0.005 ms/px. Target 10 ms, headroom 5 %: lower above
+// 10 ms, raise only when full quality stays under 9.5 ms.
+Governor one_unit(int min_frames) {
+  GovernorOptions o;
+  o.target_ms = 10;
+  o.headroom = 0.05;
+  o.min_frames_between_changes = min_frames;
+  return Governor(model({unit("dial", 2, 1, {0.01, 0.005})}), o);
+}
+
+TEST(Governor, HysteresisDeadBand) {
+  Governor g = one_unit(0);
+  // 980 px: 9.8 ms at full, inside the band: no change.
+  EXPECT_EQ(g.choose(load({980})), at({{0, 0}}));
+  // 1020 px: 10.2 ms > 10: lowered (5.1 ms).
+  EXPECT_EQ(g.choose(load({1020})), at({{1, 0}}));
+  EXPECT_NEAR(g.predicted_ms(), 5.1, 1e-9);
+  // 970 px: full would be 9.7 ms, over 9.5: stays lowered although under the target.
+  EXPECT_EQ(g.choose(load({970})), at({{1, 0}}));
+  // 940 px: full is 9.4 ms <= 9.5: raised.
+  EXPECT_EQ(g.choose(load({940})), at({{0, 0}}));
+  EXPECT_EQ(g.state().changes, 2u);
+}
+
+TEST(Governor, MinimumFramesBetweenChanges) {
+  Governor g = one_unit(8);
+  EXPECT_EQ(g.choose(load({2000})), at({{1, 0}}));  // the first change may happen at once
+  // The load drops at once, but the next 7 drawn frames keep the choice; frames that are not
+  // drawn do not count.
+  FrameLoad skipped;
+  skipped.unit_pixels = {0};
+  for (int f = 1; f < 8; ++f) {
+    EXPECT_EQ(g.choose(load({100})), at({{1, 0}})) << "frame " << f;
+    EXPECT_EQ(g.choose(skipped), at({{1, 0}}));
+  }
+  EXPECT_EQ(g.state().frames_since_change, 7);
+  EXPECT_EQ(g.choose(load({100})), at({{0, 0}}));  // the 8th frame after the change
+}
+
+TEST(Governor, StateNamesTheUnitsNotAtFullQuality) {
+  GovernorOptions o;
+  o.target_ms = 5;
+  Governor g(model({unit("needle", 2, 2, {0.01, 0.008, 0.006, 0.001}), unit("dial", 1, 1, {0.001})}), o);
+  g.choose(load({1000, 1000}));  // 11 ms: needle down to its cheapest (1 + 1 = 2 ms)
+  const GovernorState s = g.state();
+  ASSERT_EQ(s.reduced.size(), 1u);
+  EXPECT_EQ(s.reduced[0].unit, 0);
+  EXPECT_EQ(s.reduced[0].level, (UnitLevel{1, 1}));
+  EXPECT_EQ(s.reduced[0].shading, bridge::ShadingModel::BlinnPhong);
+  EXPECT_EQ(reduced_summary(s), "needle=blinn-phong/lod1");
+  EXPECT_EQ(s.global_rung, 0);
+  EXPECT_EQ(s.frames_chosen, 1u);
+  EXPECT_NEAR(s.predicted_ms, 2.0, 1e-9);
+}
+
+TEST(Governor, ObservedSlowFramesScaleTheModelAndLowerTheQuality) {
+  Governor g = one_unit(0);
+  // 900 px predicts 9 ms (under the 9.5 ms budget): full quality holds ...
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
+  // ... until the frames measure 1.5x the model (another process took a core): after a window's
+  // worth of such frames the scale is 1.5, the prediction 13.5 ms > 10, and the unit is lowered.
+  for (int f = 0; f < 60; ++f) g.observe(load({900}), at({{0, 0}}), 13.5);
+  EXPECT_NEAR(g.state().scale.pixel, 1.5, 1e-6);
+  EXPECT_EQ(g.choose(load({900})), at({{1, 0}}));
+  EXPECT_EQ(g.state().measured_ms, 13.5);
+  // The other process ends: the lowered frames measure what the model says (4.5 ms); once they
+  // are the window's majority (31 of 60) the scale is 1 again and full quality (9 ms <= 9.5) is back.
+  for (int f = 0; f < 31; ++f) g.observe(load({900}), at({{1, 0}}), 4.5);
+  EXPECT_NEAR(g.state().scale.pixel, 1.0, 1e-6);
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
+}
+
+TEST(Governor, NonFiniteInputsNeverGiveANaN) {
+  Governor g = one_unit(0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const QualityChoice c = g.choose(load({nan}));
+  EXPECT_TRUE(std::isfinite(g.predicted_ms()));
+  for (double bad : {nan, inf, -1.0, 0.0}) g.observe(load({900}), c, bad);
+  EXPECT_EQ(g.state().frames_observed, 0u);
+  EXPECT_EQ(g.state().scale, ModelScale{});
+  g.choose(load({inf}));
+  EXPECT_TRUE(std::isfinite(g.predicted_ms()));
+  EXPECT_TRUE(std::isfinite(g.state().scale.pixel));
+}
+
+TEST(Governor, OptionsAndModelsOutOfRangeAreErrors) {
+  const CostModel m = model({unit("dial", 2, 1, {0.01, 0.005})});
+  for (double t : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    GovernorOptions o;
+    o.target_ms = t;
+    EXPECT_THROW(Governor(m, o), std::invalid_argument) << t;
+  }
+  GovernorOptions o;
+  o.headroom = 0.6;
+  EXPECT_THROW(Governor(m, o), std::invalid_argument);
+  o = {};
+  o.window = 2;
+  EXPECT_THROW(Governor(m, o), std::invalid_argument);
+  CostModel bad = m;
+  bad.units[0].levels[1].cost.a_ms_per_pixel = std::numeric_limits<double>::quiet_NaN();
+  try {
+    Governor g(bad);
+    FAIL() << "a NaN coefficient was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unit 'dial': level (blinn-phong, lod 0)"), std::string::npos) << e.what();
+  }
+  CostModel no_rungs = m;
+  no_rungs.globals.clear();
+  EXPECT_THROW(Governor{no_rungs}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace meter::engine::governor
