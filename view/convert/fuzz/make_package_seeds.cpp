@@ -9,6 +9,7 @@
 
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
+#include "meter/convert/levels.hpp"
 #include "meter/convert/package_writer.hpp"
 
 namespace fs = std::filesystem;
@@ -31,7 +32,9 @@ int main(int argc, char** argv) {
       }
     }
     try {
-      const auto r = meter::convert::convert_gltf(gltf.string(), config, {.optimize = true});
+      auto r = meter::convert::convert_gltf(gltf.string(), config, {.optimize = true});
+      // With the draw levels (format 5), as meter-convert writes packages by default.
+      meter::convert::make_levels(r.scene);
       meter::convert::write_package(r.scene, (out / (std::to_string(written++) + ".msp")).string());
     } catch (const std::exception& e) {
       std::cerr << gltf << ": skipped: " << e.what() << "\n";

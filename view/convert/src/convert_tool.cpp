@@ -2,6 +2,7 @@
 
 #include "meter/convert/converter.hpp"
 #include "meter/convert/integrity.hpp"
+#include "meter/convert/levels.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -35,10 +36,21 @@ int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err)
         for (const auto& s : integrity.skipped) err << o.input << ": warning: not monitored: " << s << "\n";
       }
     }
+    // After the integrity table: the safety regions it names get no levels.
+    LevelsReport levels;
+    if (o.levels == "on") {
+      LevelOptions lo;
+      lo.optimize = opt.optimize;
+      levels = make_levels(result.scene, lo);
+    } else if (o.levels != "off") {
+      throw SceneError("--levels: \"" + o.levels + "\", expected on or off");
+    }
     write_package(result.scene, o.output);
     if (o.report) out << program_report(result.scene) << result.concat_report << integrity_report(integrity);
+    if (o.report && o.levels == "on") out << levels_report(result.scene, levels);
     err << "meter-convert: wrote " << o.output << " (" << result.scene.draws.size() << " draws, "
         << result.scene.programs.size() << " programs, " << result.scene.groups.size() << " merged groups, " << result.scene.integrity.regions.size() << " safety regions, "
+        << levels.lod_levels << " LOD levels, " << levels.shading_levels << " shading levels, "
         << result.repairs.size() << " repairs)\n";
   } catch (const std::exception& e) {
     err << "meter-convert: error: " << e.what() << "\n";

@@ -1,6 +1,7 @@
 // The package writer (convert) and the package reader (engine) agree on the format of
 // meter/bridge/package_format.hpp: a hand-built scene touching every section comes back field for
-// field, the header is the one the format defines, and a second write gives the same bytes.
+// field, the header is the one the format defines, and a second write gives the same bytes. A
+// package whose draw levels point anywhere they must not is refused with a message naming the field.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -81,6 +82,13 @@ Scene every_section() {
   pe.optimize_report.spirv_instructions_before = 120;
   pe.optimize_report.folded = {"u_base_color"};
   s.programs.push_back(pe);
+  // Draw levels (version 5): a cheaper shading of the draw and one LOD of its primitive.
+  ProgramEntry unlit = pe;
+  unlit.program.features.shading = bridge::ShadingModel::Unlit;
+  unlit.program.fragment_source = "void main() { /* unlit */ }";
+  s.programs.push_back(unlit);
+  s.meshes[0].primitives[0].lods = {LodLevel{0.01f, 0.5f, {0, 1, 2}}};
+  s.draw_levels = {DrawLevels{false, {ShadingLevel{bridge::ShadingModel::Unlit, 1, {0.04f, 0.05f, 0.06f}, 12.0f, 0.25f}}, 1}};
   s.draws = {{1, 0, 0, 0}};
   s.environment.texture = 0;
   s.environment.strength = 0.5f;
@@ -132,7 +140,7 @@ TEST(PackageRoundTrip, WriterToReaderKeepsEverySection) {
   EXPECT_EQ(r.skins[0].joints, (std::vector<int>{0}));
   EXPECT_EQ(r.animations[0].samplers[0].interpolation, Interpolation::Step);
   EXPECT_EQ(r.animations[0].samplers[0].output, s.animations[0].samplers[0].output);
-  ASSERT_EQ(r.programs.size(), 1u);
+  ASSERT_EQ(r.programs.size(), 2u);
   EXPECT_EQ(r.programs[0].program.fragment_source, "void main() { }");
   EXPECT_EQ(r.programs[0].program.attributes.size(), 2u);
   EXPECT_TRUE(r.programs[0].program.blend);
@@ -143,6 +151,23 @@ TEST(PackageRoundTrip, WriterToReaderKeepsEverySection) {
   EXPECT_FLOAT_EQ(r.environment.strength, 0.5f);
   EXPECT_EQ(r.environment.irradiance[2], glm::vec3(0.1f, 0.2f, 0.3f));
   EXPECT_EQ(r.config.source_json, s.config.source_json);
+  // The draw levels, field for field.
+  ASSERT_EQ(r.meshes[0].primitives[0].lods.size(), 1u);
+  const LodLevel& lod = r.meshes[0].primitives[0].lods[0];
+  EXPECT_FLOAT_EQ(lod.error, 0.01f);
+  EXPECT_FLOAT_EQ(lod.triangle_fraction, 0.5f);
+  EXPECT_EQ(lod.indices, (std::vector<std::uint32_t>{0, 1, 2}));
+  ASSERT_EQ(r.draw_levels.size(), 1u);
+  EXPECT_FALSE(r.draw_levels[0].safety);
+  EXPECT_EQ(r.draw_levels[0].lods, 1);
+  ASSERT_EQ(r.draw_levels[0].shadings.size(), 1u);
+  const ShadingLevel& sl = r.draw_levels[0].shadings[0];
+  EXPECT_EQ(sl.shading, bridge::ShadingModel::Unlit);
+  EXPECT_EQ(sl.program, 1);
+  EXPECT_EQ(sl.specular_color, glm::vec3(0.04f, 0.05f, 0.06f));
+  EXPECT_FLOAT_EQ(sl.shininess, 12.0f);
+  EXPECT_FLOAT_EQ(sl.base_scale, 0.25f);
+  EXPECT_EQ(r.draw_levels, s.draw_levels);
   EXPECT_EQ(serialize_scene(r), bytes);  // byte-identical after a round trip
 }
 
@@ -152,4 +177,74 @@ TEST(PackageRoundTrip, WritePackageThenReadPackage) {
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
   const Scene r = engine::read_package(path);
   EXPECT_EQ(serialize_scene(r), serialize_scene(every_section()));
+}
+
+namespace {
+// The reader's message for `s` written as a package ("" when it reads).
+std::string read_error(const Scene& s) {
+  try {
+    engine::deserialize_scene(serialize_scene(s), "bad.msp");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(PackageRoundTrip, BadDrawLevelsAreRefusedNamingTheField) {
+  ASSERT_EQ(read_error(every_section()), "");
+  {
+    Scene s = every_section();
+    s.draw_levels[0].shadings[0].program = 7;
+    EXPECT_NE(read_error(s).find("draw_levels[0].shadings[0].program: 7 out of range (2 programs)"), std::string::npos) << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.draw_levels[0].lods = 2;
+    EXPECT_NE(read_error(s).find("draw_levels[0].lods: 2, expected 0..1"), std::string::npos) << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.meshes[0].primitives[0].lods[0].indices = {0, 1, 4};  // the quad has 4 vertices
+    EXPECT_NE(read_error(s).find("meshes[0].primitives[0].lods[0].indices: index 4 out of range of the 4 vertices"), std::string::npos)
+        << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.meshes[0].primitives[0].lods[0].indices = {0, 1};
+    EXPECT_NE(read_error(s).find("lods[0].indices: expected whole triangles"), std::string::npos) << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.meshes[0].primitives[0].lods[0].triangle_fraction = 1.0f;
+    EXPECT_NE(read_error(s).find("lods[0].triangle_fraction: expected a value in (0, 1)"), std::string::npos) << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.draw_levels[0].shadings[0].shading = bridge::ShadingModel::Flat;  // the program is unlit
+    EXPECT_NE(read_error(s).find("draw_levels[0].shadings[0].program: its shading model unlit is not the level's flat"), std::string::npos)
+        << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.programs[1].program.features.shading = bridge::ShadingModel::PbrMetallicRoughness;
+    s.draw_levels[0].shadings[0].shading = bridge::ShadingModel::PbrMetallicRoughness;
+    EXPECT_NE(read_error(s).find("draw_levels[0].shadings[0].shading: pbr is not cheaper than the draw's own pbr"), std::string::npos)
+        << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.programs[1].program.blend = false;
+    EXPECT_NE(read_error(s).find("draw_levels[0].shadings[0].program: blend / cull state differs"), std::string::npos) << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.draw_levels.push_back(s.draw_levels[0]);
+    EXPECT_NE(read_error(s).find("draw_levels: 2 entries for 1 draws"), std::string::npos) << read_error(s);
+  }
+  {
+    Scene s = every_section();
+    s.draw_levels[0].safety = true;
+    EXPECT_NE(read_error(s).find("draw_levels[0]: a safety item with levels"), std::string::npos) << read_error(s);
+  }
 }

@@ -6,6 +6,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/scene_evaluator.hpp"
+#include "meter/engine/frame_plan/draw_units.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
 
@@ -31,6 +32,14 @@ void exercise_scene(const Scene& scene, std::span<const std::uint8_t> values) {
   std::size_t at = 0;
   auto next_byte = [&] { return values.empty() ? std::uint8_t{0} : values[at++ % values.size()]; };
   constexpr double kValues[] = {0.0, 1.0, -1.0, 0.5, 50.0, 126.0, 8000.0, -273.15, 1e9, 1e-9};
+  // The package's draw levels at a level picked from the values, planned as the renderer plans.
+  const DrawClasses classes = classify_draws(scene, true, evaluator.camera_node());
+  const DrawUnits units = make_draw_units(scene, classes, true);
+  governor::QualityChoice choice;
+  for (const auto& l : units.ladders)
+    choice.units.push_back({int(next_byte() % l.shadings.size()), int(next_byte() % l.lod_errors.size())});
+  choice = checked_choice(units, choice);
+  DrawnFrame drawn;
   for (int step = 0; step < 4; ++step) {
     for (const auto& info : protocol::catalog()) {
       const std::uint8_t b = next_byte();
@@ -41,7 +50,13 @@ void exercise_scene(const Scene& scene, std::span<const std::uint8_t> values) {
     evaluator.apply(bindings.outputs());
     evaluator.update_world();
     const int w = std::clamp(scene.config.size[0], 1, 4096), h = std::clamp(scene.config.size[1], 1, 4096);
-    (void)evaluator.evaluate(w, h, measure);
+    FrameState now = evaluator.evaluate(w, h, measure);
+    apply_levels(scene, units, choice, now);
+    PlanSettings settings;
+    settings.width = w, settings.height = h;
+    const FramePlan plan = plan_frame(scene, classes, now, drawn, DrawnFrame{}, settings);
+    (void)frame_load(scene, classes, units, now, plan, w, h, 1.0f);
+    drawn = drawn_frame(std::move(now));
   }
 }
 

@@ -74,11 +74,15 @@ void set_member_alpha(const Primitive& src, float alpha, std::span<float> dst) {
 }
 
 void append_member_indices(const Primitive& src, std::uint32_t base, bool mirror, std::vector<std::uint32_t>& out) {
-  for (std::size_t i = 0; i + 2 < src.indices.size(); i += 3) {
+  append_member_indices(std::span<const std::uint32_t>(src.indices), base, mirror, out);
+}
+
+void append_member_indices(std::span<const std::uint32_t> indices, std::uint32_t base, bool mirror, std::vector<std::uint32_t>& out) {
+  for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
     if (mirror) {
-      out.insert(out.end(), {base + src.indices[i], base + src.indices[i + 2], base + src.indices[i + 1]});
+      out.insert(out.end(), {base + indices[i], base + indices[i + 2], base + indices[i + 1]});
     } else {
-      out.insert(out.end(), {base + src.indices[i], base + src.indices[i + 1], base + src.indices[i + 2]});
+      out.insert(out.end(), {base + indices[i], base + indices[i + 1], base + indices[i + 2]});
     }
   }
 }

@@ -101,6 +101,22 @@ void write_program(Writer& w, const ProgramEntry& e) {
   for (const auto& f : o.folded) w.str(f);
 }
 
+// Since version 5: the draw levels (meter/bridge/draw_levels.hpp): every primitive's LOD levels in
+// mesh and primitive order, then one DrawLevels per draw (or none).
+void write_levels(Writer& w, const Scene& s) {
+  for (const auto& m : s.meshes)
+    for (const auto& p : m.primitives) {
+      w.u32(static_cast<std::uint32_t>(p.lods.size()));
+      for (const auto& l : p.lods) w.f32(l.error), w.f32(l.triangle_fraction), w.vec(l.indices);
+    }
+  w.u32(static_cast<std::uint32_t>(s.draw_levels.size()));
+  for (const auto& d : s.draw_levels) {
+    w.boolean(d.safety), w.i32(d.lods);
+    w.u32(static_cast<std::uint32_t>(d.shadings.size()));
+    for (const auto& l : d.shadings) w.i32(int(l.shading)), w.i32(l.program), w.v3(l.specular_color), w.f32(l.shininess), w.f32(l.base_scale);
+  }
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> serialize_scene(const Scene& s) {
@@ -183,6 +199,7 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
   for (const auto& e : s.environment.irradiance) w.v3(e);
   w.str(s.config.source_json);
   write_integrity(w, s.integrity);
+  write_levels(w, s);
 
   Writer out;
   out.buf.insert(out.buf.end(), std::begin(kPackageMagic), std::end(kPackageMagic));

@@ -48,64 +48,13 @@ using shadergen::TextureSlot;
 
 constexpr int kGlNearest = 0x2600, kGlLinear = 0x2601, kGlLinearMipmapLinear = 0x2703;
 
-bool has_attr(const Primitive& p, AttributeSemantic a) {
-  return std::any_of(p.layout.begin(), p.layout.end(), [&](const VertexAttribute& v) { return v.semantic == a; });
-}
 
-// The program features of one draw under another shading model / precision. Texture and light
-// features are derived again from the material and the primitive (as the converter does), because
-// a cheaper model dropped them from the stored features: going back up must restore them.
-shadergen::MaterialFeatures features_for(const Scene& s, const DrawItem& d, const shadergen::MaterialFeatures& stored,
-                                         ShadingModel shading, shadergen::Precision precision) {
-  const Primitive& prim = s.meshes[std::size_t(d.mesh)].primitives[std::size_t(d.primitive)];
-  const Material& mat = s.materials[std::size_t(prim.material)];
-  shadergen::MaterialFeatures f = stored;
-  f.shading = shading;
-  f.precision = precision;
-  f.texcoord1_slots = 0;
-  auto tex = [&](TextureSlot slot) {
-    const int k = int(slot);
-    if (mat.texture[std::size_t(k)] < 0) return false;
-    const bool uv1 = mat.texcoord[std::size_t(k)] == 1;
-    if (!has_attr(prim, uv1 ? AttributeSemantic::TexCoord1 : AttributeSemantic::TexCoord0)) return false;
-    if (uv1) f.texcoord1_slots |= 1u << k;
-    return true;
-  };
-  const bool lit = shading != ShadingModel::Unlit;
-  // Normal maps need an interpolated per-pixel normal: shadergen accepts them on Blinn-Phong and PBR only.
-  const bool per_pixel = shading == ShadingModel::BlinnPhong || shading == ShadingModel::PbrMetallicRoughness;
-  f.base_color_texture = tex(TextureSlot::BaseColor);
-  f.metallic_roughness_texture = shading == ShadingModel::PbrMetallicRoughness && tex(TextureSlot::MetallicRoughness);
-  f.normal_texture = per_pixel && tex(TextureSlot::Normal);
-  f.emissive_texture = tex(TextureSlot::Emissive);
-  f.occlusion_texture = lit && tex(TextureSlot::Occlusion);
-  f.texture_transform = mat.has_uv_transform && (f.base_color_texture || f.metallic_roughness_texture || f.normal_texture ||
-                                                  f.emissive_texture || f.occlusion_texture);
-  f.has_tangents = f.normal_texture && has_attr(prim, AttributeSemantic::Tangent);
-  // The environment map needs a per-pixel normal too; cheaper models fall back to the config's
-  // uniform ambient (for an environment scene: the map's mean radiance).
-  f.environment_map_2d = per_pixel && s.environment.present();
-  if (lit) {
-    // The scene's lights, counted as the converter counts them.
-    f.lights = count_lights(s, light_order(s));
-  } else {
-    f.lights = {};
-  }
-  return shadergen::canonical(f);
-}
-
-// A PBR material shown with a Blinn-Phong-style model keeps the converter's defaults (specular 0.5,
-// shininess 32) unless mapped: the usual conversion is alpha = roughness^2, shininess = 2/alpha^2 - 2
-// (same highlight width), specular = F0 (0.04 for dielectrics, base colour for metals), diffuse =
-// the PBR diffuse colour (black for metals: a chrome part lit as a white Lambert surface plus its
-// reflection would be blown out).
+// A PBR material shown with a Blinn-Phong-style model: its mapped parameters (pbr_as_phong).
 void map_pbr_to_phong(Material& m) {
-  const float a = std::max(m.roughness * m.roughness, 0.02f);
-  m.shininess = std::clamp(2.0f / (a * a) - 2.0f, 1.0f, 2048.0f);
-  const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
-  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), glm::vec3(m.base_color), metallic);
-  m.specular_color = f0;
-  m.base_color = glm::vec4(glm::vec3(m.base_color) * (1.0f - metallic), m.base_color.a);
+  const PhongParameters p = pbr_as_phong(m);
+  m.shininess = p.shininess;
+  m.specular_color = p.specular_color;
+  m.base_color = glm::vec4(glm::vec3(m.base_color) * p.base_scale, m.base_color.a);
 }
 
 void simplify(Primitive& p, float lod, QualityReport& report) {
@@ -198,7 +147,7 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     if ((shading == ShadingModel::BlinnPhong || shading == ShadingModel::Gouraud) &&
         s.materials[std::size_t(mat)].shading == ShadingModel::PbrMetallicRoughness && mapped_materials.insert(mat).second)
       map_pbr_to_phong(s.materials[std::size_t(mat)]);
-    const shadergen::MaterialFeatures f = features_for(s, d, stored, shading, precision);
+    const shadergen::MaterialFeatures f = features_at(s, d, stored, shading, precision);
     const std::string key = shadergen::program_key(f);
     auto it = cache.find(key);
     if (it == cache.end()) {

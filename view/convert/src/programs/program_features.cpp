@@ -140,4 +140,61 @@ shadergen::LightCounts count_lights(const Scene& s, const std::vector<int>& ligh
   return lights;
 }
 
+namespace {
+bool has_attr(const Primitive& p, AttributeSemantic a) {
+  return std::any_of(p.layout.begin(), p.layout.end(), [&](const VertexAttribute& v) { return v.semantic == a; });
+}
+}  // namespace
+
+shadergen::MaterialFeatures features_at(const Scene& s, const DrawItem& d, const shadergen::MaterialFeatures& stored,
+                                        shadergen::ShadingModel shading, shadergen::Precision precision) {
+  using shadergen::ShadingModel;
+  const Primitive& prim = s.meshes[std::size_t(d.mesh)].primitives[std::size_t(d.primitive)];
+  const Material& mat = s.materials[std::size_t(prim.material)];
+  shadergen::MaterialFeatures f = stored;
+  f.shading = shading;
+  f.precision = precision;
+  f.texcoord1_slots = 0;
+  auto tex = [&](TextureSlot slot) {
+    const int k = int(slot);
+    if (mat.texture[std::size_t(k)] < 0) return false;
+    const bool uv1 = mat.texcoord[std::size_t(k)] == 1;
+    if (!has_attr(prim, uv1 ? AttributeSemantic::TexCoord1 : AttributeSemantic::TexCoord0)) return false;
+    if (uv1) f.texcoord1_slots |= 1u << k;
+    return true;
+  };
+  const bool lit = shading != ShadingModel::Unlit;
+  // Normal maps need an interpolated per-pixel normal: shadergen accepts them on Blinn-Phong and PBR only.
+  const bool per_pixel = shading == ShadingModel::BlinnPhong || shading == ShadingModel::PbrMetallicRoughness;
+  f.base_color_texture = tex(TextureSlot::BaseColor);
+  f.metallic_roughness_texture = shading == ShadingModel::PbrMetallicRoughness && tex(TextureSlot::MetallicRoughness);
+  f.normal_texture = per_pixel && tex(TextureSlot::Normal);
+  f.emissive_texture = tex(TextureSlot::Emissive);
+  f.occlusion_texture = lit && tex(TextureSlot::Occlusion);
+  f.texture_transform = mat.has_uv_transform && (f.base_color_texture || f.metallic_roughness_texture || f.normal_texture ||
+                                                  f.emissive_texture || f.occlusion_texture);
+  f.has_tangents = f.normal_texture && has_attr(prim, AttributeSemantic::Tangent);
+  // The environment map needs a per-pixel normal too; cheaper models fall back to the config's
+  // uniform ambient (for an environment scene: the map's mean radiance).
+  f.environment_map_2d = per_pixel && s.environment.present();
+  if (lit) {
+    // The scene's lights, counted as the converter counts them.
+    f.lights = count_lights(s, light_order(s));
+  } else {
+    f.lights = {};
+  }
+  return shadergen::canonical(f);
+}
+
+
+PhongParameters pbr_as_phong(const Material& m) {
+  PhongParameters p;
+  const float a = std::max(m.roughness * m.roughness, 0.02f);
+  p.shininess = std::clamp(2.0f / (a * a) - 2.0f, 1.0f, 2048.0f);
+  const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
+  p.specular_color = glm::mix(glm::vec3(0.04f), glm::vec3(m.base_color), metallic);
+  p.base_scale = 1.0f - metallic;
+  return p;
+}
+
 }  // namespace meter::convert

@@ -29,4 +29,23 @@ std::vector<char> dynamic_nodes(const Scene& s);
 shadergen::ConstantValues folding_constants(const Scene& s, const Material& m, bool fold_material,
                                             const std::vector<int>& light_nodes, const std::vector<char>& dyn);
 
+// The program features of draw `d` under another shading model / precision (`stored`: its
+// program's features). Texture and light features are derived again from the material and the
+// primitive (as the converter does), because a cheaper model dropped them from the stored features:
+// going back up must restore them. Everything else (vertex alpha, skin, morphs, alpha mode) is kept.
+shadergen::MaterialFeatures features_at(const Scene& s, const DrawItem& d, const shadergen::MaterialFeatures& stored,
+                                        shadergen::ShadingModel shading, shadergen::Precision precision);
+
+// A PBR material shown with a Blinn-Phong-style model keeps the converter's defaults (specular 0.5,
+// shininess 32) unless mapped: the usual conversion is alpha = roughness^2, shininess = 2/alpha^2 - 2
+// (same highlight width), specular = F0 (0.04 for dielectrics, base colour for metals), diffuse =
+// the PBR diffuse colour, base colour x (1 - metallic) (black for metals: a chrome part lit as a
+// white Lambert surface plus its reflection would be blown out).
+struct PhongParameters {
+  glm::vec3 specular_color{0.5f};
+  float shininess = 32.0f;
+  float base_scale = 1.0f;
+};
+PhongParameters pbr_as_phong(const Material& m);
+
 }  // namespace meter::convert

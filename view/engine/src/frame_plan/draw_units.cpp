@@ -87,6 +87,12 @@ std::string check_draw_levels(const Scene& scene) {
       if (s.program < 0 || static_cast<std::size_t>(s.program) >= scene.programs.size())
         return lk + ".program: " + std::to_string(s.program) + " out of range (" + std::to_string(scene.programs.size()) + " programs)";
       const bridge::Program& v = scene.programs[static_cast<std::size_t>(s.program)].program;
+      if (v.features.shading != s.shading)
+        return lk + ".program: its shading model " + std::string(bridge::to_string(v.features.shading)) + " is not the level's " +
+               bridge::to_string(s.shading);
+      if (int(s.shading) >= int(own.features.shading))
+        return lk + ".shading: " + std::string(bridge::to_string(s.shading)) + " is not cheaper than the draw's own " +
+               bridge::to_string(own.features.shading);
       if (v.blend != own.blend || v.cull_back_faces != own.cull_back_faces)
         return lk + ".program: blend / cull state differs from the draw's own program";
       if (v.features.vertex_alpha != own.features.vertex_alpha)

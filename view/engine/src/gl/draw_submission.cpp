@@ -73,10 +73,13 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
                               std::vector<float>& scratch) const {
   const auto& gl = gl_;
   const GpuDraw* d = gpu_.draws()[index].get();
-  const GpuProgram* gp = d->program;
+  const DrawState& state = frame.draws[index];
+  // The draw's quality level (Renderer::set_quality); the frame's levels are within range.
+  const auto shading = std::min(static_cast<std::size_t>(state.shading), d->shadings.size() - 1);
+  const GpuShading& sh = d->shadings[shading];
+  const GpuProgram* gp = sh.program;
   const glm::mat4& vp = frame.view_projection;
   const glm::vec3& eye = frame.eye;
-  const DrawState& state = frame.draws[index];
   const auto node_index = static_cast<std::size_t>(d->item->node);
   const Node& node = scene_.nodes[node_index];
   const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
@@ -87,7 +90,7 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
     gl.UseProgram(gp->program);
     current = gp;
   }
-  const bridge::Program& shape = *d->shape;
+  const bridge::Program& shape = *sh.shape;
   if (shape.blend) {
     gl.Enable(GL_BLEND);
     gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
@@ -104,7 +107,11 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
   }
   // A mirroring transform flips the winding.
   gl.FrontFace(glm::determinant(glm::mat3(model)) < 0 ? GL_CW : GL_CCW);
-  const glm::vec4& base = state.base;
+  // A cheaper model's own material parameters (a PBR material mapped for Blinn-Phong-style models).
+  const ShadingLevel* level = sh.level;
+  const glm::vec4 base = level ? glm::vec4(glm::vec3(state.base) * level->base_scale, state.base.a) : state.base;
+  const glm::vec3& specular = level ? level->specular_color : mat.specular_color;
+  const float shininess = level ? level->shininess : mat.shininess;
   const glm::vec3& emissive = state.emissive;
   for (const auto& u : gp->uniforms) {
     const GLint l = u.location;
@@ -124,8 +131,8 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
       case UniformSemantic::NormalScale: gl.Uniform1f(l, mat.normal_scale); break;
       case UniformSemantic::OcclusionStrength: gl.Uniform1f(l, mat.occlusion_strength); break;
       case UniformSemantic::AlphaCutoff: gl.Uniform1f(l, mat.alpha_cutoff); break;
-      case UniformSemantic::SpecularColor: gl.Uniform3f(l, mat.specular_color.r, mat.specular_color.g, mat.specular_color.b); break;
-      case UniformSemantic::Shininess: gl.Uniform1f(l, mat.shininess); break;
+      case UniformSemantic::SpecularColor: gl.Uniform3f(l, specular.r, specular.g, specular.b); break;
+      case UniformSemantic::Shininess: gl.Uniform1f(l, shininess); break;
       case UniformSemantic::AmbientLight: gl.Uniform3f(l, scene_.ambient.r, scene_.ambient.g, scene_.ambient.b); break;
       case UniformSemantic::Exposure: gl.Uniform1f(l, state.exposure); break;
       case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, scene_.environment.strength); break;
@@ -205,9 +212,15 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
     gl.BindTexture(GL_TEXTURE_2D, gpu_.texture(tex));
     gl.Uniform1i(s.location, s.unit);
   }
-  gl.BindVertexArray(d->group ? d->group->vao : d->vao);
-  for (const auto& [loc, v] : d->group ? d->group->constant_attributes : d->constant_attributes) gl.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
-  gl.DrawElements(GL_TRIANGLES, d->group ? d->group->index_count : d->index_count, GL_UNSIGNED_INT, nullptr);
+  const GpuVertexInput& input = d->group ? d->group->inputs[shading] : sh.input;
+  gl.BindVertexArray(input.vao);
+  for (const auto& [loc, v] : input.constant_attributes) gl.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
+  if (d->group) {
+    gl.DrawElements(GL_TRIANGLES, d->group->index_count, GL_UNSIGNED_INT, nullptr);
+  } else {
+    const auto& [offset, count] = d->lods[std::min(static_cast<std::size_t>(state.lod), d->lods.size() - 1)];
+    gl.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
+  }
 }
 
 }  // namespace meter::engine

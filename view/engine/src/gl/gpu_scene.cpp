@@ -25,10 +25,14 @@ GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Pro
   // Programs: the package's generated ones, or (benchmark baseline) the uber-shader alone.
   if (uber_shader) {
     if (!uber_shader->uber) throw SceneError("RendererOptions::uber_shader is not an uber-shader program");
-    add_program(*uber_shader, scene_.source_name + " uber-shader");
+    add_program(*uber_shader, scene_.source_name + " uber-shader", true);
   } else {
+    // Programs only a cheaper level uses are compiled when a frame first needs them (prepare()):
+    // a scene drawn at full quality compiles what it did before levels existed.
+    std::vector<char> used(scene_.programs.size(), 0);
+    for (const auto& d : scene_.draws) used[static_cast<std::size_t>(d.program)] = 1;
     for (std::size_t i = 0; i < scene_.programs.size(); ++i)
-      add_program(scene_.programs[i].program, scene_.source_name + " program " + std::to_string(i));
+      add_program(scene_.programs[i].program, scene_.source_name + " program " + std::to_string(i), used[i] != 0);
   }
   upload_textures();
   build_draws(uber_shader != nullptr);
@@ -37,22 +41,40 @@ GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Pro
 }
 
 GpuScene::~GpuScene() {
-  for (auto& d : draws_) gl_.DeleteVertexArrays(1, &d->vao);
+  for (auto& d : draws_)
+    for (auto& sh : d->shadings) gl_.DeleteVertexArrays(1, &sh.input.vao);
   for (auto& g : groups_) {
-    gl_.DeleteVertexArrays(1, &g->vao);
+    for (auto& in : g->inputs) gl_.DeleteVertexArrays(1, &in.vao);
     gl_.DeleteBuffers(1, &g->vbo);
     gl_.DeleteBuffers(1, &g->ebo);
   }
   if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
   if (!textures_.empty()) gl_.DeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
   if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
-  for (auto& p : programs_) gl_.DeleteProgram(p->program);
+  for (auto& p : programs_)
+    if (p->program) gl_.DeleteProgram(p->program);
 }
 
-void GpuScene::add_program(const bridge::Program& p, const std::string& label) {
+void GpuScene::add_program(const bridge::Program& p, const std::string& label, bool compile_now) {
   auto gp = std::make_unique<GpuProgram>();
   gp->info = &p;
-  gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source, label);
+  gp->label = label;
+  if (compile_now) compile(*gp);
+  programs_.push_back(std::move(gp));
+}
+
+void GpuScene::prepare(const FrameState& frame) {
+  for (std::size_t i = 0; i < draws_.size() && i < frame.draws.size(); ++i) {
+    const auto level = static_cast<std::size_t>(frame.draws[i].shading);
+    if (level < draws_[i]->shadings.size() && !draws_[i]->shadings[level].program->program)
+      compile(*draws_[i]->shadings[level].program);
+  }
+}
+
+void GpuScene::compile(GpuProgram& program) {
+  GpuProgram* gp = &program;
+  const bridge::Program& p = *gp->info;
+  gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source, gp->label);
   for (const auto& u : p.uniforms) {
     GpuProgram::Uniform gu;
     gu.semantic = u.semantic;
@@ -74,7 +96,7 @@ void GpuScene::add_program(const bridge::Program& p, const std::string& label) {
     GpuProgram::Sampler gs{gl_.GetUniformLocation(gp->program, s.name.c_str()), s.slot, s.unit};
     if (gs.location >= 0) gp->samplers.push_back(gs);
   }
-  programs_.push_back(std::move(gp));
+  platform::check_gl(gl_, gp->label + ": compiling");
 }
 
 void GpuScene::upload_textures() {
@@ -112,50 +134,87 @@ void GpuScene::upload_textures() {
   }
 }
 
+GpuVertexInput GpuScene::vertex_input(const GpuProgram& program, const Primitive& layout, bool merged, GLuint vbo, GLuint ebo) {
+  GpuVertexInput in;
+  const int stride = merged ? merged_stride(layout) : layout.stride;
+  gl_.GenVertexArrays(1, &in.vao);
+  gl_.BindVertexArray(in.vao);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, vbo);
+  gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
+  for (const auto& a : program.info->attributes) {
+    const auto loc = static_cast<GLuint>(a.location);
+    int components = 0, offset = 0;
+    if (merged && a.semantic == AttributeSemantic::VertexAlpha) {
+      components = 1, offset = layout.stride;
+    } else {
+      auto it = std::find_if(layout.layout.begin(), layout.layout.end(), [&](const VertexAttribute& v) {
+        return v.semantic == a.semantic && (v.index == a.index || (v.index < 0 && a.index < 0));
+      });
+      if (it == layout.layout.end()) {
+        // Missing data gets the neutral value: white vertex colour, full vertex alpha, zero otherwise.
+        glm::vec4 c(0.0f, 0.0f, 0.0f, 1.0f);
+        if (a.semantic == AttributeSemantic::Color0 || a.semantic == AttributeSemantic::VertexAlpha) c = glm::vec4(1.0f);
+        if (a.semantic == AttributeSemantic::Weights0) c = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+        in.constant_attributes.emplace_back(loc, c);
+        continue;
+      }
+      components = it->components, offset = it->offset;
+    }
+    gl_.EnableVertexAttribArray(loc);
+    gl_.VertexAttribPointer(loc, components, GL_FLOAT, GL_FALSE, stride * static_cast<GLsizei>(sizeof(float)),
+                            reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset) * sizeof(float)));
+  }
+  gl_.BindVertexArray(0);
+  return in;
+}
+
 void GpuScene::build_draws(bool uber) {
-  // Vertex/index buffers, one pair per primitive, shared by every draw of it.
+  // Vertex/index buffers, one pair per primitive, shared by every draw of it. The index buffer
+  // holds the full list, then each LOD level's.
   std::map<std::pair<int, int>, std::pair<GLuint, GLuint>> vbos;
-  for (const auto& d : scene_.draws) {
+  for (std::size_t di = 0; di < scene_.draws.size(); ++di) {
+    const DrawItem& d = scene_.draws[di];
     const Primitive& prim = scene_.meshes[static_cast<std::size_t>(d.mesh)].primitives[static_cast<std::size_t>(d.primitive)];
     auto key = std::make_pair(d.mesh, d.primitive);
+    auto gd = std::make_unique<GpuDraw>();
+    gd->item = &d;
+    gd->prim = &prim;
+    std::size_t total = prim.indices.size();
+    gd->lods.emplace_back(0, static_cast<GLsizei>(prim.indices.size()));
+    for (const LodLevel& l : prim.lods) {
+      gd->lods.emplace_back(total * sizeof(std::uint32_t), static_cast<GLsizei>(l.indices.size()));
+      total += l.indices.size();
+    }
     if (!vbos.count(key)) {
       GLuint b[2];
       gl_.GenBuffers(2, b);
       gl_.BindBuffer(GL_ARRAY_BUFFER, b[0]);
       gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.vertices.size() * sizeof(float)), prim.vertices.data(), GL_STATIC_DRAW);
       gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b[1]);
-      gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.indices.size() * sizeof(std::uint32_t)), prim.indices.data(), GL_STATIC_DRAW);
+      gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(total * sizeof(std::uint32_t)), nullptr, GL_STATIC_DRAW);
+      gl_.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(prim.indices.size() * sizeof(std::uint32_t)), prim.indices.data());
+      for (std::size_t k = 0; k < prim.lods.size(); ++k)
+        gl_.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(gd->lods[k + 1].first),
+                          static_cast<GLsizeiptr>(prim.lods[k].indices.size() * sizeof(std::uint32_t)), prim.lods[k].indices.data());
       buffers_.insert(buffers_.end(), {b[0], b[1]});
       vbos[key] = {b[0], b[1]};
     }
-    auto gd = std::make_unique<GpuDraw>();
-    gd->item = &d;
-    gd->prim = &prim;
-    gd->shape = &scene_.programs[static_cast<std::size_t>(d.program)].program;
-    gd->program = programs_[uber ? 0 : static_cast<std::size_t>(d.program)].get();
-    gd->index_count = static_cast<GLsizei>(prim.indices.size());
-    gl_.GenVertexArrays(1, &gd->vao);
-    gl_.BindVertexArray(gd->vao);
-    gl_.BindBuffer(GL_ARRAY_BUFFER, vbos[key].first);
-    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, vbos[key].second);
-    for (const auto& a : gd->program->info->attributes) {
-      auto it = std::find_if(prim.layout.begin(), prim.layout.end(), [&](const VertexAttribute& v) {
-        return v.semantic == a.semantic && (v.index == a.index || (v.index < 0 && a.index < 0));
-      });
-      const auto loc = static_cast<GLuint>(a.location);
-      if (it == prim.layout.end()) {
-        // Missing data gets the neutral value: white vertex colour, full vertex alpha, zero otherwise.
-        glm::vec4 c(0.0f, 0.0f, 0.0f, 1.0f);
-        if (a.semantic == AttributeSemantic::Color0 || a.semantic == AttributeSemantic::VertexAlpha) c = glm::vec4(1.0f);
-        if (a.semantic == AttributeSemantic::Weights0) c = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
-        gd->constant_attributes.emplace_back(loc, c);
-        continue;
+    const auto [vbo, ebo] = vbos[key];
+    GpuShading own;
+    own.shape = &scene_.programs[static_cast<std::size_t>(d.program)].program;
+    own.program = programs_[uber ? 0 : static_cast<std::size_t>(d.program)].get();
+    own.input = vertex_input(*own.program, prim, false, vbo, ebo);
+    gd->shadings.push_back(std::move(own));
+    if (!uber && !scene_.draw_levels.empty()) {
+      for (const ShadingLevel& l : scene_.draw_levels[di].shadings) {
+        GpuShading sh;
+        sh.shape = &scene_.programs[static_cast<std::size_t>(l.program)].program;
+        sh.program = programs_[static_cast<std::size_t>(l.program)].get();
+        sh.level = &l;
+        sh.input = vertex_input(*sh.program, prim, false, vbo, ebo);
+        gd->shadings.push_back(std::move(sh));
       }
-      gl_.EnableVertexAttribArray(loc);
-      gl_.VertexAttribPointer(loc, it->components, GL_FLOAT, GL_FALSE, prim.stride * static_cast<GLsizei>(sizeof(float)),
-                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(it->offset) * sizeof(float)));
     }
-    gl_.BindVertexArray(0);
     draws_.push_back(std::move(gd));
   }
 }
@@ -174,39 +233,15 @@ void GpuScene::build_groups() {
     GpuDraw* rep = draws_[static_cast<std::size_t>(mg.draws.front())].get();
     rep->group = g.get();
     const Primitive& layout = *rep->prim;
-    const int stride = merged_stride(layout);
-    g->vertices.assign(std::size_t(vertices) * std::size_t(stride), 0.0f);
+    g->vertices.assign(std::size_t(vertices) * std::size_t(merged_stride(layout)), 0.0f);
     GLuint b[2];
     gl_.GenBuffers(2, b);
     g->vbo = b[0], g->ebo = b[1];
-    gl_.GenVertexArrays(1, &g->vao);
-    gl_.BindVertexArray(g->vao);
     gl_.BindBuffer(GL_ARRAY_BUFFER, g->vbo);
     // DYNAMIC: rewritten (in member ranges) whenever a member moves.
     gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(g->vertices.size() * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
-    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
-    for (const auto& a : rep->program->info->attributes) {
-      const auto loc = static_cast<GLuint>(a.location);
-      int components = 0, offset = 0;
-      if (a.semantic == AttributeSemantic::VertexAlpha) {
-        components = 1, offset = layout.stride;
-      } else {
-        auto it = std::find_if(layout.layout.begin(), layout.layout.end(), [&](const VertexAttribute& v) {
-          return v.semantic == a.semantic && (v.index == a.index || (v.index < 0 && a.index < 0));
-        });
-        if (it == layout.layout.end()) {
-          glm::vec4 c(0.0f, 0.0f, 0.0f, 1.0f);
-          if (a.semantic == AttributeSemantic::Color0) c = glm::vec4(1.0f);
-          g->constant_attributes.emplace_back(loc, c);
-          continue;
-        }
-        components = it->components, offset = it->offset;
-      }
-      gl_.EnableVertexAttribArray(loc);
-      gl_.VertexAttribPointer(loc, components, GL_FLOAT, GL_FALSE, stride * static_cast<GLsizei>(sizeof(float)),
-                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset) * sizeof(float)));
-    }
-    gl_.BindVertexArray(0);
+    // Every shading level of the representative: its members share those programs (check_draw_levels).
+    for (const GpuShading& sh : rep->shadings) g->inputs.push_back(vertex_input(*sh.program, layout, true, g->vbo, g->ebo));
     groups_.push_back(std::move(g));
   }
 }
@@ -223,6 +258,9 @@ void GpuScene::update_groups(const FrameState& frame, RendererStats& stats) {
       const Primitive& p = *m.draw->prim;
       const std::size_t stride = static_cast<std::size_t>(merged_stride(p));
       std::span<float> dst(g->vertices.data() + std::size_t(m.first_vertex) * stride, std::size_t(p.vertex_count) * stride);
+      const auto draw = static_cast<std::size_t>(m.draw->item - scene_.draws.data());
+      const int lod = frame.draws[draw].lod;
+      if (lod != m.lod) m.lod = lod, rebuild = true;
       if (!m.uploaded || w != m.world) {
         transform_member(p, w, float(vis), dst);
         m.world = w;
@@ -249,7 +287,10 @@ void GpuScene::update_groups(const FrameState& frame, RendererStats& stats) {
       // Index compaction: hidden members are left out, so they cost no vertex or pixel work.
       g->indices.clear();
       for (const auto& m : g->members) {
-        if (m.visible) append_member_indices(*m.draw->prim, m.first_vertex, m.mirrored, g->indices);
+        if (!m.visible) continue;
+        const Primitive& p = *m.draw->prim;
+        const auto& list = m.lod == 0 ? p.indices : p.lods[static_cast<std::size_t>(m.lod - 1)].indices;
+        append_member_indices(std::span<const std::uint32_t>(list), m.first_vertex, m.mirrored, g->indices);
       }
       g->index_count = static_cast<GLsizei>(g->indices.size());
       gl_.BindVertexArray(0);

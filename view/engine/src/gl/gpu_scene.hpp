@@ -19,7 +19,8 @@ namespace meter::engine {
 struct RendererStats;
 
 struct GpuProgram {
-  GLuint program = 0;
+  GLuint program = 0;  // 0 until compiled (a cheaper level's program: when a frame first uses it)
+  std::string label;
   const bridge::Program* info = nullptr;
   struct Uniform {
     GLint location = -1;
@@ -37,34 +38,47 @@ struct GpuProgram {
 
 struct GpuGroup;
 
+// One program's view of a vertex buffer: its VAO, and the constant values of the attributes the
+// buffer lacks (set before the draw).
+struct GpuVertexInput {
+  GLuint vao = 0;
+  std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
+};
+
+// One shading level of a draw (meter/bridge/draw_levels.hpp): [0] its own program.
+struct GpuShading {
+  GpuProgram* program = nullptr;
+  // The program generated for this level: blend and cull state, and (uber mode) the switches.
+  const bridge::Program* shape = nullptr;
+  const ShadingLevel* level = nullptr;  // null: level 0, the material's own parameters
+  GpuVertexInput input;                 // drawn on its own
+};
+
 struct GpuDraw {
   const DrawItem* item = nullptr;
   const Primitive* prim = nullptr;
-  GpuProgram* program = nullptr;
-  GLuint vao = 0;
-  GLsizei index_count = 0;
-  // Program attributes the primitive lacks: constant values set before the draw.
-  std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
+  std::vector<GpuShading> shadings;  // per DrawState::shading
+  // Per DrawState::lod: byte offset of its index list in the primitive's index buffer, and count.
+  std::vector<std::pair<std::uintptr_t, GLsizei>> lods;
   GpuGroup* group = nullptr;  // set on a merged group's representative only
-  // The program generated for this draw: blend and cull state, and (uber mode) the switches.
-  const bridge::Program* shape = nullptr;
 };
 
 // One merged group: world-space vertices of every member in one dynamic buffer, indices of the
-// visible members only. Member ranges are rewritten only when that member's world matrix or
-// visibility changed, so a static scene costs nothing per frame.
+// visible members only (each member's list at its LOD). Member ranges are rewritten only when that
+// member's world matrix or visibility changed, so a static scene costs nothing per frame.
 struct GpuGroup {
-  GLuint vao = 0, vbo = 0, ebo = 0;
+  GLuint vbo = 0, ebo = 0;
+  std::vector<GpuVertexInput> inputs;  // per shading level of the representative
   std::vector<float> vertices;
   std::vector<std::uint32_t> indices;
   GLsizei index_count = 0;
-  std::vector<std::pair<GLuint, glm::vec4>> constant_attributes;
   struct Member {
     const GpuDraw* draw = nullptr;
     std::uint32_t first_vertex = 0;
     glm::mat4 world{0.0f};
     bool uploaded = false, mirrored = false;
     char visible = -1;
+    int lod = 0;  // the LOD its indices were built at
   };
   std::vector<Member> members;
 };
@@ -78,17 +92,23 @@ class GpuScene {
   GpuScene(const GpuScene&) = delete;
   GpuScene& operator=(const GpuScene&) = delete;
 
-  // Brings the merged groups' buffers to the frame's world matrices and visibility.
+  // Compiles the programs of the shading levels `frame` draws with that are not compiled yet.
+  void prepare(const FrameState& frame);
+  // Brings the merged groups' buffers to the frame's world matrices, visibility and LODs.
   void update_groups(const FrameState& frame, RendererStats& stats);
 
   const std::vector<std::unique_ptr<GpuDraw>>& draws() const { return draws_; }
   GLuint texture(int index) const { return index >= 0 ? textures_[static_cast<std::size_t>(index)] : white_texture_; }
 
  private:
-  void add_program(const bridge::Program& p, const std::string& label);
+  void add_program(const bridge::Program& p, const std::string& label, bool compile_now);
+  void compile(GpuProgram& program);
   void upload_textures();
   void build_draws(bool uber);
   void build_groups();
+  // A VAO binding `program`'s attributes to `layout` in the bound vertex / index buffers;
+  // `merged`: the merged record (layout + vertex alpha, merged_stride).
+  GpuVertexInput vertex_input(const GpuProgram& program, const Primitive& layout, bool merged, GLuint vbo, GLuint ebo);
 
   const platform::Gl& gl_;
   const Scene& scene_;

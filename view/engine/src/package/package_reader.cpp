@@ -2,6 +2,7 @@
 #include "meter/engine/package_reader.hpp"
 
 #include "meter/bridge/scene_config_parser.hpp"
+#include "meter/engine/frame_plan/draw_units.hpp"
 #include "meter/engine/merged_draws.hpp"
 
 #include <cmath>
@@ -230,6 +231,44 @@ bridge::IntegrityTable read_integrity(Reader& r) {
   return t;
 }
 
+// The draw levels (since version 5). Each LOD level's indices are checked against its primitive;
+// the draws' references against the scene once the draws are read (check_draw_levels).
+void read_levels(Reader& r, Scene& s) {
+  for (std::size_t mi = 0; mi < s.meshes.size(); ++mi)
+    for (std::size_t pi = 0; pi < s.meshes[mi].primitives.size(); ++pi) {
+      Primitive& p = s.meshes[mi].primitives[pi];
+      const std::string at = "meshes[" + std::to_string(mi) + "].primitives[" + std::to_string(pi) + "].lods";
+      for (std::uint32_t n = r.count("primitive.lods", 12), k = 0; k < n; ++k) {
+        LodLevel l;
+        l.error = r.f32("lod.error");
+        l.triangle_fraction = r.f32("lod.triangle_fraction");
+        l.indices = r.vec<std::uint32_t>("lod.indices");
+        const std::string lk = at + "[" + std::to_string(k) + "]";
+        if (l.error < 0.0f) r.fail(lk + ".error: negative");
+        if (!(l.triangle_fraction > 0.0f && l.triangle_fraction < 1.0f)) r.fail(lk + ".triangle_fraction: expected a value in (0, 1)");
+        if (l.indices.empty() || l.indices.size() % 3 != 0) r.fail(lk + ".indices: expected whole triangles");
+        for (auto idx : l.indices)
+          if (idx >= p.vertex_count) r.fail(lk + ".indices: index " + std::to_string(idx) + " out of range of the " + std::to_string(p.vertex_count) + " vertices");
+        p.lods.push_back(std::move(l));
+      }
+    }
+  for (std::uint32_t n = r.count("draw_levels", 9), i = 0; i < n; ++i) {
+    DrawLevels d;
+    d.safety = r.boolean("draw_levels.safety");
+    d.lods = r.i32("draw_levels.lods");
+    for (std::uint32_t ns = r.count("draw_levels.shadings", 28), k = 0; k < ns; ++k) {
+      ShadingLevel l;
+      l.shading = enum_in<bridge::ShadingModel>(r, 4, "shading_level.shading");
+      l.program = r.i32("shading_level.program");
+      l.specular_color = r.v3("shading_level.specular_color");
+      l.shininess = r.f32("shading_level.shininess");
+      l.base_scale = r.f32("shading_level.base_scale");
+      d.shadings.push_back(l);
+    }
+    s.draw_levels.push_back(std::move(d));
+  }
+}
+
 }  // namespace
 
 Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& origin) {
@@ -424,6 +463,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
   for (auto& e : s.environment.irradiance) e = r.v3("environment.irradiance");
   std::string config_json = r.str("config");
   s.integrity = read_integrity(r);
+  read_levels(r, s);
   if (!r.at_end()) r.fail("trailing bytes after the last section");
 
   // Cross-references: a package that passed the checksum but was written by a buggy converter
@@ -461,6 +501,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     check_index(r, d.program, s.programs.size(), false, "draw.program");
   }
   if (const std::string why = check_groups(s); !why.empty()) r.fail(why);
+  if (const std::string why = check_draw_levels(s); !why.empty()) r.fail(why);
   try {
     s.config = parse_scene_config(config_json, origin + " (embedded scene config)");
   } catch (const std::invalid_argument& e) {

@@ -19,7 +19,11 @@
 // bounds); materials; textures; cameras; lights; skins; animations (samplers, channels); programs
 // (sources, attributes, uniforms, samplers, features, pipeline state, optimizer report); draws;
 // mesh concatenation groups; the world environment (texture index, strength, ambient cube); the
-// scene config's JSON text; the integrity table (frame size, safety regions, integrity.hpp).
+// scene config's JSON text; the integrity table (frame size, safety regions, integrity.hpp); the
+// draw levels (draw_levels.hpp: each primitive's LOD levels in mesh / primitive order, each an f32
+// error, f32 triangle fraction and u32 index array; then the DrawLevels of every draw, or none:
+// bool safety, i32 lods, the shading levels as i32 model, i32 program, vec3 specular colour, f32
+// shininess, f32 base scale).
 //
 // A package with another version is refused with a message naming both versions: the format has no
 // optional fields, so "mostly compatible" is not a state it can be in.
@@ -34,7 +38,8 @@ namespace meter::bridge {
 // 2: mesh concatenation groups after the draws.
 // 3: the world environment (texture index, strength, ambient cube) after the groups.
 // 4: the integrity table (safety regions and their signatures) after the scene config text.
-inline constexpr std::uint32_t kPackageVersion = 4;
+// 5: the draw levels (cheaper LODs and shadings, draw_levels.hpp) after the integrity table.
+inline constexpr std::uint32_t kPackageVersion = 5;
 inline constexpr char kPackageMagic[8] = {'M', 'E', 'T', 'E', 'R', 'S', 'C', 'N'};
 // magic + version + reserved + payload size + payload checksum
 inline constexpr std::size_t kPackageHeaderSize = 8 + 4 + 4 + 8 + 8;

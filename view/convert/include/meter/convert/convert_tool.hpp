@@ -15,6 +15,8 @@ struct ToolOptions {
   std::string catalog;  // signal catalog the config's bindings are checked against; empty = built in
   // GL backend the safety regions are measured on ("egl" | "osmesa"), or "off": no integrity table.
   std::string integrity = "egl";
+  // "on": cheaper LOD and shading levels of every non-safety draw (meter/convert/levels.hpp); "off": none.
+  std::string levels = "on";
 };
 
 // Returns the process exit code (0 written, 1 error); `out` gets the report, `err` the repairs,

@@ -40,5 +40,8 @@ void set_member_alpha(const Primitive& src, float alpha, std::span<float> dst);
 // Appends src's triangles offset by `base`; reversed winding when `mirrored` (the world matrix has
 // a negative determinant: the unmerged draw flips glFrontFace instead, the merged draw cannot).
 void append_member_indices(const Primitive& src, std::uint32_t base, bool mirrored, std::vector<std::uint32_t>& out);
+// The same for one of the primitive's index lists (a LOD level's, meter/bridge/draw_levels.hpp).
+void append_member_indices(std::span<const std::uint32_t> indices, std::uint32_t base, bool mirrored,
+                           std::vector<std::uint32_t>& out);
 
 }  // namespace meter::engine

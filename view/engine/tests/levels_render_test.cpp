@@ -1,0 +1,245 @@
+// Quality levels drawn (Renderer::set_quality, the level chooser, the global rungs) on the cluster
+// converted with its levels, on both backends: every changed level draws a different image, a
+// level change redrawn partially gives the image a full redraw at that level gives, and back at
+// level 0 the frame is bit for bit the one a renderer that never changed level draws.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+
+#include "meter/convert/levels.hpp"
+#include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/platform/image.hpp"
+#include "meter/protocol/catalog.hpp"
+#include "test_scenes.hpp"
+
+using namespace meter;
+using namespace meter::engine;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kWidth = 640, kHeight = 240;
+
+const Scene& cluster() {
+  static const Scene s = [] {
+    Scene c = test::cluster_scene();
+    convert::make_levels(c);
+    return c;
+  }();
+  return s;
+}
+
+// A moment of a drive: needles off their rest, a telltale lit.
+BindingOutputs driving(const Scene& scene) {
+  BindingEvaluator ev(scene);
+  protocol::SignalTable values;
+  const std::map<std::string, double> v = {{"Vehicle.Speed", 87}, {"Vehicle.Powertrain.CombustionEngine.Speed", 3100},
+                                           {"Vehicle.Powertrain.FuelSystem.RelativeLevel", 55},
+                                           {"Cluster.Telltale.TurnLeft", 1}};
+  for (const auto& [name, x] : v)
+    if (const auto* info = protocol::find_signal(name)) values.set(info->id, {x, protocol::SignalStatus::Valid, ""});
+  ev.update(values, true, -1.0);
+  return ev.outputs();
+}
+
+std::size_t differing_pixels(const platform::Image& a, const platform::Image& b) {
+  if (a.rgba.size() != b.rgba.size()) return std::max(a.rgba.size(), b.rgba.size()) / 4;
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < a.rgba.size(); p += 4)
+    if (std::memcmp(&a.rgba[p], &b.rgba[p], 4) != 0) ++n;
+  return n;
+}
+
+// Every movable unit at `pick(ladder)` (a shading or LOD index), the rest at 0.
+template <typename Pick>
+governor::QualityChoice every_unit(std::span<const governor::UnitLadder> units, Pick pick) {
+  governor::QualityChoice c;
+  for (const auto& l : units) c.units.push_back(l.safety ? governor::UnitLevel{} : pick(l));
+  return c;
+}
+
+class LevelsRender : public ::testing::TestWithParam<platform::BackendKind> {
+ protected:
+  void SetUp() override { backend_ = platform::create_backend(GetParam()); }
+
+  RendererOptions options(bool partial = true) const {
+    RendererOptions o;
+    o.width = kWidth, o.height = kHeight, o.msaa = 4, o.partial_redraw = partial;
+    return o;
+  }
+  void save(const platform::Image& img, const std::string& name) const {
+    const std::string dir = test::scratch_dir("levels_" + std::string(platform::to_string(GetParam())));
+    platform::write_png(img, fs::path(dir) / (name + ".png"));
+  }
+
+  std::unique_ptr<platform::GpuBackend> backend_;
+};
+
+}  // namespace
+
+TEST_P(LevelsRender, EveryLevelDiffersAndLevelZeroIsBitIdentical) {
+  const Scene& scene = cluster();
+  const BindingOutputs outputs = driving(scene);
+  Renderer a(*backend_, scene, options()), never(*backend_, scene, options());
+  const auto units = a.draw_units();
+  ASSERT_FALSE(units.empty());
+  a.apply(outputs), never.apply(outputs);
+  a.render(false, true), never.render(false, true);
+  const platform::Image full = a.last_image();
+  ASSERT_EQ(differing_pixels(full, never.last_image()), 0u);
+
+  // The smallest unit on screen that has a cheaper shading: its change alone is a partial frame.
+  std::size_t small = units.size();
+  for (std::size_t i = 0; i < units.size(); ++i)
+    if (units[i].shadings.size() > 1 && a.last_load().unit_pixels[i] > 0 &&
+        (small == units.size() || a.last_load().unit_pixels[i] < a.last_load().unit_pixels[small]))
+      small = i;
+  ASSERT_LT(small, units.size());
+  governor::QualityChoice one;
+  one.units.assign(units.size(), {});
+  one.units[small] = {int(units[small].shadings.size()) - 1, int(units[small].lod_errors.size()) - 1};
+  const std::vector<std::pair<std::string, governor::QualityChoice>> choices = {
+      {"one_unit", one},
+      {"next_shading", every_unit(units, [](const governor::UnitLadder& l) { return governor::UnitLevel{l.shadings.size() > 1 ? 1 : 0, 0}; })},
+      {"cheapest_shading", every_unit(units, [](const governor::UnitLadder& l) { return governor::UnitLevel{int(l.shadings.size()) - 1, 0}; })},
+      {"coarsest_lod", every_unit(units, [](const governor::UnitLadder& l) { return governor::UnitLevel{0, int(l.lod_errors.size()) - 1}; })},
+  };
+  for (const auto& [name, choice] : choices) {
+    a.set_quality(choice);
+    const FrameTiming t = a.render(false, true);
+    EXPECT_TRUE(t.drawn) << name;
+    // Only the changed unit's boxes are damaged.
+    if (name == "one_unit") {
+      EXPECT_GT(t.regions, 0) << "a small unit's level change redrew the whole frame";
+    }
+    EXPECT_EQ(a.quality().units, choice.units) << name;
+    const std::size_t changed = differing_pixels(a.last_image(), full);
+    if (changed == 0) save(a.last_image(), name);
+    EXPECT_GT(changed, 0u) << name << ": the level drew the full-quality image";
+    std::printf("[ levels   ] %s %s: %zu pixels differ from full quality, %.1f %% redrawn\n", std::string(platform::to_string(GetParam())).c_str(),
+                name.c_str(), changed, 100.0 * t.redrawn_fraction);
+    // The change was drawn over the last frame (damaged boxes only): it must be the image a
+    // renderer drawing that level from scratch makes.
+    Renderer fresh(*backend_, scene, options(false));
+    fresh.set_quality(choice);
+    fresh.apply(outputs);
+    fresh.render(false, true);
+    const std::size_t stale = differing_pixels(a.last_image(), fresh.last_image());
+    if (stale) save(a.last_image(), name + "_partial"), save(fresh.last_image(), name + "_fresh");
+    EXPECT_EQ(stale, 0u) << name << ": pixels the level change did not redraw (images in the build tree)";
+  }
+  a.set_quality(governor::QualityChoice{});
+  EXPECT_TRUE(a.render(false, true).drawn);
+  const std::size_t back = differing_pixels(a.last_image(), never.last_image());
+  if (back) save(a.last_image(), "back_at_0"), save(never.last_image(), "never_changed");
+  EXPECT_EQ(back, 0u) << "back at level 0 the frame differs from a renderer that never changed level";
+}
+
+TEST_P(LevelsRender, GlobalRungKeepsTheOutputSize) {
+  const Scene& scene = cluster();
+  const BindingOutputs outputs = driving(scene);
+  Renderer a(*backend_, scene, options()), never(*backend_, scene, options());
+  a.apply(outputs), never.apply(outputs);
+  a.render(false, true), never.render(false, true);
+  governor::QualityChoice low;
+  low.global = {1, 0.5f};
+  a.set_quality(low);
+  EXPECT_TRUE(a.render(false, true).drawn);
+  EXPECT_EQ(a.last_image().width, kWidth);
+  EXPECT_EQ(a.last_image().height, kHeight);
+  EXPECT_EQ(a.width(), kWidth);
+  EXPECT_GT(differing_pixels(a.last_image(), never.last_image()), 0u) << "half scale without MSAA drew the full image";
+  // The integrity monitor's readback stays in output pixels.
+  const platform::PixelRegion corner{kWidth - 8, kHeight - 8, 8, 8};
+  const auto regions = a.read_regions(std::span<const platform::PixelRegion>(&corner, 1));
+  ASSERT_EQ(regions.size(), 1u);
+  EXPECT_EQ(regions[0].width, 8);
+  a.set_quality(governor::QualityChoice{});
+  EXPECT_TRUE(a.render(false, true).drawn);
+  EXPECT_EQ(differing_pixels(a.last_image(), never.last_image()), 0u) << "back at full quality the frame differs";
+}
+
+TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
+  const Scene& scene = cluster();
+  const BindingOutputs outputs = driving(scene);
+  Renderer a(*backend_, scene, options()), direct(*backend_, scene, options());
+  const auto choice = every_unit(a.draw_units(), [](const governor::UnitLadder& l) {
+    return governor::UnitLevel{int(l.shadings.size()) - 1, int(l.lod_errors.size()) - 1};
+  });
+  std::vector<governor::FrameLoad> seen;
+  auto chooser = [&](const governor::FrameLoad& load) -> std::optional<governor::QualityChoice> {
+    seen.push_back(load);
+    return choice;
+  };
+  a.apply(outputs);
+  EXPECT_TRUE(a.render(false, true, chooser).drawn);
+  ASSERT_EQ(seen.size(), 1u);
+  const governor::FrameLoad& first = seen[0];
+  EXPECT_TRUE(first.drawn);
+  EXPECT_TRUE(first.full_frame);
+  EXPECT_DOUBLE_EQ(first.redrawn_pixels, double(kWidth) * kHeight);
+  ASSERT_EQ(first.unit_pixels.size(), a.draw_units().size());
+  double covered = 0;
+  for (double p : first.unit_pixels) {
+    EXPECT_GE(p, 0.0);
+    EXPECT_LE(p, double(kWidth) * kHeight);  // a unit's box is clipped to the frame
+    covered += p;
+  }
+  EXPECT_GT(covered, 0.0);
+  EXPECT_EQ(a.quality(), choice);
+  direct.set_quality(choice);
+  direct.apply(outputs);
+  direct.render(false, true);
+  EXPECT_EQ(differing_pixels(a.last_image(), direct.last_image()), 0u) << "the chooser's choice was not what was drawn";
+  // Nothing changed: the frame is skipped, the chooser still sees an empty load.
+  EXPECT_FALSE(a.render(false, false, chooser).drawn);
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_FALSE(seen[1].drawn);
+}
+
+TEST_P(LevelsRender, BadChoicesAreRefusedNamingTheUnitAndLevel) {
+  Renderer a(*backend_, cluster(), options());
+  const auto units = a.draw_units();
+  auto message = [&](const governor::QualityChoice& c) {
+    try {
+      a.set_quality(c);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  governor::QualityChoice c;
+  c.units.assign(units.size(), {});
+  c.units[0].shading = 99;
+  EXPECT_NE(message(c).find("unit 0 (\"" + units[0].name + "\"): shading level 99"), std::string::npos) << message(c);
+  c.units[0] = {0, -1};
+  EXPECT_NE(message(c).find("lod level -1"), std::string::npos) << message(c);
+  c.units.pop_back();
+  c.units[0] = {};
+  EXPECT_NE(message(c).find("unit levels for"), std::string::npos) << message(c);
+  governor::QualityChoice g;
+  g.global.msaa = 3;
+  EXPECT_NE(message(g).find("global.msaa = 3"), std::string::npos) << message(g);
+  g.global = {4, 0.0f};
+  EXPECT_NE(message(g).find("global.scale"), std::string::npos) << message(g);
+  // A safety unit has one shading and one LOD: any other level names it.
+  std::size_t safety = units.size();
+  for (std::size_t i = 0; i < units.size(); ++i)
+    if (units[i].safety) safety = i;
+  ASSERT_LT(safety, units.size()) << "the cluster has telltales: some unit is a safety unit";
+  EXPECT_EQ(units[safety].shadings.size(), 1u);
+  EXPECT_EQ(units[safety].lod_errors.size(), 1u);
+  governor::QualityChoice s;
+  s.units.assign(units.size(), {});
+  s.units[safety].shading = 1;
+  EXPECT_NE(message(s).find("unit " + std::to_string(safety)), std::string::npos) << message(s);
+  EXPECT_EQ(a.quality().units, std::vector<governor::UnitLevel>(units.size()));  // nothing applied
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, LevelsRender,
+                         ::testing::Values(platform::BackendKind::Egl, platform::BackendKind::OSMesa),
+                         [](const auto& info) { return std::string(platform::to_string(info.param)); });
