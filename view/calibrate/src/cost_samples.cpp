@@ -40,12 +40,9 @@ gov::CostFile cost_file(const CostMeasurements& m) {
   file.package = m.package;
   file.overhead = {0.0, std::max(0.0, m.empty_ms)};
   const std::size_t scales = m.unit_pixels.size();
-  std::set<std::string> names;
   std::vector<gov::LinearCost> base(m.ladders.size());  // each unit's level-0 cost
   for (std::size_t u = 0; u < m.ladders.size(); ++u) {
     const auto& ladder = m.ladders[u];
-    if (!names.insert(ladder.name).second)
-      throw std::invalid_argument("two draw units are named \"" + ladder.name + "\": the cost file keys units by name");
     gov::UnitCostEntry entry{ladder.name, {}};
     for (std::size_t sh = 0; sh < ladder.shadings.size(); ++sh)
       for (std::size_t lod = 0; lod < ladder.lod_errors.size(); ++lod) {

@@ -67,34 +67,6 @@ CostInjection parse_cost_injection(const std::string& text) {
   return c;
 }
 
-gov::QualityChoice cheapest_choice(const gov::CostModel& model, const gov::FrameLoad& load) {
-  gov::QualityChoice c = gov::full_quality(model);
-  for (std::size_t u = 0; u < model.units.size(); ++u) {
-    const auto& unit = model.units[u];
-    if (unit.safety) continue;
-    // A unit not drawn in this frame is compared by its cost per drawn pixel and its fixed part.
-    const double px = u < load.unit_pixels.size() ? std::max(1.0, load.unit_pixels[u]) : 1.0;
-    double best = -1.0;
-    for (int s = 0; s < unit.shadings; ++s)
-      for (int l = 0; l < unit.lods; ++l) {
-        const double ms = gov::unit_parts(model, static_cast<int>(u), {s, l}, 0, px).total();
-        if (best < 0 || ms <= best) best = ms, c.units[u] = {s, l};
-      }
-  }
-  double best = -1.0;
-  gov::GlobalLevel rung = c.global;
-  for (const auto& g : model.globals) {
-    gov::QualityChoice t = c;
-    t.global = g.level;
-    gov::FrameLoad full = load;
-    full.full_frame = true;  // a rung change redraws everything
-    const double ms = gov::predict_ms(model, full, t);
-    if (best < 0 || ms < best) best = ms, rung = g.level;
-  }
-  c.global = rung;
-  return c;
-}
-
 GovernedFrames::GovernedFrames(engine::Renderer& renderer, const ViewOptions& options, std::ostream& log)
     : renderer_(renderer), target_ms_(options.target_ms), start_(Clock::now()), last_print_(start_) {
   if (!options.inject_cost.empty()) {
@@ -115,8 +87,9 @@ GovernedFrames::GovernedFrames(engine::Renderer& renderer, const ViewOptions& op
   if (!on && options.quality != "cheapest") return;  // full quality, as without a governor
   const std::string path = options.costs.empty() ? default_costs_path(options.scene_path) : options.costs;
   gov::CostModel model = read_costs(path, renderer.draw_units(), options.scene_path);
-  if (!on) {
-    cheapest_model_ = std::move(model);
+  if (!on) {  // --quality cheapest: fixed from the first frame on
+    renderer.set_quality(gov::cheapest_quality(model));
+    log << "meter-view: fixed quality: the cheapest the cost file " << path << " predicts\n";
     return;
   }
   gov::GovernorOptions go;
@@ -128,19 +101,13 @@ GovernedFrames::GovernedFrames(engine::Renderer& renderer, const ViewOptions& op
 
 engine::FrameTiming GovernedFrames::render(bool force, bool read) {
   const std::uint64_t frame = frame_++;
-  engine::LevelChooser choose;
-  if (governor_) {
-    choose = [this](const gov::FrameLoad& load) -> std::optional<gov::QualityChoice> { return governor_->choose(load); };
-  } else if (cheapest_model_) {
-    choose = [this](const gov::FrameLoad& load) -> std::optional<gov::QualityChoice> {
-      if (!load.drawn) return std::nullopt;
-      auto c = cheapest_choice(*cheapest_model_, load);
-      cheapest_model_.reset();  // fixed from the first drawn frame on
-      return c;
-    };
-  }
   const auto t0 = Clock::now();
-  const engine::FrameTiming timing = choose ? renderer_.render(force, read, choose) : renderer_.render(force, read);
+  const engine::FrameTiming timing =
+      governor_ ? renderer_.render(force, read,
+                                   [this](const gov::FrameLoad& load) -> std::optional<gov::QualityChoice> {
+                                     return governor_->choose(load);
+                                   })
+                : renderer_.render(force, read);
   if (inject_ && timing.drawn && frame >= inject_->first && frame <= inject_->last) {
     const float s = renderer_.quality().global.scale;
     const double pixels = renderer_.last_load().redrawn_pixels * double(s) * double(s);

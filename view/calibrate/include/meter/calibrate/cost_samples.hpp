@@ -55,8 +55,9 @@ engine::governor::LinearCost level_cost(const std::vector<engine::governor::Cost
 
 // The cost file: units keyed by ladder name, levels by (shading, lod); overhead = the empty frame;
 // rung 0 (factor 1, fixed 0) first, the others fitted as above and ordered by PSNR, best first (an unmeasured
-// PSNR last). Throws std::invalid_argument when the measurements are incomplete (a ladder level
-// without samples, a rung without one time per node scale, two units of one name).
+// PSNR last). Units of one name (a node drawn as several draws) are listed in unit order, as
+// bind_costs matches them. Throws std::invalid_argument when the measurements are incomplete (a
+// ladder level without samples, a rung without one time per node scale).
 engine::governor::CostFile cost_file(const CostMeasurements& m);
 
 }  // namespace meter::calibrate

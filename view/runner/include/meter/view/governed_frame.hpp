@@ -32,10 +32,6 @@ struct CostInjection {
 // Throws ViewError naming the option, the text and what was expected.
 CostInjection parse_cost_injection(const std::string& text);
 
-// The cheapest choice the model predicts for this load: each movable unit at its cheapest level,
-// then the cheapest global rung for those levels. Pure.
-engine::governor::QualityChoice cheapest_choice(const engine::governor::CostModel& model, const engine::governor::FrameLoad& load);
-
 class GovernedFrames {
  public:
   using Clock = std::chrono::steady_clock;
@@ -67,7 +63,6 @@ class GovernedFrames {
   engine::Renderer& renderer_;
   double target_ms_ = 0.0;
   std::optional<engine::governor::Governor> governor_;
-  std::optional<engine::governor::CostModel> cheapest_model_;  // --quality cheapest, applied at the first drawn frame
   std::optional<CostInjection> inject_;
   std::uint64_t frame_ = 0;
   GovernorCells cells_;
