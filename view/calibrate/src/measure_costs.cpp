@@ -119,12 +119,20 @@ CostMeasurements measure_costs(platform::GpuBackend& backend, const engine::Scen
   for (std::size_t u = 0; u < units; ++u) {
     const auto& ladder = ladders[u];
     const engine::BindingOutputs alone = shown_alone(scene, state, nodes[u]);
+    bool off_screen = true;
+    for (const auto& px : m.unit_pixels) off_screen = off_screen && px[u] == 0.0;
     for (std::size_t sh = 0; sh < ladder.shadings.size(); ++sh)
       for (std::size_t lod = 0; lod < ladder.lod_errors.size(); ++lod) {
         LevelSamples ls;
         ls.unit = static_cast<int>(u);
         ls.level = {static_cast<int>(sh), static_cast<int>(lod)};
         const auto choice = unit_at(units, u, ls.level);
+        if (off_screen) {  // drawn nowhere in the calibration state: costs nothing, changes nothing
+          for (std::size_t k = 0; k < rs.size(); ++k) ls.samples.push_back({0.0, 0.0});
+          if (sh > 0 || lod > 0) ls.psnr_db = kIdenticalPsnrDb;
+          m.levels.push_back(std::move(ls));
+          continue;
+        }
         for (std::size_t k = 0; k < rs.size(); ++k)
           // Below the empty frame is timing noise on a unit too small to time: 0.
           ls.samples.push_back({m.unit_pixels[k][u], std::max(0.0, timed(*rs[k], alone, choice, options.frames) - empty[k])});
