@@ -4,6 +4,7 @@
 // that keeps what merged groups need, and the levels survive the package round trip.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <set>
 
 #include "meter/convert/levels.hpp"
@@ -198,6 +199,18 @@ TEST(Levels, MergedGroupsAreOneUnitWithTheirMembersLevels) {
     }
     for (int m : units.members[u]) EXPECT_EQ(units.unit_of[std::size_t(m)], int(u));
   }
+  int safety = 0, shaded = 0, lodded = 0;
+  for (const auto& l : units.ladders) {
+    safety += l.safety ? 1 : 0;
+    shaded += l.shadings.size() > 1 ? 1 : 0;
+    lodded += l.lod_errors.size() > 1 ? 1 : 0;
+  }
+  std::printf("[ levels   ] cluster: %zu draw units (%d safety), %d with cheaper shadings, %d with LODs\n", units.ladders.size(),
+              safety, shaded, lodded);
+  for (const auto& l : units.ladders)
+    for (std::size_t k = 1; k < l.lod_errors.size(); ++k)
+      std::printf("[ levels   ]   %s lod %zu: error %.4f, %.3f of its triangles\n", l.name.c_str(), k, double(l.lod_errors[k]),
+                  double(l.lod_triangle_fractions[k]));
 }
 
 TEST(Levels, ClusterLevelsSurviveThePackageRoundTrip) {

@@ -38,7 +38,7 @@ void exercise_scene(const Scene& scene, std::span<const std::uint8_t> values) {
   governor::QualityChoice choice;
   for (const auto& l : units.ladders)
     choice.units.push_back({int(next_byte() % l.shadings.size()), int(next_byte() % l.lod_errors.size())});
-  choice = checked_choice(units, choice);
+  choice = checked_choice(units, choice, choice.global.msaa);
   DrawnFrame drawn;
   for (int step = 0; step < 4; ++step) {
     for (const auto& info : protocol::catalog()) {

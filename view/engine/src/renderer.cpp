@@ -124,20 +124,21 @@ FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& cho
     return t;
   };
   force = force || std::exchange(redraw_all_, false);
+  bool asked = false;  // the chooser is asked once per frame
   if (!dirty_ && !force && !global_changed_) {
     // Nothing to evaluate: the chooser still sees the (empty) load and may change the quality,
     // which then draws what the change damages.
     last_load_ = governor::FrameLoad{};
     last_load_.unit_pixels.assign(units_.ladders.size(), 0.0);
     std::optional<governor::QualityChoice> c;
-    if (choose) c = choose(last_load_);
+    if (choose) c = choose(last_load_), asked = true;
     if (c) set_quality(*c);
     if (!dirty_ && !global_changed_) return skip();
   }
   auto t1 = Clock::now();
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
   FrameState now;
-  const FramePlan plan = plan_at_quality(force, now, choose ? &choose : nullptr);
+  const FramePlan plan = plan_at_quality(force, now, choose && !asked ? &choose : nullptr);
   t.plan_ms = ms_since(t1);
   dirty_ = false;
   if (!plan.draw) {

@@ -31,11 +31,10 @@ void Renderer::make_targets() {
   drawn_ = DrawnFrame{};
   layer_drawn_ = DrawnFrame{};
   unresolved_ = {platform::PixelRegion{0, 0, draw_width_, draw_height_}};
-  written_ = {platform::PixelRegion{0, 0, width_, height_}};
 }
 
 void Renderer::set_quality(const governor::QualityChoice& choice) {
-  governor::QualityChoice c = checked_choice(units_, choice);
+  governor::QualityChoice c = checked_choice(units_, choice, quality_.global.msaa);
   for (std::size_t i = 0; i < c.units.size(); ++i)
     if (units_.ladders[i].safety && !(c.units[i] == governor::UnitLevel{}))
       throw std::invalid_argument("quality: unit " + std::to_string(i) + " (\"" + units_.ladders[i].name +
@@ -59,6 +58,7 @@ FramePlan Renderer::plan_at_quality(bool force, FrameState& now, const LevelChoo
     if (global_changed_) {
       make_targets();
       text_ = std::make_unique<TextDrawing>(backend_, options_.font_file, scene_.config.size[1], draw_height_);
+      written_ = {platform::PixelRegion{0, 0, width_, height_}};  // every pixel is drawn anew
       global_changed_ = false;
     }
     now = evaluator_.evaluate(draw_width_, draw_height_, *text_);
@@ -68,27 +68,29 @@ FramePlan Renderer::plan_at_quality(bool force, FrameState& now, const LevelChoo
     // The chooser is asked once per frame; its choice is planned, not asked about again.
     if (round > 0 || !choose || !*choose) return plan;
     const std::optional<governor::QualityChoice> c = (*choose)(last_load_);
-    if (!c || checked_choice(units_, *c) == quality_) return plan;
+    if (!c || checked_choice(units_, *c, quality_.global.msaa) == quality_) return plan;
     set_quality(*c);
   }
 }
 
-// Boxes in the drawn target's pixels <-> the output's (equal at scale 1); rounded outwards so a
-// box always covers what it stands for.
-platform::PixelRegion Renderer::to_output(const platform::PixelRegion& r) const {
-  if (!output_) return r;
-  const double sx = double(width_) / draw_width_, sy = double(height_) / draw_height_;
+namespace {
+// `r` on a from_w x from_h target as a box on a to_w x to_h one, rounded outwards so it always
+// covers what it stands for.
+platform::PixelRegion rescale(const platform::PixelRegion& r, int from_w, int from_h, int to_w, int to_h) {
+  const double sx = double(to_w) / from_w, sy = double(to_h) / from_h;
   const int x0 = static_cast<int>(std::floor(r.x * sx)), y0 = static_cast<int>(std::floor(r.y * sy));
   const int x1 = static_cast<int>(std::ceil((r.x + r.width) * sx)), y1 = static_cast<int>(std::ceil((r.y + r.height) * sy));
-  return platform::clip({x0, y0, x1 - x0, y1 - y0}, width_, height_);
+  return platform::clip({x0, y0, x1 - x0, y1 - y0}, to_w, to_h);
+}
+}  // namespace
+
+// Boxes in the drawn target's pixels <-> the output's (equal at scale 1).
+platform::PixelRegion Renderer::to_output(const platform::PixelRegion& r) const {
+  return output_ ? rescale(r, draw_width_, draw_height_, width_, height_) : r;
 }
 
 platform::PixelRegion Renderer::to_drawn(const platform::PixelRegion& r) const {
-  if (!output_) return r;
-  const double sx = double(draw_width_) / width_, sy = double(draw_height_) / height_;
-  const int x0 = static_cast<int>(std::floor(r.x * sx)), y0 = static_cast<int>(std::floor(r.y * sy));
-  const int x1 = static_cast<int>(std::ceil((r.x + r.width) * sx)), y1 = static_cast<int>(std::ceil((r.y + r.height) * sy));
-  return platform::clip({x0, y0, x1 - x0, y1 - y0}, draw_width_, draw_height_);
+  return output_ ? rescale(r, width_, height_, draw_width_, draw_height_) : r;
 }
 
 }  // namespace meter::engine

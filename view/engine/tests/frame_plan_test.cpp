@@ -9,6 +9,7 @@
 
 #include "meter/engine/evaluation/scene_evaluator.hpp"
 #include "meter/engine/frame_plan/draw_classes.hpp"
+#include "meter/engine/frame_plan/draw_units.hpp"
 #include "meter/engine/frame_plan/frame_plan.hpp"
 #include "meter/engine/frame_plan/screen_regions.hpp"
 
@@ -285,7 +286,8 @@ TEST_F(FramePlanTest, StaticLayerIsBuiltOnceThenCopiedUnderDamagedRegions) {
   EXPECT_TRUE(p.copy_layer);
   for (const auto& pass : p.passes) EXPECT_EQ(pass.set, DrawSet::OverStatic);
 
-  // A static draw that changes anyway (misjudged) makes the layer stale: rebuilt, full frame.
+  // A static draw that changes anyway (misjudged) makes the layer stale: rebuilt (here a full frame:
+  // the face covers more than half the target).
   outputs_.base_color[0] = glm::vec4(0.25f);
   now = frame();
   EXPECT_FALSE(layer_current(classes_, now, layer_));
@@ -400,4 +402,69 @@ TEST(SceneEvaluation, MorphWeightsTakeTheOverrides) {
   const std::vector<MorphOverride> morph = {{3, 2, 0.5f}, {4, 0, 1.0f}};
   EXPECT_EQ(morph_weights({0.1f}, morph, 3), (std::vector<float>{0.1f, 0.0f, 0.5f}));
   EXPECT_EQ(morph_weights({0.1f}, morph, 5), (std::vector<float>{0.1f}));
+}
+
+// Quality levels (meter/engine/frame_plan/draw_units.hpp): a draw's level is part of its state, so
+// a level change damages exactly that draw's box, and the frame's load counts each unit's box
+// inside the damage only.
+class DrawLevelsPlanTest : public FramePlanTest {
+ protected:
+  DrawLevelsPlanTest() {
+    // One LOD of the quad (half its triangles) for every draw of it; the telltale is a safety item.
+    scene_.meshes[0].primitives[0].lods = {LodLevel{0.01f, 0.5f, {0, 1, 2}}};
+    scene_.draw_levels.assign(scene_.draws.size(), DrawLevels{false, {}, 1});
+    scene_.draw_levels[kTelltale] = DrawLevels{true, {}, 0};
+    units_ = make_draw_units(scene_, classes_, true);
+  }
+  DrawUnits units_;
+};
+
+TEST_F(DrawLevelsPlanTest, UnitsFollowTheDrawsAndSafetyUnitsCannotMove) {
+  ASSERT_EQ(units_.ladders.size(), scene_.draws.size());  // no merged groups here
+  EXPECT_EQ(check_draw_levels(scene_), "");
+  EXPECT_EQ(units_.ladders[kLamp].name, "Lamp");
+  EXPECT_EQ(units_.ladders[kLamp].lod_errors, (std::vector<float>{0.0f, 0.01f}));
+  EXPECT_EQ(units_.ladders[kLamp].lod_triangle_fractions, (std::vector<float>{1.0f, 0.5f}));
+  EXPECT_TRUE(units_.ladders[kTelltale].safety);
+  EXPECT_EQ(units_.ladders[kTelltale].lod_errors.size(), 1u);
+  governor::QualityChoice c;
+  c.units.assign(units_.ladders.size(), {});
+  c.units[kTelltale].lod = 1;
+  try {
+    checked_choice(units_, c, 4);
+    ADD_FAILURE() << "a safety unit's LOD 1 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unit 2 (\"Telltale\"): lod level 1, expected 0..0 (a safety unit stays at 0)"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(DrawLevelsPlanTest, LevelChangeDamagesExactlyThatDrawAndTheLoadCountsItsBox) {
+  governor::QualityChoice c;
+  c.units.assign(units_.ladders.size(), {});
+  c.units[kLamp].lod = 1;
+  FrameState now = frame();
+  apply_levels(scene_, units_, checked_choice(units_, c, 4), now);
+  EXPECT_EQ(now.draws[kLamp].lod, 1);
+  EXPECT_EQ(now.draws[kNeedle].lod, 0);
+  const FramePlan p = plan(now);
+  ASSERT_TRUE(p.draw);
+  EXPECT_FALSE(p.full);
+  EXPECT_TRUE(covered(p.regions, box(kLamp, now)));
+  EXPECT_FALSE(covered(p.regions, box(kNeedle, now)));
+  const governor::FrameLoad load = frame_load(scene_, classes_, units_, now, p, kWidth, kHeight, 1.0f);
+  EXPECT_TRUE(load.drawn);
+  EXPECT_FALSE(load.full_frame);
+  long long damaged = 0;
+  for (const auto& r : p.regions) damaged += area(r);
+  EXPECT_DOUBLE_EQ(load.redrawn_pixels, double(damaged));
+  // The lamp's whole (clipped) box lies in the damage; the needle is not drawn in it.
+  EXPECT_DOUBLE_EQ(load.unit_pixels[kLamp], double(area(meter::platform::clip(box(kLamp, now), kWidth, kHeight))));
+  EXPECT_DOUBLE_EQ(load.unit_pixels[kNeedle], 0.0);
+  // The face under the lamp is redrawn in the damaged region only, never more than it.
+  EXPECT_GT(load.unit_pixels[kFace], 0.0);
+  EXPECT_LE(load.unit_pixels[kFace], double(damaged));
+  // At half scale the same boxes stand for four times the output pixels.
+  const governor::FrameLoad half = frame_load(scene_, classes_, units_, now, p, kWidth, kHeight, 0.5f);
+  EXPECT_DOUBLE_EQ(half.unit_pixels[kLamp], 4.0 * load.unit_pixels[kLamp]);
 }

@@ -11,6 +11,7 @@
 
 #include "meter/convert/levels.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/frame_plan/draw_units.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -87,30 +88,62 @@ TEST_P(LevelsRender, EveryLevelDiffersAndLevelZeroIsBitIdentical) {
   Renderer a(*backend_, scene, options()), never(*backend_, scene, options());
   const auto units = a.draw_units();
   ASSERT_FALSE(units.empty());
+  std::size_t listed = 0;
+  for (std::size_t u = 0; u < units.size(); ++u) listed += a.unit_draws(u).size();
+  EXPECT_EQ(listed, scene.draws.size()) << "every draw belongs to exactly one unit";
   a.apply(outputs), never.apply(outputs);
   a.render(false, true), never.render(false, true);
   const platform::Image full = a.last_image();
   ASSERT_EQ(differing_pixels(full, never.last_image()), 0u);
 
-  // The smallest unit on screen that has a cheaper shading: its change alone is a partial frame.
+  // The static layer's draws (classify_draws), by unit.
+  const DrawClasses classes = classify_draws(scene, true, find_camera_node(scene));
+  const DrawUnits du = make_draw_units(scene, classes, true);
+  auto in_layer = [&](std::size_t unit) {
+    const auto rep = static_cast<std::size_t>(du.members[unit].front());
+    return !classes.changeable[rep] && !scene.programs[std::size_t(scene.draws[rep].program)].program.blend;
+  };
+  // The smallest changeable unit on screen that has a cheaper shading: its change alone is a
+  // partial frame.
   std::size_t small = units.size();
   for (std::size_t i = 0; i < units.size(); ++i)
-    if (units[i].shadings.size() > 1 && a.last_load().unit_pixels[i] > 0 &&
+    if (!in_layer(i) && units[i].shadings.size() > 1 && a.last_load().unit_pixels[i] > 0 &&
         (small == units.size() || a.last_load().unit_pixels[i] < a.last_load().unit_pixels[small]))
       small = i;
   ASSERT_LT(small, units.size());
   governor::QualityChoice one;
   one.units.assign(units.size(), {});
   one.units[small] = {int(units[small].shadings.size()) - 1, int(units[small].lod_errors.size()) - 1};
+  // The same for the smallest unit the static layer holds: the layer is rebuilt, the target only
+  // redrawn in that unit's boxes.
+  std::size_t still = units.size();
+  for (std::size_t i = 0; i < units.size(); ++i)
+    if (in_layer(i) && units[i].shadings.size() > 1 && a.last_load().unit_pixels[i] > 0 &&
+        (still == units.size() || a.last_load().unit_pixels[i] < a.last_load().unit_pixels[still]))
+      still = i;
+  ASSERT_LT(still, units.size());
+  governor::QualityChoice one_static;
+  one_static.units.assign(units.size(), {});
+  one_static.units[still] = {int(units[still].shadings.size()) - 1, 0};
   const std::vector<std::pair<std::string, governor::QualityChoice>> choices = {
       {"one_unit", one},
+      {"one_static_unit", one_static},
       {"next_shading", every_unit(units, [](const governor::UnitLadder& l) { return governor::UnitLevel{l.shadings.size() > 1 ? 1 : 0, 0}; })},
       {"cheapest_shading", every_unit(units, [](const governor::UnitLadder& l) { return governor::UnitLevel{int(l.shadings.size()) - 1, 0}; })},
       {"coarsest_lod", every_unit(units, [](const governor::UnitLadder& l) { return governor::UnitLevel{0, int(l.lod_errors.size()) - 1}; })},
   };
   for (const auto& [name, choice] : choices) {
     a.set_quality(choice);
+    const std::uint64_t builds = a.stats().layer_builds;
     const FrameTiming t = a.render(false, true);
+    // The static layer is drawn again only when a draw it holds changed level.
+    if (name == "one_unit") {
+      EXPECT_EQ(a.stats().layer_builds, builds) << "a changeable unit's level rebuilt the static layer";
+    }
+    if (name == "one_static_unit") {
+      EXPECT_EQ(a.stats().layer_builds, builds + 1) << "a static unit's level change did not rebuild the layer";
+      EXPECT_GT(t.regions, 0) << "a small static unit's level change redrew the whole frame";
+    }
     EXPECT_TRUE(t.drawn) << name;
     // Only the changed unit's boxes are damaged.
     if (name == "one_unit") {
@@ -199,6 +232,17 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
   EXPECT_FALSE(a.render(false, false, chooser).drawn);
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_FALSE(seen[1].drawn);
+  // An idle frame whose chooser raises the quality draws what that changes, asking once.
+  auto back_to_full = [&](const governor::FrameLoad& load) -> std::optional<governor::QualityChoice> {
+    seen.push_back(load);
+    return governor::QualityChoice{};
+  };
+  EXPECT_TRUE(a.render(false, true, back_to_full).drawn);
+  EXPECT_EQ(seen.size(), 3u) << "the chooser was asked more than once in one frame";
+  Renderer full(*backend_, scene, options());
+  full.apply(outputs);
+  full.render(false, true);
+  EXPECT_EQ(differing_pixels(a.last_image(), full.last_image()), 0u) << "raised on an idle frame, the image is not full quality";
 }
 
 TEST_P(LevelsRender, BadChoicesAreRefusedNamingTheUnitAndLevel) {

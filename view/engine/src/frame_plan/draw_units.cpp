@@ -116,9 +116,9 @@ std::string check_draw_levels(const Scene& scene) {
   return "";
 }
 
-governor::QualityChoice checked_choice(const DrawUnits& units, const governor::QualityChoice& c) {
+governor::QualityChoice checked_choice(const DrawUnits& units, const governor::QualityChoice& c, int current_msaa) {
   const auto& g = c.global;
-  if (g.msaa != 1 && g.msaa != 2 && g.msaa != 4)
+  if (g.msaa != 1 && g.msaa != 2 && g.msaa != 4 && g.msaa != current_msaa)
     throw std::invalid_argument("quality: global.msaa = " + std::to_string(g.msaa) + ", expected 1, 2 or 4");
   if (!(g.scale > 0.0f && g.scale <= 1.0f))
     throw std::invalid_argument("quality: global.scale = " + std::to_string(g.scale) + ", expected a value in (0, 1]");

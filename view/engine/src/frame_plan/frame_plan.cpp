@@ -123,21 +123,25 @@ FramePlan plan_frame(const Scene& scene, const DrawClasses& classes, const Frame
   const bool layer_ok = layered && layer_current(classes, now, layer);
   // Without partial redraw every changed frame is drawn whole, and no damage is worked out.
   auto regions = s.force || !s.partial_redraw ? std::nullopt : damage(scene, now, drawn, s.width, s.height);
-  if (layered && !layer_ok) regions = std::nullopt;  // the layer must be redrawn: a full frame
+  // A stale layer is redrawn whole from `now`, so copying it under the damaged regions is right
+  // even then: a static draw that changed (its quality level) damages its own boxes only, and the
+  // rest of the target still holds what `now` shows there.
+  auto layer_build = [&] {
+    return Pass{DrawSet::StaticOpaque, std::nullopt, draw_list(scene, classes, now, DrawSet::StaticOpaque, nullptr, s.width, s.height)};
+  };
   // Inputs changed but no pixel can have (e.g. a hidden node's text): the frame stands.
   if (regions && regions->empty()) return plan;
   plan.draw = true;
   const DrawSet over = layered ? DrawSet::OverStatic : DrawSet::Everything;
   if (!regions) {
     plan.full = true;
-    if (layered && !layer_ok)
-      plan.layer_build = Pass{DrawSet::StaticOpaque, std::nullopt,
-                              draw_list(scene, classes, now, DrawSet::StaticOpaque, nullptr, s.width, s.height)};
+    if (layered && !layer_ok) plan.layer_build = layer_build();
     plan.copy_layer = layered;
     plan.passes.push_back({over, std::nullopt, draw_list(scene, classes, now, over, nullptr, s.width, s.height)});
     return plan;
   }
   plan.regions = std::move(*regions);
+  if (layered && !layer_ok) plan.layer_build = layer_build();
   plan.copy_layer = layered;
   for (const auto& r : plan.regions) plan.passes.push_back({over, r, draw_list(scene, classes, now, over, &r, s.width, s.height)});
   return plan;

@@ -14,6 +14,8 @@
 //                 opaque changeable ones (each front-to-back), then blended back-to-front, then
 //                 texts. Under a partial redraw the static part comes from the static layer
 //                 (RendererOptions).
+//   set_quality() each draw unit's level (a cheaper shading / LOD the package carries) and the
+//                 frame-wide MSAA and scale, drawn from the next render(); see "Quality levels".
 #pragma once
 
 #include <functional>
@@ -162,6 +164,8 @@ class Renderer {
   // (with RendererOptions::concatenate off every draw is a unit). A safety unit has one shading and
   // one LOD; so has every unit of a package without levels.
   std::span<const governor::UnitLadder> draw_units() const { return units_.ladders; }
+  // The Scene::draws indices unit `unit` draws (a merged group's members in its order).
+  std::span<const int> unit_draws(std::size_t unit) const { return units_.members.at(unit); }
   // Takes effect at the next render(). Throws std::invalid_argument naming the unit and the level
   // when an index is out of its ladder, a safety unit is moved, units has neither 0 nor
   // draw_units().size() entries, msaa is not 1, 2 or 4, or scale is not in (0, 1]. Damages exactly

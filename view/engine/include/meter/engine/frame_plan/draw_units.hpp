@@ -39,7 +39,8 @@ std::string check_draw_levels(const Scene& scene);
 
 // Throws std::invalid_argument naming the unit and the level when `choice` does not fit `units`
 // (see Renderer::set_quality); returns the choice with units filled (an empty list: all level 0).
-governor::QualityChoice checked_choice(const DrawUnits& units, const governor::QualityChoice& choice);
+// `current_msaa` (the renderer's sample count, e.g. 8 from RendererOptions) is accepted besides 1, 2, 4.
+governor::QualityChoice checked_choice(const DrawUnits& units, const governor::QualityChoice& choice, int current_msaa);
 
 // Sets every draw's DrawState::shading / lod in `frame` to its unit's level in `choice`
 // (choice.units has one entry per unit).
