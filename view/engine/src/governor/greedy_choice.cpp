@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 
 namespace meter::engine::governor {
@@ -32,17 +31,18 @@ std::optional<double> rung_error(const CostModel& m, int g) {
   return relative_error(m.globals[std::size_t(g)].psnr_db);
 }
 
-// How much a move is worth: ms saved (lowering) or error bought back (raising) per unit of the
-// other; a move that costs nothing of the other is worth everything. nullopt: not measured.
-std::optional<double> worth(double gained, std::optional<double> from_error, std::optional<double> to_error,
+// How much a move is worth. Lowering: ms saved per unit of error added; raising: error bought
+// back per ms spent. A move that adds no error (lowering) or costs no time (raising) is worth
+// everything. nullopt: an error is not measured. ms: saved (lowering) or spent (raising).
+std::optional<double> worth(double ms, std::optional<double> from_error, std::optional<double> to_error,
                             bool lowering) {
   if (!from_error || !to_error) return std::nullopt;
   if (lowering) {
     const double added = *to_error - *from_error;
-    return added <= 0 ? kInf : gained / added;
+    return added <= 0 ? kInf : ms / added;
   }
   const double bought = *from_error - *to_error;
-  return gained <= 0 ? kInf : bought / gained;
+  return ms <= 0 ? kInf : bought / ms;
 }
 
 // The frame being decided: the choice so far, each unit's pixels in the frame it will draw, and

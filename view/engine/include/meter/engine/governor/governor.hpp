@@ -65,7 +65,9 @@ class Governor {
   // cost_model.hpp says; the prediction stays finite.
   QualityChoice choose(const FrameLoad& load);
 
-  // After the frame drawn with `choice` (normally the last choose() result) took measured_ms.
+  // After the frame drawn with `choice` (normally the last choose() result) took measured_ms;
+  // `load` is the frame's load as drawn (when a changed choice made the renderer re-plan, the
+  // re-planned load: the prediction it is compared with must describe the same work).
   // Ignored when measured_ms is not finite or <= 0 or the frame was not drawn. Throws
   // std::invalid_argument when the choice does not fit the model.
   void observe(const FrameLoad& load, const QualityChoice& choice, double measured_ms);
