@@ -94,7 +94,6 @@ CostMeasurements measure_costs(platform::GpuBackend& backend, const engine::Scen
   m.backend = std::string(backend.name());
   const auto ladders = rs.front()->draw_units();
   m.ladders.assign(ladders.begin(), ladders.end());
-  const auto nodes = unit_nodes(scene, ladders);
   const std::size_t units = ladders.size();
   const engine::BindingOutputs state = calibration_state(scene);
   const engine::BindingOutputs nothing = shown_alone(scene, state, {});
@@ -118,7 +117,7 @@ CostMeasurements measure_costs(platform::GpuBackend& backend, const engine::Scen
 
   for (std::size_t u = 0; u < units; ++u) {
     const auto& ladder = ladders[u];
-    const engine::BindingOutputs alone = shown_alone(scene, state, nodes[u]);
+    const engine::BindingOutputs alone = shown_alone(scene, state, unit_nodes(scene, rs.front()->unit_draws(u)));
     bool off_screen = true;
     for (const auto& px : m.unit_pixels) off_screen = off_screen && px[u] == 0.0;
     for (std::size_t sh = 0; sh < ladder.shadings.size(); ++sh)

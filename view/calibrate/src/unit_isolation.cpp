@@ -1,42 +1,19 @@
 #include "meter/calibrate/unit_isolation.hpp"
 
-#include <map>
-#include <stdexcept>
+#include <algorithm>
 
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
 
 namespace meter::calibrate {
 
-std::vector<std::vector<int>> unit_nodes(const engine::Scene& scene, std::span<const engine::governor::UnitLadder> ladders) {
-  std::map<int, int> group_of;  // draw -> merged group
-  for (std::size_t g = 0; g < scene.groups.size(); ++g)
-    for (int d : scene.groups[g].draws) group_of[d] = static_cast<int>(g);
-  std::vector<std::vector<int>> units;
-  std::vector<std::string> names;
-  for (std::size_t d = 0; d < scene.draws.size(); ++d) {
-    const auto it = group_of.find(static_cast<int>(d));
-    if (it == group_of.end()) {
-      units.push_back({scene.draws[d].node});
-      names.push_back(scene.nodes.at(static_cast<std::size_t>(scene.draws[d].node)).name);
-      continue;
-    }
-    const auto& group = scene.groups[static_cast<std::size_t>(it->second)];
-    if (group.draws.front() != static_cast<int>(d)) continue;  // a member: drawn with its representative
-    std::vector<int> nodes;
-    for (int m : group.draws) nodes.push_back(scene.draws.at(static_cast<std::size_t>(m)).node);
-    units.push_back(std::move(nodes));
-    names.push_back(group.name);
+std::vector<int> unit_nodes(const engine::Scene& scene, std::span<const int> draws) {
+  std::vector<int> nodes;
+  for (int d : draws) {
+    const int n = scene.draws.at(static_cast<std::size_t>(d)).node;
+    if (std::find(nodes.begin(), nodes.end(), n) == nodes.end()) nodes.push_back(n);
   }
-  if (units.size() != ladders.size())
-    throw std::invalid_argument("the renderer has " + std::to_string(ladders.size()) + " draw units, the scene's draws and merged groups make " +
-                                std::to_string(units.size()));
-  for (std::size_t u = 0; u < units.size(); ++u) {
-    if (ladders[u].name != names[u])
-      throw std::invalid_argument("draw unit " + std::to_string(u) + " is \"" + ladders[u].name + "\" in the renderer, \"" + names[u] +
-                                  "\" in the scene's draw order");
-  }
-  return units;
+  return nodes;
 }
 
 engine::BindingOutputs shown_alone(const engine::Scene& scene, const engine::BindingOutputs& base, const std::vector<int>& shown) {

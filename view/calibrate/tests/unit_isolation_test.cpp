@@ -1,5 +1,4 @@
-// Which nodes each draw unit holds (the renderer's order: draws, a merged group at its
-// representative's place) and the outputs that draw one unit alone.
+// Which nodes a draw unit holds and the outputs that draw one unit alone.
 #include <gtest/gtest.h>
 
 #include "meter/calibrate/unit_isolation.hpp"
@@ -8,7 +7,6 @@ namespace {
 
 using meter::calibrate::shown_alone;
 using meter::calibrate::unit_nodes;
-namespace gov = meter::engine::governor;
 
 // root (no mesh) -> a (mesh), b (mesh) -> c (mesh, child of b); d (mesh). Draws a, b, c, d; a and d
 // merged into group "ad".
@@ -30,30 +28,13 @@ meter::engine::Scene little_scene() {
   return s;
 }
 
-std::vector<gov::UnitLadder> ladders(std::initializer_list<const char*> names) {
-  std::vector<gov::UnitLadder> l;
-  for (const char* n : names) l.push_back({n, false, {meter::bridge::ShadingModel::Unlit}, {0.0f}, {1.0f}});
-  return l;
-}
-
-TEST(UnitNodes, AGroupIsOneUnitAtItsRepresentativesPlace) {
-  const auto s = little_scene();
-  const auto units = unit_nodes(s, ladders({"ad", "b", "c"}));
-  ASSERT_EQ(units.size(), 3u);
-  EXPECT_EQ(units[0], (std::vector<int>{1, 4}));
-  EXPECT_EQ(units[1], (std::vector<int>{2}));
-  EXPECT_EQ(units[2], (std::vector<int>{3}));
-}
-
-TEST(UnitNodes, ARendererThatListsOtherUnitsIsNamed) {
-  const auto s = little_scene();
-  try {
-    unit_nodes(s, ladders({"ad", "c", "b"}));
-    FAIL() << "a swapped order must be refused";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "draw unit 1 is \"c\" in the renderer, \"b\" in the scene's draw order");
-  }
-  EXPECT_THROW(unit_nodes(s, ladders({"ad", "b"})), std::invalid_argument);
+TEST(UnitNodes, EachDrawsNodeOnce) {
+  auto s = little_scene();
+  s.draws.push_back({2, 0, 1, 0});  // b's second primitive
+  const std::vector<int> group{0, 3};
+  EXPECT_EQ(unit_nodes(s, group), (std::vector<int>{1, 4}));
+  const std::vector<int> two_primitives{1, 4};
+  EXPECT_EQ(unit_nodes(s, two_primitives), (std::vector<int>{2}));
 }
 
 TEST(ShownAlone, HidesEveryOtherMeshButKeepsTheShownNodesAncestors) {

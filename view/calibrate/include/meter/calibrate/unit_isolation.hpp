@@ -1,5 +1,4 @@
-// Which scene nodes make up each of the renderer's draw units, and the binding outputs that show
-// one unit alone (every other drawn node hidden), so meter-calibrate can time a unit on its own.
+// Which scene nodes make up a draw unit, and the binding outputs that show one unit alone (every other drawn node hidden), so meter-calibrate can time a unit on its own.
 // Pure: plain data in, plain data out.
 #pragma once
 
@@ -12,11 +11,8 @@
 
 namespace meter::calibrate {
 
-// Per draw unit, the nodes whose draws it holds. The units are listed as Renderer::draw_units()
-// lists them: Scene::draws order, one per draw drawn on its own and one per merged group at its
-// representative's (first member's) place. Throws std::invalid_argument when `ladders` does not
-// follow that order (count or a name differs: the renderer and the calibration disagree).
-std::vector<std::vector<int>> unit_nodes(const engine::Scene& scene, std::span<const engine::governor::UnitLadder> ladders);
+// The nodes of a draw unit: the node of each of its draws (Renderer::unit_draws), each once.
+std::vector<int> unit_nodes(const engine::Scene& scene, std::span<const int> draws);
 
 // `base` with only `shown` drawn: those nodes and their ancestors visible, every other node that
 // has a mesh hidden (a hidden node hides its subtree), no texts. An ancestor that has a mesh of
