@@ -10,18 +10,18 @@ namespace meter::calibrate {
 namespace gov = engine::governor;
 namespace {
 
+std::string level_name(const gov::UnitLadder& ladder, const gov::UnitLevel& l) {
+  return ladder.name + " " + bridge::to_string(ladder.shadings.at(static_cast<std::size_t>(l.shading))) + "/lod" + std::to_string(l.lod);
+}
+
+}  // namespace
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   const std::size_t h = v.size() / 2;
   return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
 }
-
-std::string level_name(const gov::UnitLadder& ladder, const gov::UnitLevel& l) {
-  return ladder.name + " " + bridge::to_string(ladder.shadings.at(static_cast<std::size_t>(l.shading))) + "/lod" + std::to_string(l.lod);
-}
-
-}  // namespace
 
 gov::LinearCost level_cost(const std::vector<gov::CostSample>& samples) {
   std::vector<double> ms;

@@ -15,12 +15,6 @@ namespace meter::calibrate {
 namespace gov = engine::governor;
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-}
-
 void check(const CalibrationOptions& o) {
   if (o.frames < 1) throw std::invalid_argument("calibration: frames must be >= 1, got " + std::to_string(o.frames));
   std::set<float> distinct;

@@ -48,6 +48,9 @@ struct CostMeasurements {
   std::vector<RungSamples> rungs;                // [0] = the renderer's own (full quality)
 };
 
+// The median of `v` (0 for none).
+double median(std::vector<double> v);
+
 // The level's time = A x pixels + B: fit_cost when the samples have two distinct pixel counts,
 // else A = 0 and B = their median; A and B are never negative (a negative fit is timing noise on a
 // unit too small to time: A = 0, B = the median).
