@@ -192,7 +192,10 @@ TEST(Levels, MergedGroupsAreOneUnitWithTheirMembersLevels) {
     ASSERT_EQ(l.lod_errors.size(), l.lod_triangle_fractions.size());
     EXPECT_EQ(l.lod_errors[0], 0.0f);
     EXPECT_EQ(l.lod_triangle_fractions[0], 1.0f);
-    for (std::size_t k = 1; k < l.lod_triangle_fractions.size(); ++k) EXPECT_LT(l.lod_triangle_fractions[k], l.lod_triangle_fractions[k - 1]);
+    // Each LOD of a unit (a merged group too) drops at least a quarter of the triangles before it.
+    for (std::size_t k = 1; k < l.lod_triangle_fractions.size(); ++k)
+      EXPECT_LE(l.lod_triangle_fractions[k], 0.75f * l.lod_triangle_fractions[k - 1]) << l.name << " lod " << k;
+    EXPECT_EQ(units.lod_steps[u].size(), l.lod_errors.size());
     if (l.safety) {
       EXPECT_EQ(l.shadings.size(), 1u) << l.name;
       EXPECT_EQ(l.lod_errors.size(), 1u) << l.name;

@@ -18,6 +18,9 @@ const DrawLevels* levels_of(const Scene& scene, int draw) {
 std::size_t triangles_at(const Primitive& p, int lod) {
   return (lod == 0 ? p.indices.size() : p.lods[static_cast<std::size_t>(lod - 1)].indices.size()) / 3;
 }
+// The share of the triangles of its LOD before that a unit's LOD must drop (the converter's
+// default for one primitive's levels, meter/convert/levels.hpp).
+constexpr double kMinUnitLodSaving = 0.25;
 }  // namespace
 
 DrawUnits make_draw_units(const Scene& scene, const DrawClasses& classes, bool shading_levels) {
@@ -41,6 +44,7 @@ DrawUnits make_draw_units(const Scene& scene, const DrawClasses& classes, bool s
       if (dl) lods = std::max(lods, dl->lods);
     }
     const DrawLevels* rep = levels_of(scene, members.front());
+    std::vector<int> steps{0};
     if (!l.safety && rep) {
       if (shading_levels)
         for (const auto& s : rep->shadings) l.shadings.push_back(s.shading);
@@ -55,14 +59,20 @@ DrawUnits make_draw_units(const Scene& scene, const DrawClasses& classes, bool s
           if (own > 0) error = std::max(error, p.lods[static_cast<std::size_t>(own - 1)].error);
           kept += triangles_at(p, own);
         }
+        const float fraction = full ? float(double(kept) / double(full)) : 1.0f;
+        // A group where few members simplify saves little: as for one primitive, a unit's LOD
+        // is offered only when it drops a quarter of the triangles of the one before.
+        if (double(fraction) > (1.0 - kMinUnitLodSaving) * double(l.lod_triangle_fractions.back())) continue;
         l.lod_errors.push_back(error);
-        l.lod_triangle_fractions.push_back(full ? float(double(kept) / double(full)) : 1.0f);
+        l.lod_triangle_fractions.push_back(fraction);
+        steps.push_back(k);
       }
     }
     const int unit = static_cast<int>(u.ladders.size());
     for (int m : members) u.unit_of[static_cast<std::size_t>(m)] = unit;
     u.ladders.push_back(std::move(l));
     u.members.push_back(std::move(members));
+    u.lod_steps.push_back(std::move(steps));
   }
   return u;
 }
@@ -148,7 +158,9 @@ void apply_levels(const Scene& scene, const DrawUnits& units, const governor::Qu
       DrawState& s = frame.draws[static_cast<std::size_t>(m)];
       const DrawLevels* dl = levels_of(scene, m);
       s.shading = level.shading;
-      s.lod = dl ? std::min(level.lod, dl->lods) : 0;
+      const auto& steps = units.lod_steps[u];
+      const int step = level.lod >= 0 && static_cast<std::size_t>(level.lod) < steps.size() ? steps[static_cast<std::size_t>(level.lod)] : 0;
+      s.lod = dl ? std::min(step, dl->lods) : 0;
     }
   }
 }

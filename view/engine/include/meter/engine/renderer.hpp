@@ -175,9 +175,12 @@ class Renderer {
   // scale < 1 is upscaled with a linear blit when it is resolved.
   void set_quality(const governor::QualityChoice& choice);
   const governor::QualityChoice& quality() const { return quality_; }
-  // As render(force, read), with `choose` asked between planning and drawing (see LevelChooser).
+  // As render(force, read), with `choose` asked once per frame between planning and drawing (see
+  // LevelChooser). A frame with nothing to redraw asks it too, with an empty load (drawn = false),
+  // so a choice made while the display is idle is drawn at once.
   FrameTiming render(bool force, bool read, const LevelChooser& choose);
-  // The planned load of the last frame render() evaluated (drawn or skipped).
+  // The planned load of the last frame render() evaluated (drawn or skipped; per unit in output
+  // pixels, at scale 1: a caller predicting a scaled frame multiplies by scale^2).
   const governor::FrameLoad& last_load() const { return last_load_; }
 
 

@@ -21,14 +21,18 @@ struct DrawUnits {
   std::vector<governor::UnitLadder> ladders;
   std::vector<std::vector<int>> members;  // per unit: its draws (a group's in the group's order)
   std::vector<int> unit_of;               // per draw: its unit
+  // Per unit, per LOD of its ladder: the LOD level its members are drawn at (each clamped to its
+  // own count). [0] = 0.
+  std::vector<std::vector<int>> lod_steps;
 };
 
 // `classes.group` says which draws are drawn merged. `shading_levels` false (the uber-shader
 // baseline, which has one program for everything): every unit has only its own shading.
 // A unit's shadings are its representative's (a group's members share their programs at every
-// level: check_draw_levels); its LOD k draws each member at min(k, that member's lods); the
-// recorded error is the largest member's and the triangle fraction the members' total. A unit with
-// a safety member is a safety unit: one shading, one LOD.
+// level: check_draw_levels); member LOD k draws each member at min(k, that member's lods), the
+// error is the largest member's and the triangle fraction the members' total, and it is one of
+// the unit's LODs only when it drops >= 25 % of the triangles of the unit's LOD before (lod_steps).
+// A unit with a safety member is a safety unit: one shading, one LOD.
 DrawUnits make_draw_units(const Scene& scene, const DrawClasses& classes, bool shading_levels);
 
 // The package reader's check of Scene::draw_levels against the scene: sizes, program and LOD
