@@ -21,7 +21,11 @@ namespace fs = std::filesystem;
 namespace mt = meter::testing;
 
 const std::string kSource = METER_SOURCE_DIR;
-const fs::path kDir = fs::path(METER_BINARY_DIR) / "governor-run";
+// One folder per test (ctest may run them at once).
+fs::path test_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  return fs::path(METER_BINARY_DIR) / "governor-run" / info->name();
+}
 constexpr int kFps = 30;
 constexpr double kSeconds = 6.0;                  // 181 frames
 constexpr std::uint64_t kFirst = 30, kLast = 70;  // the injected frames
@@ -31,7 +35,7 @@ const std::string kSize = "640x240";
 constexpr double kPixels = 640.0 * 240.0;
 
 void run(std::vector<std::string> argv, const std::string& log, int timeout_s) {
-  mt::ChildProcess p(std::move(argv), (kDir / log).string());
+  mt::ChildProcess p(std::move(argv), (test_dir() / log).string());
   const auto rc = p.wait_for(std::chrono::seconds(timeout_s));
   if (!rc || *rc != 0) throw std::runtime_error(log + ": exit " + (rc ? std::to_string(*rc) : "none (hung)") + "\n" + p.log());
 }
@@ -40,34 +44,32 @@ struct Prepared {
   fs::path msp, rec;
 };
 
-// The cluster with its levels, calibrated (one timed frame per point: the online estimate corrects
-// the scale), and the demo drive recorded once.
-const Prepared& prepared() {
-  static const Prepared p = [] {
-    fs::remove_all(kDir);
-    fs::create_directories(kDir);
-    Prepared r{kDir / "cluster.msp", kDir / "drive.rec"};
-    run({mt::built_executable("meter-convert"), kSource + "/scenes/cluster/cluster.glb", "--config",
-         kSource + "/scenes/cluster/cluster.scene.json", "-o", r.msp.string()},
-        "convert.log", 300);
-    run({mt::built_executable("meter-calibrate"), r.msp.string(), "--frames", "1", "--size", kSize}, "calibrate.log", 600);
-    run({mt::built_executable("meter-controller"), "run", "--dbc", kSource + "/controller/vehicles/demo/demo.dbc", "--map",
-         kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + kSource + "/vcan/logs/demo-drive.log", "--replay",
-         "fast", "--exit-at-end", "--record", r.rec.string(), "--link", "unix:" + (kDir / "rec.sock").string(), "--state-dir",
-         (kDir / "state").string()},
-        "record.log", 120);
-    return r;
-  }();
-  return p;
+// The cluster with its levels, calibrated when asked (one timed frame per point: the online
+// estimate corrects the scale), and the demo drive recorded.
+Prepared prepare(bool calibrate) {
+  const fs::path dir = test_dir();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  Prepared r{dir / "cluster.msp", dir / "drive.rec"};
+  run({mt::built_executable("meter-convert"), kSource + "/scenes/cluster/cluster.glb", "--config",
+       kSource + "/scenes/cluster/cluster.scene.json", "-o", r.msp.string()},
+      "convert.log", 300);
+  if (calibrate) run({mt::built_executable("meter-calibrate"), r.msp.string(), "--frames", "1", "--size", kSize}, "calibrate.log", 600);
+  run({mt::built_executable("meter-controller"), "run", "--dbc", kSource + "/controller/vehicles/demo/demo.dbc", "--map",
+       kSource + "/controller/vehicles/demo/demo.map", "--input", "log:" + kSource + "/vcan/logs/demo-drive.log", "--replay",
+       "fast", "--exit-at-end", "--record", r.rec.string(), "--link", "unix:" + (dir / "rec.sock").string(), "--state-dir",
+       (dir / "state").string()},
+      "record.log", 120);
+  return r;
 }
 
 // One --play run of the drive, every frame redrawn in full, the last frame dumped.
-fs::path play(const std::string& tag, const std::vector<std::string>& extra) {
-  const fs::path out = kDir / tag;
+fs::path play(const Prepared& p, const std::string& tag, const std::vector<std::string>& extra) {
+  const fs::path out = test_dir() / tag;
   fs::remove_all(out);
   fs::create_directories(out);
-  std::vector<std::string> argv = {mt::built_executable("meter-view"), "--scene", prepared().msp.string(), "--play",
-                                   prepared().rec.string(), "--fps", std::to_string(kFps), "--duration", std::to_string(kSeconds),
+  std::vector<std::string> argv = {mt::built_executable("meter-view"), "--scene", p.msp.string(), "--play",
+                                   p.rec.string(), "--fps", std::to_string(kFps), "--duration", std::to_string(kSeconds),
                                    "--size", kSize, "--full-redraw", "--dump-last", "--dump-every", "30", "--out", out.string(),
                                    "--timing-csv", (out / "timing.csv").string()};
   argv.insert(argv.end(), extra.begin(), extra.end());
@@ -84,7 +86,8 @@ bool at_full(const std::map<std::string, std::string>& row) {
 }
 
 TEST(GovernorRun, StepsDownUnderAnInjectedCostAndComesBackToTheUngovernedImage) {
-  const fs::path ref = play("ungoverned", {});
+  const Prepared p = prepare(true);
+  const fs::path ref = play(p, "ungoverned", {});
   const auto ref_rows = mt::read_csv(ref / "timing.csv");
   ASSERT_EQ(ref_rows.size(), 181u);
   EXPECT_EQ(mt::read_csv(ref / "frames.csv").front().count("predicted_ms"), 0u) << "governor columns without a governor";
@@ -102,7 +105,7 @@ TEST(GovernorRun, StepsDownUnderAnInjectedCostAndComesBackToTheUngovernedImage) 
   // every frame it touches is over the target at any unit level and far over it at full quality.
   const double target = 3.0 * median;
   const double ns_per_pixel = 8.0 * median * 1e6 / kPixels;
-  const fs::path gov = play("governed", {"--target-ms", std::to_string(target), "--inject-cost",
+  const fs::path gov = play(p, "governed", {"--target-ms", std::to_string(target), "--inject-cost",
                                          std::to_string(ns_per_pixel) + "@" + std::to_string(kFirst) + "-" + std::to_string(kLast)});
   const auto rows = mt::read_csv(gov / "timing.csv");
   ASSERT_EQ(rows.size(), ref_rows.size());
@@ -123,6 +126,26 @@ TEST(GovernorRun, StepsDownUnderAnInjectedCostAndComesBackToTheUngovernedImage) 
   ASSERT_EQ(a.width, b.width);
   ASSERT_EQ(a.height, b.height);
   EXPECT_TRUE(a.rgba == b.rgba) << last << " differs from the ungoverned run's";
+}
+
+}  // namespace
+
+namespace {
+
+TEST(GovernorRun, AMissingCostFileIsAnErrorNamingItAndTheCalibration) {
+  const Prepared prep = prepare(false);
+  const fs::path out = test_dir() / "no-costs";
+  fs::create_directories(out);
+  mt::ChildProcess p({mt::built_executable("meter-view"), "--scene", prep.msp.string(), "--play", prep.rec.string(),
+                      "--duration", "1", "--size", kSize, "--out", out.string(), "--target-ms", "16.7", "--costs",
+                      (out / "absent.costs.json").string()},
+                     (test_dir() / "no-costs.log").string());
+  const auto rc = p.wait_for(std::chrono::seconds(120));
+  ASSERT_TRUE(rc.has_value()) << "meter-view hung";
+  EXPECT_EQ(*rc, 1);
+  EXPECT_NE(p.log().find((out / "absent.costs.json").string() + ": no cost file for the frame-rate governor"), std::string::npos)
+      << p.log();
+  EXPECT_NE(p.log().find("meter-calibrate"), std::string::npos) << p.log();
 }
 
 }  // namespace
