@@ -91,9 +91,29 @@ int main(int argc, char** argv) {
                "live: do not check the package's safety regions after each frame (docs/integrity.md)");
   // Test-only (docs/integrity.md): hidden from --help, it draws a wrong display on purpose.
   app.add_option("--inject-fault", o.inject_fault, "")->group("")->needs(link_opt);
+  // The frame-rate governor (docs/uniform-frame-rate.md).
+  app.add_option("--target-ms", o.target_ms,
+                 "live and play: target frame time; turns the frame-rate governor on (each frame drawn with the best "
+                 "quality the package's measured costs predict within it)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--governor", o.governor, "live and play: on (the default with --target-ms) or off")
+      ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--quality", o.quality,
+                 "live and play: a fixed quality instead of the governor's: full, or cheapest (every unit at the level "
+                 "and the global rung the cost file predicts cheapest)")
+      ->check(CLI::IsMember({"full", "cheapest"}));
+  app.add_option("--costs", o.costs, "the governor's cost file (meter-calibrate; default: SCENE.costs.json beside --scene)");
+  app.add_flag("--full-redraw", o.full_redraw, "redraw every drawn frame in full (partial redraw off; benchmarks)");
+  // Test-only (docs/uniform-frame-rate.md): hidden from --help, it makes frames slower on purpose.
+  app.add_option("--inject-cost", o.inject_cost, "")->group("");
   CLI11_PARSE(app, argc, argv);
   if (!o.dump_at.empty() && o.link.empty() && o.play.empty()) {
     std::cerr << "--dump-at requires --link or --play\n";
+    return 2;
+  }
+  if ((o.target_ms > 0 || !o.governor.empty() || !o.quality.empty() || !o.inject_cost.empty()) && o.link.empty() &&
+      o.play.empty()) {
+    std::cerr << "--target-ms, --governor, --quality and --inject-cost require --link or --play\n";
     return 2;
   }
   o.integrity_monitor = !no_monitor;

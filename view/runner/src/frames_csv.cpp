@@ -2,6 +2,7 @@
 
 #include <iomanip>
 #include <set>
+#include <sstream>
 
 #include "meter/protocol/catalog.hpp"
 #include "output_file.hpp"
@@ -17,8 +18,16 @@ std::string csv_quoted(const std::string& text) {
   return q + "\"";
 }
 
-FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings, bool integrity)
-    : out_(create_output_file(file)), integrity_(integrity) {
+std::string governor_cells_text(const GovernorCells& c) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(3) << "," << c.predicted_ms << "," << c.measured_ms << "," << c.units_reduced << ","
+      << c.msaa << "," << std::setprecision(4) << c.scale << "," << csv_quoted(c.reduced);
+  return out.str();
+}
+
+FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings, bool integrity,
+                     bool governor)
+    : out_(create_output_file(file)), integrity_(integrity), governor_(governor) {
   out_ << "frame,time_s,png,link_up,drawn";
   std::set<std::string> seen;
   for (std::size_t i = 0; i < bindings.size(); ++i) {
@@ -42,11 +51,13 @@ FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine
   // be smoothing towards it): meter-verify formats it again to know what the readout must show.
   for (std::size_t i : text_columns_) out_ << "," << bindings[i].node << ".value";
   if (integrity_) out_ << ",integrity_faults,integrity_total,integrity_fault";
+  if (governor_) out_ << "," << kGovernorColumns;
   out_ << "\n";
 }
 
 void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
-                    const std::vector<engine::BindingState>& states, const IntegrityCells* integrity) {
+                    const std::vector<engine::BindingState>& states, const IntegrityCells* integrity,
+                    const GovernorCells* governor) {
   out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << png << "," << link_up << "," << drawn;
   for (std::size_t i : columns_) {
     const auto& s = states.at(i);
@@ -59,6 +70,7 @@ void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool 
     const IntegrityCells& c = integrity ? *integrity : none;
     out_ << "," << c.faults << "," << c.total << "," << csv_quoted(c.first);
   }
+  if (governor_) out_ << governor_cells_text(governor ? *governor : GovernorCells{});
   out_ << "\n";
   out_.flush();
 }

@@ -74,6 +74,7 @@ struct PendingRow {
   bool link_up = false, drawn = false;
   std::vector<engine::BindingState> states;
   std::optional<IntegrityCells> integrity;  // the monitor's cells for this frame, when it runs
+  std::optional<GovernorCells> governor;    // the frame-rate governor's, when it is on
   DumpOverflow overflow = DumpOverflow::Block;  // requested dumps always block
 };
 
@@ -108,7 +109,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     }
   };
   IntegrityStage integrity(ctx, options, log);  // docs/integrity.md
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), integrity.on());
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), integrity.on(), ctx.governed.governing());
   LatencyTrace trace(options.trace_csv);
   // --trace-json (docs/tracing.md): intake, evaluate, render (update, submit, readback) on the render
   // loop, encode on the PNG writer; CLOCK_MONOTONIC like the controller's file and the link's stamps.
@@ -194,7 +195,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
     const std::string name = png_name(n);
     // The row is the state this image was rendered with; the file follows from the writer.
-    csv.row(n, t, name, sub.link_up(), drawn, ctx.evaluator.states(), integrity.cells());
+    csv.row(n, t, name, sub.link_up(), drawn, ctx.evaluator.states(), integrity.cells(), ctx.governed.cells());
     const std::int64_t began = protocol::monotonic_now_ns();
     png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n, service_link);
     waited(stats.readback, true, "wait for output space", began);
@@ -210,7 +211,8 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     const std::int64_t began = protocol::monotonic_now_ns();
     const std::string name = f.info.png.filename().string();
     if (png_writer.offer(std::move(f), true, r.overflow, service_link)) {
-      csv.row(n, r.t, name, r.link_up, r.drawn, r.states, r.integrity ? &*r.integrity : nullptr);
+      csv.row(n, r.t, name, r.link_up, r.drawn, r.states, r.integrity ? &*r.integrity : nullptr,
+              r.governor ? &*r.governor : nullptr);
     }
     // Always inside the readback stage's busy span (collect or issue): the wait is moved out of it.
     const std::int64_t end = protocol::monotonic_now_ns();
@@ -262,7 +264,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     }
     integrity.before_frame(frame);
     const std::int64_t render_began = protocol::monotonic_now_ns();
-    const auto timing = ctx.renderer.render(false, want && !concurrent);
+    const auto timing = ctx.governed.render(false, want && !concurrent);  // docs/uniform-frame-rate.md
     const std::int64_t t_rendered = LatencyTrace::now();
     const std::int64_t render_ended = protocol::monotonic_now_ns();
     // Sequential: render() read the frame back itself; its glFinish + resolve + read time counts as
@@ -275,14 +277,16 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     stats.render.busy(render_ended - render_began - readback_ns - plan_ns);
     stats.render.item();
     if (readback_ns > 0) stats.readback.busy(readback_ns);
-    ctx.timing.row(frame, ft.t, timing);
+    ctx.timing.row(frame, ft.t, timing, ctx.governed.cells());
     trace.frame(frame, t_update, t_rendered);
     trace_frame_events(events, frame, evaluate_began, render_began, render_ended, timing);
+    ctx.governed.trace(events, frame, render_began, render_ended);
     // The frame is read back (or, concurrent, its read issued) before the integrity monitor runs:
     // the PNG is the frame as drawn and checked, not the safe-path repaint the monitor may add.
     if (concurrent && want) {
       BusyScope busy(stats.readback);
-      rows[frame] = PendingRow{ft.t, sub.link_up(), timing.drawn, ctx.evaluator.states(), std::nullopt, how};
+      rows[frame] = PendingRow{ft.t, sub.link_up(), timing.drawn, ctx.evaluator.states(), std::nullopt,
+                               ctx.governed.cells() ? std::optional(*ctx.governed.cells()) : std::nullopt, how};
       readback.issue(ctx.renderer.resolved_framebuffer(), FrameInfo{frame, ft.t, timing.drawn, ctx.out_dir / png_name(frame)},
                      hand_on);
     }
@@ -307,6 +311,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     note_controller_faults();
     sub.send_status(ctx.renderer.stats().drawn, health.flags(ended));
     stats.print_if_due(ended, log);
+    ctx.governed.print_if_due(ended, log);
   }
   if (concurrent) collect(true);
   if (policy.dump_on_exit(frame)) {
@@ -327,6 +332,7 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
         << (overflow == DumpOverflow::Drop ? "drop" : "block") << "\n";
     LiveStats::print(stats.totals(end), pacer.seconds_at(end), log);
   }
+  ctx.governed.summary(log);
   integrity.summary(log);
   log_script_stats(ctx.evaluator, log);
   png_writer.check();  // a failed dump makes the exit status say so

@@ -66,11 +66,11 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   const auto times = play_frame_times(options.fps, options.duration_s > 0 ? options.duration_s : span.span_s);
   DumpPolicy policy = dump_policy(options);
   protocol::SignalTable table;
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), false, ctx.governed.governing());
   PngWriter png_writer;
   auto dump = [&](std::uint64_t n, double t, bool drawn) {
     const std::string name = png_name(n);
-    csv.row(n, t, name, true, drawn, ctx.evaluator.states());
+    csv.row(n, t, name, true, drawn, ctx.evaluator.states(), nullptr, ctx.governed.cells());
     png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n,
                      [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); });
   };
@@ -98,8 +98,8 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
     ctx.evaluator.update(table, true, k == 0 ? -1.0 : dt);
     ctx.renderer.apply(ctx.evaluator.outputs());
     const bool want = policy.decide(k, t, false).write;
-    const auto timing = ctx.renderer.render(false, want);
-    ctx.timing.row(k, t, timing);
+    const auto timing = ctx.governed.render(false, want);
+    ctx.timing.row(k, t, timing, ctx.governed.cells());
     if (want) dump(k, t, timing.drawn);
   }
   if (policy.dump_on_exit(times.size())) {
@@ -111,6 +111,7 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   log << "meter-view: played " << options.play << ": " << times.size() << " frames over " << times.back()
       << " s of recording, " << st.drawn << " drawn, " << st.skipped << " skipped (inputs unchanged), "
       << png_writer.failures() << " dumps failed\n";
+  ctx.governed.summary(log);
   png_writer.check();
 }
 

@@ -17,6 +17,7 @@ std::unique_ptr<platform::GpuBackend> backend_named(const std::string& name) {
 engine::RendererOptions renderer_options(const ViewOptions& options) {
   engine::RendererOptions ro;
   ro.msaa = options.msaa;
+  ro.partial_redraw = !options.full_redraw;
   if (!options.size.empty()) std::tie(ro.width, ro.height) = parse_size(options.size);
   return ro;
 }
@@ -29,7 +30,8 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
       scene(engine::read_package(options.scene_path)),
       backend(backend_named(options.backend)),
       renderer(*backend, scene, renderer_options(options)),
-      evaluator(scene) {
+      evaluator(scene),
+      governed(renderer, options, log) {
   if (options.info) {
     log << "meter-view: " << renderer.backend_info() << "; " << scene.draws.size() << " draws, "
         << scene.programs.size() << " programs\n";
@@ -37,7 +39,7 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw ViewError(options.out_dir + ": cannot create output directory: " + ec.message());
-  timing = TimingCsv(options.timing_csv);
+  timing = TimingCsv(options.timing_csv, governed.governing());
 }
 
 }  // namespace meter::view

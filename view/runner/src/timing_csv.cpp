@@ -6,16 +6,20 @@
 
 namespace meter::view {
 
-TimingCsv::TimingCsv(const std::string& path) {
+TimingCsv::TimingCsv(const std::string& path, bool governor) : governor_(governor) {
   if (path.empty()) return;
   out_ = create_output_file(path);
-  out_ << "frame,time_s,update_ms,submit_ms,gpu_readback_ms,drawn\n";
+  out_ << "frame,time_s,update_ms,submit_ms,gpu_readback_ms,drawn";
+  if (governor_) out_ << "," << kGovernorColumns;
+  out_ << "\n";
 }
 
-void TimingCsv::row(std::uint64_t frame, double t, const engine::FrameTiming& timing) {
+void TimingCsv::row(std::uint64_t frame, double t, const engine::FrameTiming& timing, const GovernorCells* governor) {
   if (!out_.is_open()) return;
   out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << timing.update_ms << "," << timing.submit_ms
-       << "," << timing.gpu_readback_ms << "," << timing.drawn << "\n";
+       << "," << timing.gpu_readback_ms << "," << timing.drawn;
+  if (governor_) out_ << governor_cells_text(governor ? *governor : GovernorCells{});
+  out_ << "\n";
 }
 
 }  // namespace meter::view

@@ -11,6 +11,7 @@
 #include "meter/engine/package_reader.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
+#include "meter/view/governed_frame.hpp"
 #include "meter/view/timing_csv.hpp"
 #include "meter/view/view_options.hpp"
 
@@ -27,6 +28,7 @@ struct RenderContext {
   std::unique_ptr<platform::GpuBackend> backend;
   engine::Renderer renderer;
   engine::BindingEvaluator evaluator;
+  GovernedFrames governed;  // every frame of the live and play loops is rendered through it
   TimingCsv timing;
 };
 

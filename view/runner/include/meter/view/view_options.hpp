@@ -57,6 +57,18 @@ struct ViewOptions {
   // inject_fault is the test-only fault (hidden --inject-fault KIND[:REGION]@FIRST[-LAST]).
   bool integrity_monitor = true;
   std::string inject_fault;
+
+  // The frame-rate governor (docs/uniform-frame-rate.md), live and play. target_ms > 0 turns it on
+  // unless governor == "off"; quality fixes the quality instead ("full" or "cheapest", the
+  // cheapest the cost file predicts); costs empty = <scene_path>.costs.json (meter-calibrate).
+  // full_redraw: every drawn frame redrawn in full (partial redraw off). inject_cost is the
+  // test-only busy time per drawn pixel (hidden --inject-cost NS_PER_PIXEL@FIRST-LAST).
+  double target_ms = 0.0;
+  std::string governor;           // on | off; empty = on when target_ms > 0
+  std::string quality;            // full | cheapest; empty = the governor's choice (or full)
+  std::string costs;
+  bool full_redraw = false;
+  std::string inject_cost;
 };
 
 }  // namespace meter::view

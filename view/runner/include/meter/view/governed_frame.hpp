@@ -1,0 +1,77 @@
+// meter-view's frame-rate governor in its render loops (live and play; docs/uniform-frame-rate.md):
+// each frame drawn through Renderer::render(force, read, chooser) with the governor's choice made
+// between planning and drawing, then the frame's measured time handed back (Governor::observe);
+// or a fixed quality (--quality full | cheapest) for side-by-side runs. Also what the run shows of
+// it: the frames.csv / timing CSV cells, a trace slice per frame, the --stats line, the summary.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "meter/engine/governor/governor.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/view/frames_csv.hpp"
+#include "meter/view/trace_ring.hpp"
+#include "meter/view/view_options.hpp"
+
+namespace meter::view {
+
+// The cost file meter-view reads for a package when --costs is not given (meter-calibrate writes it).
+std::string default_costs_path(const std::string& package);
+
+// Test-only --inject-cost NS_PER_PIXEL@FIRST-LAST: frames FIRST..LAST (the loop's frame numbers)
+// take NS_PER_PIXEL ns longer per pixel they draw (busy time after the draw, measured with it).
+struct CostInjection {
+  double ns_per_pixel = 0.0;
+  std::uint64_t first = 0, last = 0;
+};
+// Throws ViewError naming the option, the text and what was expected.
+CostInjection parse_cost_injection(const std::string& text);
+
+class GovernedFrames {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // Reads and binds the cost file when the governor is on or the quality is "cheapest". Throws
+  // ViewError for options that contradict each other, a missing cost file (naming it and how to
+  // make one) and, with the file's own message, a bad or stale one.
+  GovernedFrames(engine::Renderer& renderer, const ViewOptions& options, std::ostream& log);
+
+  bool governing() const { return governor_.has_value(); }
+  double target_ms() const { return target_ms_; }
+
+  // One frame, as Renderer::render(force, read) with the governor's choice (or the fixed one).
+  engine::FrameTiming render(bool force, bool read);
+
+  // The last frame's cells (the governor's prediction, the measured time, the choice); nullptr
+  // when the governor is off.
+  const GovernorCells* cells() const { return governor_ ? &cells_ : nullptr; }
+  // A "governor <units below full | full quality>" slice over the frame's render span, args
+  // predicted_us, measured_us, units_reduced, msaa, scale_pct (only when the governor is on).
+  void trace(TraceEvents& events, std::uint64_t frame, std::int64_t begin_ns, std::int64_t end_ns) const;
+  // With --stats: "meter-view: governor <t> s: ..." every interval (frames over the target,
+  // measured p50 / max, the last prediction, the online scales, the units below full).
+  void print_if_due(Clock::time_point now, std::ostream& log);
+  // At exit, when a target was given: frames drawn, frames over the target, changes, the choice.
+  void summary(std::ostream& log) const;
+
+ private:
+  engine::Renderer& renderer_;
+  double target_ms_ = 0.0;
+  std::optional<engine::governor::Governor> governor_;
+  std::optional<CostInjection> inject_;
+  std::uint64_t frame_ = 0;
+  GovernorCells cells_;
+  // Counters: whole run and the --stats interval.
+  std::uint64_t drawn_ = 0, over_ = 0;
+  std::vector<double> window_ms_;
+  std::uint64_t window_over_ = 0;
+  Clock::duration interval_{};
+  Clock::time_point start_, last_print_;
+};
+
+}  // namespace meter::view

@@ -1,0 +1,177 @@
+#include "meter/view/governed_frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "meter/engine/governor/cost_file.hpp"
+#include "meter/view/view_error.hpp"
+
+namespace meter::view {
+namespace gov = engine::governor;
+namespace {
+
+gov::CostModel read_costs(const std::string& path, std::span<const gov::UnitLadder> ladders, const std::string& scene) {
+  std::ifstream in(path);
+  if (!in) {
+    throw ViewError(path + ": no cost file for the frame-rate governor (--target-ms, --quality cheapest); make it with "
+                    "`meter-calibrate " + scene + "` or give --costs FILE");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  try {
+    return gov::bind_costs(gov::parse_costs(text.str(), path), ladders, path);
+  } catch (const std::invalid_argument& e) {
+    throw ViewError(std::string(e.what()) + " (run meter-calibrate again for this package)");
+  }
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(std::lround(p * static_cast<double>(v.size() - 1)))];
+}
+
+std::string ms_text(double ms) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2f", ms);
+  return b;
+}
+
+}  // namespace
+
+std::string default_costs_path(const std::string& package) { return package + ".costs.json"; }
+
+CostInjection parse_cost_injection(const std::string& text) {
+  const auto fail = [&] {
+    return ViewError("--inject-cost: expected NS_PER_PIXEL@FIRST-LAST (e.g. 50@20-80), got \"" + text + "\"");
+  };
+  CostInjection c;
+  const auto at = text.find('@'), dash = text.find('-', at == std::string::npos ? 0 : at);
+  if (at == std::string::npos || dash == std::string::npos) throw fail();
+  try {
+    std::size_t used = 0;
+    c.ns_per_pixel = std::stod(text.substr(0, at), &used);
+    if (used != at || !(c.ns_per_pixel > 0) || !std::isfinite(c.ns_per_pixel)) throw fail();
+    const std::string first = text.substr(at + 1, dash - at - 1), last = text.substr(dash + 1);
+    if (first.empty() || last.empty() || first.find_first_not_of("0123456789") != std::string::npos ||
+        last.find_first_not_of("0123456789") != std::string::npos)
+      throw fail();
+    c.first = std::stoull(first), c.last = std::stoull(last);
+  } catch (const std::logic_error&) {
+    throw fail();
+  }
+  if (c.last < c.first) throw fail();
+  return c;
+}
+
+GovernedFrames::GovernedFrames(engine::Renderer& renderer, const ViewOptions& options, std::ostream& log)
+    : renderer_(renderer), target_ms_(options.target_ms), start_(Clock::now()), last_print_(start_) {
+  if (!options.inject_cost.empty()) {
+    inject_ = parse_cost_injection(options.inject_cost);
+    log << "meter-view: TEST COST INJECTION: " << options.inject_cost << " (ns per drawn pixel @ frames)\n";
+  }
+  if (options.stats && options.stats_interval_s > 0)
+    interval_ = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.stats_interval_s));
+  const bool off = options.governor == "off";
+  if (!options.governor.empty() && !off && options.governor != "on")
+    throw ViewError("--governor: expected on or off, got \"" + options.governor + "\"");
+  if (!options.quality.empty() && options.quality != "full" && options.quality != "cheapest")
+    throw ViewError("--quality: expected full or cheapest, got \"" + options.quality + "\"");
+  if (options.governor == "on" && !(options.target_ms > 0)) throw ViewError("--governor on needs --target-ms");
+  if (!options.quality.empty() && options.governor == "on")
+    throw ViewError("--quality " + options.quality + " fixes the quality: it cannot go with --governor on");
+  const bool on = options.target_ms > 0 && !off && options.quality.empty();
+  if (!on && options.quality != "cheapest") return;  // full quality, as without a governor
+  const std::string path = options.costs.empty() ? default_costs_path(options.scene_path) : options.costs;
+  gov::CostModel model = read_costs(path, renderer.draw_units(), options.scene_path);
+  if (!on) {  // --quality cheapest: fixed from the first frame on
+    renderer.set_quality(gov::cheapest_quality(model));
+    log << "meter-view: fixed quality: the cheapest the cost file " << path << " predicts\n";
+    return;
+  }
+  gov::GovernorOptions go;
+  go.target_ms = options.target_ms;
+  governor_.emplace(std::move(model), go);
+  log << "meter-view: frame-rate governor on: target " << options.target_ms << " ms, " << renderer.draw_units().size()
+      << " draw units, costs " << path << "\n";
+}
+
+engine::FrameTiming GovernedFrames::render(bool force, bool read) {
+  const std::uint64_t frame = frame_++;
+  const auto t0 = Clock::now();
+  const engine::FrameTiming timing =
+      governor_ ? renderer_.render(force, read,
+                                   [this](const gov::FrameLoad& load) -> std::optional<gov::QualityChoice> {
+                                     return governor_->choose(load);
+                                   })
+                : renderer_.render(force, read);
+  if (inject_ && timing.drawn && frame >= inject_->first && frame <= inject_->last) {
+    const float s = renderer_.quality().global.scale;
+    const double pixels = renderer_.last_load().redrawn_pixels * double(s) * double(s);
+    const auto until = Clock::now() + std::chrono::nanoseconds(std::llround(pixels * inject_->ns_per_pixel));
+    while (Clock::now() < until) {
+    }
+  }
+  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  if (!timing.drawn) return timing;
+  ++drawn_;
+  if (interval_ != Clock::duration::zero()) window_ms_.push_back(ms);
+  if (target_ms_ > 0 && ms > target_ms_) ++over_, ++window_over_;
+  if (governor_) {
+    governor_->observe(renderer_.last_load(), renderer_.quality(), ms);
+    const gov::GovernorState st = governor_->state();
+    cells_ = {governor_->predicted_ms(), ms, st.reduced.size(), st.global.msaa, st.global.scale, gov::reduced_summary(st)};
+  }
+  return timing;
+}
+
+void GovernedFrames::trace(TraceEvents& events, std::uint64_t frame, std::int64_t begin_ns, std::int64_t end_ns) const {
+  if (!governor_ || !events.on()) return;
+  events.complete("governor " + (cells_.reduced.empty() ? std::string("full quality") : cells_.reduced), "governor", begin_ns,
+                  end_ns, 1,
+                  {{"frame", static_cast<std::int64_t>(frame)},
+                   {"predicted_us", std::llround(cells_.predicted_ms * 1000)},
+                   {"measured_us", std::llround(cells_.measured_ms * 1000)},
+                   {"units_reduced", static_cast<std::int64_t>(cells_.units_reduced)},
+                   {"msaa", cells_.msaa},
+                   {"scale_pct", std::llround(cells_.scale * 100)}});
+}
+
+void GovernedFrames::print_if_due(Clock::time_point now, std::ostream& log) {
+  if (interval_ == Clock::duration::zero() || now - last_print_ < interval_ || target_ms_ <= 0) return;
+  char when[32];
+  std::snprintf(when, sizeof when, "%.1f", std::chrono::duration<double>(now - start_).count());
+  log << "meter-view: governor " << when << " s: " << window_ms_.size() << " frames drawn, " << window_over_ << " over the "
+      << target_ms_ << " ms target, measured p50 " << ms_text(percentile(window_ms_, 0.5)) << " max "
+      << ms_text(percentile(window_ms_, 1.0)) << " ms";
+  if (governor_) {
+    const auto st = governor_->state();
+    log << "; last frame predicted " << ms_text(cells_.predicted_ms) << " measured " << ms_text(cells_.measured_ms)
+        << " ms; model scale pixel " << ms_text(st.scale.pixel) << " fixed " << ms_text(st.scale.fixed) << "; MSAA " << st.global.msaa
+        << " scale " << st.global.scale << "; " << st.reduced.size() << " units below full quality"
+        << (st.reduced.empty() ? "" : ": " + cells_.reduced);
+  }
+  log << "\n";
+  window_ms_.clear();
+  window_over_ = 0;
+  last_print_ = now;
+}
+
+void GovernedFrames::summary(std::ostream& log) const {
+  if (target_ms_ <= 0) return;
+  log << "meter-view: target " << target_ms_ << " ms: " << drawn_ << " frames drawn, " << over_ << " over it ("
+      << ms_text(drawn_ ? 100.0 * double(over_) / double(drawn_) : 0.0) << " %)";
+  if (governor_) {
+    const auto st = governor_->state();
+    log << "; governor: " << st.changes << " quality changes, at exit MSAA " << st.global.msaa << " scale " << st.global.scale
+        << ", " << (st.reduced.empty() ? std::string("every unit at full quality") : gov::reduced_summary(st));
+  } else {
+    log << "; governor off";
+  }
+  log << "\n";
+}
+
+}  // namespace meter::view
