@@ -99,6 +99,23 @@ TEST(Levels, SafetyDrawsGetNoLevels) {
   EXPECT_GT(telltales, 0);
 }
 
+// A draw under or behind a telltale is part of what the telltale's check sees: its window (the
+// dark glass the lamp sits in) is the lamp's unlit look, so a cheaper window shading reads as a
+// wrong lamp. Such draws keep full quality like the lamps themselves (the governor once lowered
+// the cluster's telltale windows and the integrity monitor raised 15 faults on that frame).
+TEST(Levels, DrawsBehindATelltaleAreSafetyItemsToo) {
+  const Scene& s = cluster_with_levels();
+  const std::vector<char> safety = safety_draws(s);
+  int windows = 0;
+  for (std::size_t i = 0; i < s.draws.size(); ++i) {
+    const std::string& name = s.nodes[std::size_t(s.draws[i].node)].name;
+    if (name.rfind("TTWindow_", 0) != 0) continue;
+    ++windows;
+    EXPECT_TRUE(safety[i]) << name << " sits behind a telltale but would get levels";
+  }
+  EXPECT_GE(windows, 10);  // the cluster has a window behind each of its 17 lamps
+}
+
 TEST(Levels, LodLevelsKeepTheirBoundAndSaveAQuarter) {
   const Scene& s = cluster_with_levels();
   const LevelOptions o;

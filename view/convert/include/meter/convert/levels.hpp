@@ -47,7 +47,9 @@ struct LevelsReport {
 
 // Per draw: true when the draw is a safety item (its node or an ancestor is a region's node or a
 // safety binding's node, or the node an animation of a safety animation binding rotates; or its
-// material is a region's or a safety colour / emissive binding's).
+// material is a region's or a safety colour / emissive binding's), or when it can be on screen
+// where a lamp or a readout is (its extent over every animation overlaps a safety lamp's draw or a
+// telltale / readout region): what those checks compare includes its pixels.
 std::vector<char> safety_draws(const Scene& scene);
 
 // Adds the levels to `scene` (Primitive::lods, Scene::draw_levels, programs appended). Run after
