@@ -122,8 +122,14 @@ engine::FrameTiming GovernedFrames::render(bool force, bool read) {
   if (target_ms_ > 0 && ms > target_ms_) ++over_, ++window_over_;
   if (governor_) {
     governor_->observe(renderer_.last_load(), renderer_.quality(), ms);
-    const gov::GovernorState st = governor_->state();
-    cells_ = {governor_->predicted_ms(), ms, st.reduced.size(), st.global.msaa, st.global.scale, gov::reduced_summary(st)};
+    const gov::QualityChoice& now = governor_->current();
+    cells_.predicted_ms = governor_->predicted_ms(), cells_.measured_ms = ms;
+    cells_.msaa = now.global.msaa, cells_.scale = now.global.scale;
+    if (described_ != now) {  // the units below full quality, named only when the choice changed
+      const gov::GovernorState st = governor_->state();
+      cells_.units_reduced = st.reduced.size(), cells_.reduced = gov::reduced_summary(st);
+      described_ = now;
+    }
   }
   return timing;
 }

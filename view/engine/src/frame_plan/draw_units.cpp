@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 
 namespace meter::engine {
@@ -182,8 +183,9 @@ governor::FrameLoad frame_load(const Scene& scene, const DrawClasses& classes, c
     const PixelRegion clip_to = pass.scissor ? *pass.scissor : all;
     for (int d : pass.draws) {
       const auto ud = static_cast<std::size_t>(d);
-      const std::vector<int> alone{d};
-      const std::vector<int>& members = classes.group[ud] >= 0 ? scene.groups[static_cast<std::size_t>(classes.group[ud])].draws : alone;
+      const std::span<const int> members = classes.group[ud] >= 0
+                                               ? std::span<const int>(scene.groups[static_cast<std::size_t>(classes.group[ud])].draws)
+                                               : std::span<const int>(&d, 1);
       long long pixels = 0;
       for (int m : members) {
         const auto node = static_cast<std::size_t>(scene.draws[static_cast<std::size_t>(m)].node);

@@ -66,6 +66,8 @@ class GovernedFrames {
   std::optional<CostInjection> inject_;
   std::uint64_t frame_ = 0;
   GovernorCells cells_;
+  // The choice cells_.reduced / units_reduced describe: the summary is rebuilt only when it changes.
+  std::optional<engine::governor::QualityChoice> described_;
   // Counters: whole run and the --stats interval.
   std::uint64_t drawn_ = 0, over_ = 0;
   std::vector<double> window_ms_;
