@@ -1,6 +1,9 @@
 #include "monitor_rig.hpp"
 
+#include <unistd.h>
+
 #include <stdexcept>
+#include <string>
 
 #include "bound_signals.hpp"
 #include "process.hpp"
@@ -13,11 +16,13 @@ fs::path converted_cluster() {
   static const fs::path msp = [] {
     const fs::path dir = fs::path(METER_BINARY_DIR) / "integrity-monitor";
     fs::create_directories(dir);
+    // Every test process of this folder converts into this one package at once; the converter's
+    // write-then-rename makes that safe, and each process keeps its own log.
     const fs::path out = dir / "cluster.msp";
     const std::string src = METER_SOURCE_DIR;
     ChildProcess convert({built_executable("meter-convert"), src + "/scenes/cluster/cluster.glb", "--config",
                           src + "/scenes/cluster/cluster.scene.json", "-o", out.string()},
-                         (dir / "convert.log").string());
+                         (dir / ("convert." + std::to_string(::getpid()) + ".log")).string());
     const auto rc = convert.wait_for(std::chrono::seconds(300));
     if (!rc || *rc != 0) throw std::runtime_error("meter-convert of the cluster failed:\n" + convert.log());
     return out;

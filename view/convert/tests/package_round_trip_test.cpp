@@ -4,8 +4,12 @@
 // package whose draw levels point anywhere they must not is refused with a message naming the field.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 #include "meter/bridge/package_format.hpp"
 #include "meter/convert/package_writer.hpp"
@@ -174,9 +178,39 @@ TEST(PackageRoundTrip, WriterToReaderKeepsEverySection) {
 TEST(PackageRoundTrip, WritePackageThenReadPackage) {
   const std::string path = engine::test::scratch_dir("package_round_trip") + "/hand.msp";
   write_package(every_section(), path);
-  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path()))
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left behind: " << entry.path();
   const Scene r = engine::read_package(path);
   EXPECT_EQ(serialize_scene(r), serialize_scene(every_section()));
+}
+
+// Two conversions writing the same package at once (two test processes, two build jobs) must
+// both succeed and leave one whole package: each writes its own temporary file and renames it.
+TEST(PackageRoundTrip, ConcurrentWritersOfOnePathBothSucceed) {
+  const std::string path = engine::test::scratch_dir("package_round_trip") + "/shared.msp";
+  const Scene s = every_section();
+  std::atomic<int> failures{0};
+  std::string first_error;
+  std::mutex error_mutex;
+  std::vector<std::thread> writers;
+  for (int t = 0; t < 8; ++t)
+    writers.emplace_back([&] {
+      for (int i = 0; i < 25; ++i) {
+        try {
+          write_package(s, path);
+        } catch (const std::exception& e) {
+          if (failures++ == 0) {
+            std::lock_guard<std::mutex> lock(error_mutex);
+            first_error = e.what();
+          }
+        }
+      }
+    });
+  for (auto& w : writers) w.join();
+  EXPECT_EQ(failures.load(), 0) << first_error;
+  EXPECT_EQ(serialize_scene(engine::read_package(path)), serialize_scene(s));
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path()))
+    EXPECT_EQ(entry.path().string().find("shared.msp."), std::string::npos) << "left behind: " << entry.path();
 }
 
 namespace {

@@ -1,6 +1,9 @@
 // The package writer: the Scene encoded as bridge/package_format.hpp defines it.
 #include "meter/convert/package_writer.hpp"
 
+#include <unistd.h>
+
+#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -213,15 +216,26 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
 
 void write_package(const Scene& scene, const std::string& path) {
   auto bytes = serialize_scene(scene);
-  std::string tmp = path + ".tmp";
+  // A temporary name of this writer's own (process id and a per-process count), so two
+  // conversions of the same package at once (two build jobs, two test processes) never write
+  // into each other's file; the last rename wins and both leave a whole package.
+  static std::atomic<unsigned> writes{0};
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(writes++);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw SceneError(path + ": cannot open for writing");
+    if (!out) throw SceneError(path + ": cannot open " + tmp + " for writing");
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw SceneError(path + ": write failed");
+    out.close();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw SceneError(path + ": write failed (" + tmp + ")");
+    }
   }
   // Rename so a viewer never sees a half-written package.
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw SceneError(path + ": cannot rename " + tmp);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw SceneError(path + ": cannot rename " + tmp + " onto it");
+  }
 }
 
 }  // namespace meter::convert
