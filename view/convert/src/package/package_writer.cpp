@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <type_traits>
@@ -223,7 +225,7 @@ void write_package(const Scene& scene, const std::string& path) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(writes++);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw SceneError(path + ": cannot open " + tmp + " for writing");
+    if (!out) throw SceneError(path + ": cannot open " + tmp + " for writing: " + std::strerror(errno));
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     out.close();
     if (!out) {
@@ -233,8 +235,9 @@ void write_package(const Scene& scene, const std::string& path) {
   }
   // Rename so a viewer never sees a half-written package.
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
     std::remove(tmp.c_str());
-    throw SceneError(path + ": cannot rename " + tmp + " onto it");
+    throw SceneError(path + ": cannot rename " + tmp + " onto it: " + why);
   }
 }
 
