@@ -93,6 +93,38 @@ TEST(Endpoint, RejectsBadTextWithAClearMessage) {
   EXPECT_THROW(Endpoint::parse("unix:/" + std::string(200, 'a')), std::invalid_argument);
 }
 
+// A checkout, a build folder or a test's work folder can sit arbitrarily deep; sun_path holds only
+// 107 bytes, so a long socket path must still link up (the file name alone has to fit).
+TEST(Endpoint, UnixSocketInAFolderDeeperThanSunPathLinksUp) {
+  LogCapture log;
+  TempDir dir;
+  std::string deep = dir.file("");
+  while (deep.size() < 2 * sizeof(sockaddr_un::sun_path)) deep += "a-folder-of-a-deep-checkout/";
+  std::filesystem::create_directories(deep);
+  const auto ep = Endpoint::parse("unix:" + deep + "link.sock");
+  ASSERT_GT(ep.path.size(), sizeof(sockaddr_un::sun_path));
+  {
+    Publisher pub(ep, fast_options("ctl"));
+    struct stat st{};
+    ASSERT_EQ(::stat(ep.path.c_str(), &st), 0) << "the socket is not at the path that was asked for";
+    EXPECT_TRUE(S_ISSOCK(st.st_mode));
+    EXPECT_EQ(st.st_mode & 0777, 0600U);
+    pub.set(sig::kSpeed, 42.0, SignalStatus::Valid);
+    Subscriber sub(ep, fast_options("view"));
+    ASSERT_TRUE(pump(pub, sub, [&] { return sub.link_up() && sub.get(sig::kSpeed).value == 42.0; }))
+        << sub.last_error();
+    EXPECT_THROW(Publisher second(ep, fast_options()), std::runtime_error);  // the live one is seen
+  }
+  EXPECT_NE(::access(ep.path.c_str(), F_OK), 0);  // removed on shutdown
+  // A file name that cannot fit even on its own is refused up front, naming both lengths.
+  try {
+    Endpoint::parse("unix:" + deep + std::string(120, 'n'));
+    ADD_FAILURE() << "accepted a 120-byte socket file name";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("file name"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Endpoint, DefaultUsesXdgRuntimeDir) {
   const char* old = std::getenv("XDG_RUNTIME_DIR");
   const std::string saved = old ? old : "";

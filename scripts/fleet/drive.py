@@ -98,7 +98,7 @@ def run(drive, out, bin_dir, source_dir, attempt=1, extra=None):
     started = time.time()
     stages, found, errors = [], [], []
     rec = os.path.join(out, "link.rec")
-    sockdir = tempfile.mkdtemp(prefix="meter-fleet-")  # a Unix socket path must stay under 108 bytes
+    sockdir = tempfile.mkdtemp(prefix="meter-fleet-")  # the link socket, private to this drive
     try:
         ok = _stage("meter-controller", controller_argv(drive, bin_dir, rec, os.path.join(sockdir, "c.sock")),
                     os.path.join(out, "controller.log"), stages)

@@ -2,12 +2,10 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <optional>
 #include <stdexcept>
 
@@ -17,6 +15,7 @@
 #include "transport/log.hpp"
 #include "transport/poller.hpp"
 #include "transport/unique_fd.hpp"
+#include "transport/unix_address.hpp"
 
 namespace meter::protocol {
 
@@ -104,10 +103,12 @@ struct Subscriber::Impl {
     if (!stream) {
       fd.reset(::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
       if (!fd) throw std::runtime_error("socket(AF_UNIX, SOCK_SEQPACKET): " + detail::errno_text(errno));
-      sockaddr_un addr{};
-      addr.sun_family = AF_UNIX;
-      std::memcpy(addr.sun_path, where.path.c_str(), where.path.size() + 1);
-      if (::connect(fd.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) err = errno;
+      const detail::UnixAddress addr(where.path);
+      if (addr.error() != 0) {
+        err = addr.error();
+      } else if (::connect(fd.get(), addr.get(), addr.size()) != 0) {
+        err = errno;
+      }
     } else {
       addrinfo hints{};
       hints.ai_family = AF_UNSPEC;

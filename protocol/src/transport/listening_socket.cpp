@@ -1,14 +1,14 @@
 #include "transport/listening_socket.hpp"
 
+#include "transport/unix_address.hpp"
+
 #include <arpa/inet.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
 #include <memory>
 #include <stdexcept>
 
@@ -48,16 +48,15 @@ void ListeningSocket::listen_unix() {
       fail(dir + " exists and is not a folder", 0);
     }
   }
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  std::memcpy(addr.sun_path, where.path.c_str(), where.path.size() + 1);
+  const UnixAddress addr(where.path);
+  if (addr.error() != 0) fail("cannot open the socket's folder", addr.error());
 
   struct stat st{};
   if (::lstat(where.path.c_str(), &st) == 0) {
     if (!S_ISSOCK(st.st_mode)) fail(where.path + " exists and is not a socket; refusing to replace it", 0);
     // A live publisher answers; a stale file left by a crash refuses the connection.
     UniqueFd probe(::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0));
-    if (probe && ::connect(probe.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+    if (probe && ::connect(probe.get(), addr.get(), addr.size()) == 0) {
       fail("another publisher is already listening there", 0);
     }
     ::unlink(where.path.c_str());
@@ -66,7 +65,7 @@ void ListeningSocket::listen_unix() {
   if (!listener) fail("socket(AF_UNIX, SOCK_SEQPACKET)", errno);
   // Bind with a private umask window would race other threads; the 0700 folder plus the chmod
   // right after bind plus SO_PEERCRED on every accept are the layers of protection.
-  if (::bind(listener.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) fail("bind", errno);
+  if (::bind(listener.get(), addr.get(), addr.size()) != 0) fail("bind", errno);
   if (::chmod(where.path.c_str(), 0600) != 0) fail("chmod 0600", errno);
   if (::lstat(where.path.c_str(), &st) == 0) {
     socket_dev = st.st_dev;

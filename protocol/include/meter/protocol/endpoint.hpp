@@ -1,16 +1,21 @@
 // Where the link's two ends meet: a Unix socket path or a TCP host and port.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
 namespace meter::protocol {
 
+inline constexpr std::size_t kMaxUnixSocketFileName = 80;
+
 // Where the Publisher listens and the Subscriber connects.
 //   "unix:/path/to.sock"   Unix domain socket, SOCK_SEQPACKET (the default on one machine)
 //   "tcp:HOST:PORT"        TCP stream; HOST is a name, an IPv4 address or "[IPv6]"; PORT 0 asks the
 //                          Publisher for an ephemeral port (see Publisher::endpoint()).
+//   A Unix socket path may be of any length; when it is longer than the kernel's sun_path (107
+//   bytes) only its file name has to stay within kMaxUnixSocketFileName.
 struct Endpoint {
   enum class Kind { Unix, Tcp } kind = Kind::Unix;
   std::string path;          // Unix only
