@@ -156,7 +156,8 @@ void GovernedFrames::print_if_due(Clock::time_point now, std::ostream& log) {
   if (governor_) {
     const auto st = governor_->state();
     log << "; last frame predicted " << ms_text(cells_.predicted_ms) << " measured " << ms_text(cells_.measured_ms)
-        << " ms; model scale pixel " << ms_text(st.scale.pixel) << " fixed " << ms_text(st.scale.fixed) << "; MSAA " << st.global.msaa
+        << " ms; model scale pixel " << ms_text(st.scale.pixel) << " fixed " << ms_text(st.scale.fixed)
+        << (st.fast_attack > 1.0 ? " (fast attack x" + ms_text(st.fast_attack) + ")" : std::string()) << "; MSAA " << st.global.msaa
         << " scale " << st.global.scale << "; " << st.reduced.size() << " units below full quality"
         << (st.reduced.empty() ? "" : ": " + cells_.reduced);
   }

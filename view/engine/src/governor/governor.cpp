@@ -16,6 +16,7 @@ GovernorOptions checked(const GovernorOptions& o) {
   if (!(o.headroom >= 0 && o.headroom <= 0.5)) throw std::invalid_argument("governor: headroom must be in [0, 0.5]");
   if (o.min_frames_between_changes < 0)
     throw std::invalid_argument("governor: min_frames_between_changes must be >= 0");
+  if (o.fast_attack_frames < 0) throw std::invalid_argument("governor: fast_attack_frames must be >= 0");
   return o;
 }
 
@@ -45,10 +46,10 @@ QualityChoice Governor::choose(const FrameLoad& load) {
   ++frames_chosen_;
   frames_since_change_ = std::min(frames_since_change_ + 1, 1 << 30);  // no overflow in a year-long run
   if (load.full_frame && load.unit_pixels.size() == model_.units.size()) last_full_load_ = load;
-  const ModelScale scale = online_.scale();
+  const ModelScale scale = this->scale();
   if (frames_since_change_ < options_.min_frames_between_changes) {
     predicted_ms_ = predict_ms(model_, load, current_, scale);
-    return current_;
+    if (predicted_ms_ <= options_.target_ms) return current_;  // a step up waits; a step down does not
   }
   const GreedyBudget budget{options_.target_ms, (1.0 - options_.headroom) * options_.target_ms};
   GreedyResult r = greedy_choice(model_, load, current_, budget, scale, last_full_load_ ? &*last_full_load_ : nullptr);
@@ -64,10 +65,27 @@ QualityChoice Governor::choose(const FrameLoad& load) {
 void Governor::observe(const FrameLoad& load, const QualityChoice& choice, double measured_ms) {
   const PredictionParts parts = predict_parts(model_, load, choice);  // validates the choice
   if (!load.drawn || !std::isfinite(measured_ms) || !(measured_ms > 0)) return;
+  const double predicted = parts.total(online_.scale());
+  if (options_.fast_attack_frames > 0 && predicted > 0 && std::isfinite(predicted)) {
+    recent_ratios_.push_back(measured_ms / predicted);
+    while (int(recent_ratios_.size()) > options_.fast_attack_frames) recent_ratios_.pop_front();
+  }
   if (online_.add(parts, measured_ms)) {
     measured_ms_ = measured_ms;
     ++frames_observed_;
   }
+}
+
+double Governor::fast_attack() const {
+  if (options_.fast_attack_frames == 0 || int(recent_ratios_.size()) < options_.fast_attack_frames) return 1.0;
+  const double least = *std::min_element(recent_ratios_.begin(), recent_ratios_.end());
+  return least > 1.0 + options_.headroom ? std::min(least, OnlineEstimate::kMaxScale) : 1.0;
+}
+
+ModelScale Governor::scale() const {
+  const ModelScale s = online_.scale();
+  const double f = fast_attack();
+  return {std::min(s.pixel * f, OnlineEstimate::kMaxScale), std::min(s.fixed * f, OnlineEstimate::kMaxScale)};
 }
 
 GovernorState Governor::state() const {
@@ -77,7 +95,8 @@ GovernorState Governor::state() const {
                   .frames_since_change = frames_since_change_,
                   .predicted_ms = predicted_ms_,
                   .measured_ms = measured_ms_,
-                  .scale = online_.scale(),
+                  .scale = scale(),
+                  .fast_attack = fast_attack(),
                   .global_rung = std::max(0, global_rung(model_, current_.global)),
                   .global = current_.global,
                   .reduced = {}};

@@ -53,6 +53,51 @@ TEST(Governor, MinimumFramesBetweenChanges) {
   EXPECT_EQ(g.choose(load({100})), at({{0, 0}}));  // the 8th frame after the change
 }
 
+// A frame predicted over the target is worse than a change sooner than the minimum: a step down
+// is taken at once; only steps up wait for the minimum number of frames.
+TEST(Governor, OverTheTargetAStepDownDoesNotWaitForTheMinimumFrames) {
+  GovernorOptions o;
+  o.target_ms = 10;
+  o.min_frames_between_changes = 8;
+  // Three shadings: 0.01, 0.005 and 0.002 ms per pixel.
+  Governor g(model({unit("dial", 3, 1, {0.01, 0.005, 0.002})}), o);
+  EXPECT_EQ(g.choose(load({1020})), at({{1, 0}}));  // 10.2 ms at full: lowered to 5.1 ms
+  EXPECT_EQ(g.choose(load({100})), at({{1, 0}}));   // the load drops: a step up waits
+  EXPECT_EQ(g.choose(load({2100})), at({{2, 0}}));  // 10.5 ms at shading 1, 2 frames after: lowered
+  EXPECT_NEAR(g.predicted_ms(), 4.2, 1e-9);
+  for (int f = 1; f < 8; ++f) EXPECT_EQ(g.choose(load({100})), at({{2, 0}})) << "frame " << f;
+  EXPECT_EQ(g.choose(load({100})), at({{0, 0}}));  // the 8th frame after the last change
+}
+
+// Fast attack, slow release: three drawn frames in a row slower than the model by more than the
+// headroom are a load step, not an outlier, and the next choice is made for it at once (the
+// window's fit would take half the window to follow); the way back is the window's, so the
+// quality does not flicker.
+TEST(Governor, ThreeSlowFramesInARowLowerTheQualityAtOnce) {
+  Governor g = one_unit(8);
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));  // 9 ms predicted: full quality
+  for (int f = 0; f < 3; ++f) g.observe(load({900}), at({{0, 0}}), 13.5);  // measured 1.5x
+  EXPECT_NEAR(g.state().scale.pixel, 1.5, 1e-9);  // the scale in use: the window's x 1.5
+  EXPECT_EQ(g.choose(load({900})), at({{1, 0}}));  // 13.5 ms > 10: lowered (6.75 ms)
+  EXPECT_NEAR(g.predicted_ms(), 6.75, 1e-9);
+  // The load stays: frames at level 1 measure 1.5x the model (6.75 ms); no step up.
+  for (int f = 0; f < 20; ++f) {
+    g.observe(load({900}), at({{1, 0}}), 6.75);
+    EXPECT_EQ(g.choose(load({900})), at({{1, 0}})) << "frame " << f;
+  }
+}
+
+TEST(Governor, OneOrTwoSlowFramesDoNotMoveTheChoice) {
+  Governor g = one_unit(0);
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
+  for (int f = 0; f < 60; ++f) g.observe(load({900}), at({{0, 0}}), 9.0);  // the model holds
+  for (double ms : {13.5, 13.5, 9.0, 13.5, 9.0, 13.5, 13.5, 9.0}) {  // never three in a row
+    g.observe(load({900}), at({{0, 0}}), ms);
+    EXPECT_EQ(g.choose(load({900})), at({{0, 0}})) << ms;
+  }
+  EXPECT_EQ(g.state().changes, 0u);
+}
+
 TEST(Governor, StateNamesTheUnitsNotAtFullQuality) {
   GovernorOptions o;
   o.target_ms = 5;
@@ -111,6 +156,9 @@ TEST(Governor, OptionsAndModelsOutOfRangeAreErrors) {
   EXPECT_THROW(Governor(m, o), std::invalid_argument);
   o = {};
   o.window = 2;
+  EXPECT_THROW(Governor(m, o), std::invalid_argument);
+  o = {};
+  o.fast_attack_frames = -1;
   EXPECT_THROW(Governor(m, o), std::invalid_argument);
   CostModel bad = m;
   bad.units[0].levels[1].cost.a_ms_per_pixel = std::numeric_limits<double>::quiet_NaN();

@@ -7,12 +7,19 @@
 //     trigger = target_ms                 (lower when the current choice would miss the target)
 //     budget  = (1 - headroom) x target_ms (what a lowered or raised choice must fit)
 // so between the two is a dead band where nothing changes (hysteresis: a step up is taken only
-// when the higher level's prediction stays under (1 - headroom) x target). A change is made at
-// most once every min_frames_between_changes drawn frames. After the frame is drawn,
-// observe(load, choice, measured_ms) feeds the online estimate.
+// when the higher level's prediction stays under (1 - headroom) x target). A step up is made at
+// most once every min_frames_between_changes drawn frames; a step down, when the current choice
+// is predicted over the target, at once (a frame over the target is worse than a change).
+// After the frame is drawn, observe(load, choice, measured_ms) feeds the online estimate.
+//
+// Fast attack, slow release: the window's fit follows a load step once it holds half the window.
+// When the last fast_attack_frames drawn frames in a row each measured more than (1 + headroom)
+// x their prediction, the model is scaled by the least of those ratios until that stops, so the
+// frame after such a run is already chosen for the new load; the way back up is the window's.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +35,7 @@ struct GovernorOptions {
   double headroom = 0.05;              // in [0, 0.5]
   int min_frames_between_changes = 8;  // >= 0 (0: may change every frame)
   int window = 60;                     // online estimate window, frames (>= OnlineEstimate::kMinPoints)
+  int fast_attack_frames = 3;          // >= 0 (0: off; the window alone moves the model)
 };
 
 struct ReducedUnit {
@@ -45,7 +53,8 @@ struct GovernorState {
   int frames_since_change = 0;
   double predicted_ms = 0.0;          // for the last choice, this frame's load, scaled
   double measured_ms = 0.0;           // last accepted measurement (0 before any)
-  ModelScale scale;                   // the online correction in use
+  ModelScale scale;                   // the online correction in use (window x fast attack)
+  double fast_attack = 1.0;           // the fast-attack factor in that scale (1: not attacking)
   int global_rung = 0;                // index in CostModel::globals
   GlobalLevel global;
   std::vector<ReducedUnit> reduced;   // units not at full quality, in unit order
@@ -81,7 +90,11 @@ class Governor {
  private:
   CostModel model_;
   GovernorOptions options_;
+  ModelScale scale() const;  // the window's fit x the fast-attack factor
+  double fast_attack() const;
+
   OnlineEstimate online_;
+  std::deque<double> recent_ratios_;  // measured / predicted of the last drawn frames
   QualityChoice current_;
   std::optional<FrameLoad> last_full_load_;
   double predicted_ms_ = 0.0;
