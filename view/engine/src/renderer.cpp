@@ -30,6 +30,7 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
   gpu_ = std::make_unique<GpuScene>(gl_, scene, options_.uber_shader, options_.concatenate);
   submission_ = std::make_unique<DrawSubmission>(gl_, scene, *gpu_, evaluator_.light_nodes());
   text_ = std::make_unique<TextDrawing>(backend, options_.font_file, scene.config.size[1], draw_height_);
+  text_height_ = draw_height_;
   classes_ = classify_draws(scene, options_.concatenate, evaluator_.camera_node());
   units_ = make_draw_units(scene, classes_, options_.uber_shader == nullptr);
   quality_.units.assign(units_.ladders.size(), governor::UnitLevel{});
@@ -39,6 +40,7 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
 Renderer::~Renderer() {
   backend_.make_current();
   text_.reset();
+  text_by_height_.clear();
   submission_.reset();
   gpu_.reset();
 }

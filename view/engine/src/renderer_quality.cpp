@@ -59,7 +59,17 @@ FramePlan Renderer::plan_at_quality(bool force, FrameState& now, const LevelChoo
   for (int round = 0;; ++round) {
     if (global_changed_) {
       make_targets();
-      text_ = std::make_unique<TextDrawing>(backend_, options_.font_file, scene_.config.size[1], draw_height_);
+      if (draw_height_ != text_height_) {  // text sizes follow the draw height (an MSAA rung keeps it)
+        text_by_height_[text_height_] = std::move(text_);
+        auto it = text_by_height_.find(draw_height_);
+        if (it != text_by_height_.end()) {
+          text_ = std::move(it->second);
+          text_by_height_.erase(it);
+        } else {
+          text_ = std::make_unique<TextDrawing>(backend_, options_.font_file, scene_.config.size[1], draw_height_);
+        }
+        text_height_ = draw_height_;
+      }
       written_ = {platform::PixelRegion{0, 0, width_, height_}};  // every pixel is drawn anew
       global_changed_ = false;
     }

@@ -186,6 +186,7 @@ TEST_P(LevelsRender, GlobalRungKeepsTheOutputSize) {
   EXPECT_EQ(a.last_image().height, kHeight);
   EXPECT_EQ(a.width(), kWidth);
   EXPECT_GT(differing_pixels(a.last_image(), never.last_image()), 0u) << "half scale without MSAA drew the full image";
+  const platform::Image first_low = a.last_image();
   // The integrity monitor's readback stays in output pixels.
   const platform::PixelRegion corner{kWidth - 8, kHeight - 8, 8, 8};
   const auto regions = a.read_regions(std::span<const platform::PixelRegion>(&corner, 1));
@@ -194,6 +195,10 @@ TEST_P(LevelsRender, GlobalRungKeepsTheOutputSize) {
   a.set_quality(governor::QualityChoice{});
   EXPECT_TRUE(a.render(false, true).drawn);
   EXPECT_EQ(differing_pixels(a.last_image(), never.last_image()), 0u) << "back at full quality the frame differs";
+  // Down again: the half-height text drawing kept from the first visit draws the same frame.
+  a.set_quality(low);
+  EXPECT_TRUE(a.render(false, true).drawn);
+  EXPECT_EQ(differing_pixels(a.last_image(), first_low), 0u) << "the rung visited again draws another frame";
 }
 
 TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {

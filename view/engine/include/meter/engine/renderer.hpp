@@ -19,6 +19,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -221,7 +222,11 @@ class Renderer {
   DrawClasses classes_;
   std::unique_ptr<GpuScene> gpu_;
   std::unique_ptr<DrawSubmission> submission_;
-  std::unique_ptr<TextDrawing> text_;
+  std::unique_ptr<TextDrawing> text_;  // for draw_height_
+  // The text drawing of every other draw height a rung has used: a rung change back reuses its
+  // glyph atlases and programs instead of rasterising and compiling them again.
+  std::map<int, std::unique_ptr<TextDrawing>> text_by_height_;
+  int text_height_ = 0;
   bool dirty_ = true;
   platform::Image image_;
   RendererStats stats_;
