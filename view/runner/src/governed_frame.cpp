@@ -173,7 +173,8 @@ void GovernedFrames::summary(std::ostream& log) const {
       << ms_text(drawn_ ? 100.0 * double(over_) / double(drawn_) : 0.0) << " %)";
   if (governor_) {
     const auto st = governor_->state();
-    log << "; governor: " << st.changes << " quality changes, at exit MSAA " << st.global.msaa << " scale " << st.global.scale
+    log << "; governor: " << st.changes << " quality changes (" << st.step_ups_undone
+        << " step ups undone at their first frame), at exit MSAA " << st.global.msaa << " scale " << st.global.scale
         << ", " << (st.reduced.empty() ? std::string("every unit at full quality") : gov::reduced_summary(st));
   } else {
     log << "; governor off";

@@ -34,8 +34,11 @@ Governor::Governor(CostModel model, GovernorOptions options)
       options_(checked(options)),
       online_(options.window),
       current_(full_quality(model_)),
-      frames_since_change_(options.min_frames_between_changes) {
+      frames_since_change_(options.min_frames_between_changes),
+      step_up_wait_(options.min_frames_between_changes) {
   limits::check_model(model_, "governor cost model");
+  corrected_ = model_;
+  rung_error_.assign(model_.globals.size(), 1.0);
 }
 
 QualityChoice Governor::choose(const FrameLoad& load) {
@@ -47,14 +50,33 @@ QualityChoice Governor::choose(const FrameLoad& load) {
   frames_since_change_ = std::min(frames_since_change_ + 1, 1 << 30);  // no overflow in a year-long run
   if (load.full_frame && load.unit_pixels.size() == model_.units.size()) last_full_load_ = load;
   const ModelScale scale = this->scale();
-  if (frames_since_change_ < options_.min_frames_between_changes) {
-    predicted_ms_ = predict_ms(model_, load, current_, scale);
-    if (predicted_ms_ <= options_.target_ms) return current_;  // a step up waits; a step down does not
+  if (undo_pending_) {  // the step up just taken missed the target: back to where it came from
+    undo_pending_ = false;
+    last_change_global_ = !(before_step_up_.global == current_.global);
+    current_ = before_step_up_;
+    last_change_up_ = false;
+    ++changes_;
+    ++step_ups_undone_;
+    frames_since_change_ = 0;
+    step_up_wait_ = std::min(std::max(1, 2 * step_up_wait_), kMaxStepUpWait);
+  } else if (last_change_up_ && frames_since_change_ >= std::max(step_up_wait_, judged_frame() + 1)) {
+    step_up_wait_ = options_.min_frames_between_changes;  // the step up held: the backoff ends
+    last_change_up_ = false;
+    const int rung = last_change_global_ ? global_rung(model_, current_.global) : -1;
+    if (rung >= 0 && rung_error_[std::size_t(rung)] > 1.0) set_rung_error(rung, 0.5 * (rung_error_[std::size_t(rung)] + 1.0));
+  }
+  const double now_ms = predict_ms(corrected_, load, current_, scale);
+  if (frames_since_change_ < step_up_wait_ && now_ms <= options_.target_ms) {
+    predicted_ms_ = now_ms;
+    return current_;  // a step up waits; a step down does not
   }
   const GreedyBudget budget{options_.target_ms, (1.0 - options_.headroom) * options_.target_ms};
-  GreedyResult r = greedy_choice(model_, load, current_, budget, scale, last_full_load_ ? &*last_full_load_ : nullptr);
+  GreedyResult r = greedy_choice(corrected_, load, current_, budget, scale, last_full_load_ ? &*last_full_load_ : nullptr);
   predicted_ms_ = r.predicted_ms;
   if (r.choice != current_) {
+    last_change_up_ = r.predicted_ms > now_ms;
+    last_change_global_ = !(r.choice.global == current_.global);
+    if (last_change_up_) before_step_up_ = current_;
     current_ = std::move(r.choice);
     ++changes_;
     frames_since_change_ = 0;
@@ -65,16 +87,42 @@ QualityChoice Governor::choose(const FrameLoad& load) {
 void Governor::observe(const FrameLoad& load, const QualityChoice& choice, double measured_ms) {
   const PredictionParts parts = predict_parts(model_, load, choice);  // validates the choice
   if (!load.drawn || !std::isfinite(measured_ms) || !(measured_ms > 0)) return;
+  // A rung change's own frame (new targets, everything redrawn) says nothing about the frames
+  // after it: neither the window nor the fast attack sees it.
+  if (last_change_global_ && frames_since_change_ == 0 && choice == current_) return;
   const double predicted = parts.total(online_.scale());
   if (options_.fast_attack_frames > 0 && predicted > 0 && std::isfinite(predicted)) {
-    recent_ratios_.push_back(measured_ms / predicted);
+    // Only a frame over the budget counts as slow: a frame well within it (a partial redraw of a
+    // few pixels, whose prediction is mostly the fixed overhead) threatens nothing, however far
+    // off the model is for it.
+    const bool over_budget = measured_ms > (1.0 - options_.headroom) * options_.target_ms;
+    recent_ratios_.push_back(over_budget ? measured_ms / predicted : 0.0);
     while (int(recent_ratios_.size()) > options_.fast_attack_frames) recent_ratios_.pop_front();
+  }
+  // The first frame drawn with a step up measured over the target: the model was wrong about it.
+  if (last_change_up_ && frames_since_change_ == judged_frame() && choice == current_ && measured_ms > options_.target_ms) {
+    undo_pending_ = true;
+    // The rung's own error, which the common scale does not have: its predictions carry it from now on.
+    const int rung = last_change_global_ ? global_rung(model_, choice.global) : -1;
+    if (rung >= 0 && predicted > 0 && std::isfinite(predicted) && measured_ms / predicted > rung_error_[std::size_t(rung)])
+      set_rung_error(rung, measured_ms / predicted);
   }
   if (online_.add(parts, measured_ms)) {
     measured_ms_ = measured_ms;
     ++frames_observed_;
   }
 }
+
+void Governor::set_rung_error(int rung, double error) {
+  const std::size_t r = std::size_t(rung);
+  rung_error_[r] = std::clamp(error, 1.0, OnlineEstimate::kMaxScale);
+  corrected_.globals[r].pixel_factor = model_.globals[r].pixel_factor * rung_error_[r];
+  corrected_.globals[r].fixed_ms = model_.globals[r].fixed_ms * rung_error_[r];
+}
+
+// A rung change's own frame is left out: it makes the new targets and redraws everything, which
+// happens once, not every frame at that rung; the frame after it is judged.
+int Governor::judged_frame() const { return last_change_global_ ? 1 : 0; }
 
 double Governor::fast_attack() const {
   if (options_.fast_attack_frames == 0 || int(recent_ratios_.size()) < options_.fast_attack_frames) return 1.0;
@@ -97,6 +145,8 @@ GovernorState Governor::state() const {
                   .measured_ms = measured_ms_,
                   .scale = scale(),
                   .fast_attack = fast_attack(),
+                  .step_ups_undone = step_ups_undone_,
+                  .step_up_wait = step_up_wait_,
                   .global_rung = std::max(0, global_rung(model_, current_.global)),
                   .global = current_.global,
                   .reduced = {}};

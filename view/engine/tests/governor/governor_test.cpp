@@ -98,6 +98,71 @@ TEST(Governor, OneOrTwoSlowFramesDoNotMoveTheChoice) {
   EXPECT_EQ(g.state().changes, 0u);
 }
 
+// A step up the model wrongly thinks fits costs one frame over the target, not the fast attack's
+// three, and is not tried again every few frames: the wait before the next one doubles.
+TEST(Governor, AStepUpWhoseFirstFrameMissesTheTargetIsUndoneAndTriedLater) {
+  Governor g = one_unit(2);
+  EXPECT_EQ(g.choose(load({1020})), at({{1, 0}}));  // 10.2 ms at full: lowered
+  EXPECT_EQ(g.choose(load({900})), at({{1, 0}}));   // 1 frame after the change: a step up waits
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));   // 2 frames: full quality predicted 9 ms
+  g.observe(load({900}), at({{0, 0}}), 12.0);        // ... and measured 12 ms, over the 10 ms target
+  EXPECT_EQ(g.choose(load({900})), at({{1, 0}}));   // undone at once
+  EXPECT_EQ(g.state().step_ups_undone, 1u);
+  EXPECT_EQ(g.state().step_up_wait, 4);
+  for (int f = 1; f < 4; ++f) EXPECT_EQ(g.choose(load({900})), at({{1, 0}})) << "frame " << f;
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));  // tried again after 4 frames
+  g.observe(load({900}), at({{0, 0}}), 9.0);        // this time it fits
+  for (int f = 1; f <= 4; ++f) EXPECT_EQ(g.choose(load({900})), at({{0, 0}})) << "frame " << f;
+  EXPECT_EQ(g.state().step_up_wait, 2);  // the step up held for its wait: the backoff is over
+  EXPECT_EQ(g.state().step_ups_undone, 1u);
+}
+
+// A global rung change makes new targets and redraws everything in its first frame, once; the
+// undo judges the frame after it.
+TEST(Governor, AStepUpToARungIsJudgedOnTheFrameAfterItsFirst) {
+  CostModel m = model({unit("U", 1, 1, {0.01})});
+  GlobalCost half;
+  half.level = {1, 0.5f};
+  half.pixel_factor = 0.25;
+  m.globals.push_back(half);
+  GovernorOptions o;
+  o.target_ms = 10;
+  o.min_frames_between_changes = 0;
+  Governor g(m, o);
+  const QualityChoice lowered = at({{0, 0}}, {1, 0.5f});
+  EXPECT_EQ(g.choose(load({1200})), lowered);  // 12 ms at full resolution: the rung (3 ms)
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));  // 9 ms at full resolution fits: back up
+  g.observe(load({900}), at({{0, 0}}), 40.0);  // its own frame made the targets: not judged
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
+  g.observe(load({900}), at({{0, 0}}), 9.0);  // the frame after: within the target
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
+  EXPECT_EQ(g.state().step_ups_undone, 0u);
+  // Down and up again; this time the frame after the rung change is over the target: undone.
+  EXPECT_EQ(g.choose(load({1200})), lowered);
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
+  g.observe(load({900}), at({{0, 0}}), 40.0);
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));
+  g.observe(load({900}), at({{0, 0}}), 11.0);
+  EXPECT_EQ(g.choose(load({900})), lowered);
+  EXPECT_EQ(g.state().step_ups_undone, 1u);
+  // The full-resolution rung measured 11 / 9 of its prediction, and its cost carries that error
+  // now: 900 px is 11 ms (over the 9.5 ms budget), 800 px 9.78 ms, 700 px 8.56 ms.
+  EXPECT_EQ(g.choose(load({900})), lowered);
+  EXPECT_EQ(g.choose(load({800})), lowered);
+  EXPECT_EQ(g.choose(load({700})), at({{0, 0}}));
+  EXPECT_NEAR(g.predicted_ms(), 7.0 * 11.0 / 9.0, 1e-9);
+}
+
+// Frames well within the budget never start a fast attack, however far off the model is for them
+// (a partial redraw of a few pixels is mostly fixed overhead).
+TEST(Governor, FramesWithinTheBudgetNeverStartAFastAttack) {
+  Governor g = one_unit(0);
+  // 3 frames at 3x the 1 ms predicted (too few for the window's fit, which stays at 1).
+  for (int f = 0; f < 3; ++f) g.observe(load({100}), at({{0, 0}}), 3.0);
+  EXPECT_EQ(g.state().fast_attack, 1.0);
+  EXPECT_EQ(g.choose(load({900})), at({{0, 0}}));  // 9 ms: full quality holds
+}
+
 TEST(Governor, StateNamesTheUnitsNotAtFullQuality) {
   GovernorOptions o;
   o.target_ms = 5;

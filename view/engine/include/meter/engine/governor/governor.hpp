@@ -12,9 +12,18 @@
 // is predicted over the target, at once (a frame over the target is worse than a change).
 // After the frame is drawn, observe(load, choice, measured_ms) feeds the online estimate.
 //
+// A step up whose first frame (for a global rung: the frame after the one that made its targets)
+// measures over the target is undone at the next frame (one frame over instead of the fast
+// attack's three), and the wait before the next step up doubles (up to
+// kMaxStepUpWait frames) until a step up holds for its wait: a level the model wrongly thinks
+// fits is not tried again every few frames. An undone step up to a global rung also teaches the
+// governor that rung's own error (measured / predicted: the common scale is one for every rung):
+// the rung's cost is multiplied by it from then on, and moved halfway back to 1 each time a step
+// up to the rung holds.
+//
 // Fast attack, slow release: the window's fit follows a load step once it holds half the window.
-// When the last fast_attack_frames drawn frames in a row each measured more than (1 + headroom)
-// x their prediction, the model is scaled by the least of those ratios until that stops, so the
+// When the last fast_attack_frames drawn frames in a row each measured over the budget and more
+// than (1 + headroom) x their prediction, the model is scaled by the least of those ratios until that stops, so the
 // frame after such a run is already chosen for the new load; the way back up is the window's.
 #pragma once
 
@@ -55,6 +64,8 @@ struct GovernorState {
   double measured_ms = 0.0;           // last accepted measurement (0 before any)
   ModelScale scale;                   // the online correction in use (window x fast attack)
   double fast_attack = 1.0;           // the fast-attack factor in that scale (1: not attacking)
+  std::uint64_t step_ups_undone = 0;  // step ups whose first frame missed the target
+  int step_up_wait = 0;               // drawn frames a step up waits for after a change now
   int global_rung = 0;                // index in CostModel::globals
   GlobalLevel global;
   std::vector<ReducedUnit> reduced;   // units not at full quality, in unit order
@@ -90,8 +101,14 @@ class Governor {
  private:
   CostModel model_;
   GovernorOptions options_;
+  // model_ with each global rung's cost times its own error (rung_error_, >= 1), learnt from the
+  // step ups to it that were undone; the choice is made on it.
+  CostModel corrected_;
+  std::vector<double> rung_error_;
   ModelScale scale() const;  // the window's fit x the fast-attack factor
   double fast_attack() const;
+  int judged_frame() const;  // frames after a step up whose measurement can undo it
+  void set_rung_error(int rung, double error);
 
   OnlineEstimate online_;
   std::deque<double> recent_ratios_;  // measured / predicted of the last drawn frames
@@ -101,6 +118,12 @@ class Governor {
   double measured_ms_ = 0.0;
   std::uint64_t frames_chosen_ = 0, frames_observed_ = 0, changes_ = 0;
   int frames_since_change_ = 0;
+  // Undoing a step up that missed the target, and the backoff before the next one.
+  static constexpr int kMaxStepUpWait = 256;
+  bool last_change_up_ = false, last_change_global_ = false, undo_pending_ = false;
+  QualityChoice before_step_up_;
+  std::uint64_t step_ups_undone_ = 0;
+  int step_up_wait_ = 0;
 };
 
 }  // namespace meter::engine::governor
