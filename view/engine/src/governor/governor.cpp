@@ -85,7 +85,9 @@ QualityChoice Governor::choose(const FrameLoad& load) {
 }
 
 void Governor::observe(const FrameLoad& load, const QualityChoice& choice, double measured_ms) {
-  const PredictionParts parts = predict_parts(model_, load, choice);  // validates the choice
+  // Against the model the choice was made on, rung errors included: the window and the fast
+  // attack learn what is left, and a rung's error is not counted twice.
+  const PredictionParts parts = predict_parts(corrected_, load, choice);  // validates the choice
   if (!load.drawn || !std::isfinite(measured_ms) || !(measured_ms > 0)) return;
   // A rung change's own frame (new targets, everything redrawn) says nothing about the frames
   // after it: neither the window nor the fast attack sees it.
@@ -104,8 +106,8 @@ void Governor::observe(const FrameLoad& load, const QualityChoice& choice, doubl
     undo_pending_ = true;
     // The rung's own error, which the common scale does not have: its predictions carry it from now on.
     const int rung = last_change_global_ ? global_rung(model_, choice.global) : -1;
-    if (rung >= 0 && predicted > 0 && std::isfinite(predicted) && measured_ms / predicted > rung_error_[std::size_t(rung)])
-      set_rung_error(rung, measured_ms / predicted);
+    if (rung >= 0 && predicted > 0 && std::isfinite(predicted) && measured_ms > predicted)
+      set_rung_error(rung, rung_error_[std::size_t(rung)] * measured_ms / predicted);
   }
   if (online_.add(parts, measured_ms)) {
     measured_ms_ = measured_ms;

@@ -151,6 +151,15 @@ TEST(Governor, AStepUpToARungIsJudgedOnTheFrameAfterItsFirst) {
   EXPECT_EQ(g.choose(load({800})), lowered);
   EXPECT_EQ(g.choose(load({700})), at({{0, 0}}));
   EXPECT_NEAR(g.predicted_ms(), 7.0 * 11.0 / 9.0, 1e-9);
+  // Frames at that rung measuring 7 x 11/9 ms: the step up held, so the rung's error moved halfway
+  // back to 1 (10/9) and the window learns what is left (1.1), against the model the choice is
+  // made on. The prediction is the measured time, the error counted once (counted twice, 7 x 11/9
+  // x 11/9 = 10.5 ms would be over the target and lower the quality).
+  for (int f = 0; f < 60; ++f) {
+    g.observe(load({700}), at({{0, 0}}), 7.0 * 11.0 / 9.0);
+    EXPECT_EQ(g.choose(load({700})), at({{0, 0}})) << "frame " << f;
+  }
+  EXPECT_NEAR(g.predicted_ms(), 7.0 * 11.0 / 9.0, 0.01);
 }
 
 // Frames well within the budget never start a fast attack, however far off the model is for them

@@ -19,7 +19,8 @@
 // fits is not tried again every few frames. An undone step up to a global rung also teaches the
 // governor that rung's own error (measured / predicted: the common scale is one for every rung):
 // the rung's cost is multiplied by it from then on, and moved halfway back to 1 each time a step
-// up to the rung holds.
+// up to the rung holds. observe() compares each frame with that corrected model, so the window
+// and the fast attack learn only what is left.
 //
 // Fast attack, slow release: the window's fit follows a load step once it holds half the window.
 // When the last fast_attack_frames drawn frames in a row each measured over the budget and more
