@@ -453,10 +453,9 @@ TEST(Link, UnixSocketIsPrivateAndNotStolen) {
   // A stale socket file (publisher crashed) is replaced; a regular file is not.
   {
     int fd = ::socket(AF_UNIX, SOCK_SEQPACKET, 0);
-    sockaddr_un addr{};
-    addr.sun_family = AF_UNIX;
-    std::strncpy(addr.sun_path, ep.path.c_str(), sizeof addr.sun_path - 1);
-    ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+    const detail::UnixAddress addr(ep.path);
+    ASSERT_EQ(addr.error(), 0);
+    ASSERT_EQ(::bind(fd, addr.get(), addr.size()), 0);
     ::close(fd);  // bound but never listening: what a crash leaves behind
     EXPECT_NO_THROW(Publisher replaced(ep, fast_options()));
   }

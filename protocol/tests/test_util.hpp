@@ -16,6 +16,7 @@
 
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/wire.hpp"
+#include "transport/unix_address.hpp"
 
 namespace meter::protocol::test {
 
@@ -100,10 +101,8 @@ class RawUnixClient {
  public:
   explicit RawUnixClient(const std::string& path) {
     fd_ = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
-    sockaddr_un addr{};
-    addr.sun_family = AF_UNIX;
-    std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
-    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+    const detail::UnixAddress addr(path);  // the product's address, any path length
+    connected_ = addr.error() == 0 && ::connect(fd_, addr.get(), addr.size()) == 0;
   }
   ~RawUnixClient() { ::close(fd_); }
   bool connected() const { return connected_; }

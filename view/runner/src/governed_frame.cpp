@@ -174,7 +174,7 @@ void GovernedFrames::summary(std::ostream& log) const {
   if (governor_) {
     const auto st = governor_->state();
     log << "; governor: " << st.changes << " quality changes (" << st.step_ups_undone
-        << " step ups undone at their first frame), at exit MSAA " << st.global.msaa << " scale " << st.global.scale
+        << " step ups undone), at exit MSAA " << st.global.msaa << " scale " << st.global.scale
         << ", " << (st.reduced.empty() ? std::string("every unit at full quality") : gov::reduced_summary(st));
   } else {
     log << "; governor off";

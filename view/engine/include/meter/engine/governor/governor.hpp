@@ -24,8 +24,9 @@
 //
 // Fast attack, slow release: the window's fit follows a load step once it holds half the window.
 // When the last fast_attack_frames drawn frames in a row each measured over the budget and more
-// than (1 + headroom) x their prediction, the model is scaled by the least of those ratios until that stops, so the
-// frame after such a run is already chosen for the new load; the way back up is the window's.
+// than (1 + headroom) x their prediction, the model is scaled by the least of those ratios until
+// that stops, so the frame after such a run is already chosen for the new load; the way back up
+// is the window's.
 #pragma once
 
 #include <cstdint>
@@ -65,7 +66,7 @@ struct GovernorState {
   double measured_ms = 0.0;           // last accepted measurement (0 before any)
   ModelScale scale;                   // the online correction in use (window x fast attack)
   double fast_attack = 1.0;           // the fast-attack factor in that scale (1: not attacking)
-  std::uint64_t step_ups_undone = 0;  // step ups whose first frame missed the target
+  std::uint64_t step_ups_undone = 0;  // step ups whose judged frame missed the target
   int step_up_wait = 0;               // drawn frames a step up waits for after a change now
   int global_rung = 0;                // index in CostModel::globals
   GlobalLevel global;
@@ -100,17 +101,17 @@ class Governor {
   GovernorState state() const;
 
  private:
+  ModelScale scale() const;  // the window's fit x the fast-attack factor
+  double fast_attack() const;
+  int judged_frame() const;  // frames after a step up whose measurement can undo it
+  void set_rung_error(int rung, double error);
+
   CostModel model_;
   GovernorOptions options_;
   // model_ with each global rung's cost times its own error (rung_error_, >= 1), learnt from the
   // step ups to it that were undone; the choice is made on it.
   CostModel corrected_;
   std::vector<double> rung_error_;
-  ModelScale scale() const;  // the window's fit x the fast-attack factor
-  double fast_attack() const;
-  int judged_frame() const;  // frames after a step up whose measurement can undo it
-  void set_rung_error(int rung, double error);
-
   OnlineEstimate online_;
   std::deque<double> recent_ratios_;  // measured / predicted of the last drawn frames
   QualityChoice current_;
