@@ -143,6 +143,7 @@ FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& cho
     // which then draws what the change damages.
     last_load_ = governor::FrameLoad{};
     last_load_.unit_pixels.assign(units_.ladders.size(), 0.0);
+    last_load_.read_back = read_back;
     std::optional<governor::QualityChoice> c;
     if (choose) c = choose(last_load_), asked = true;
     if (c) set_quality(*c);
@@ -151,7 +152,7 @@ FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& cho
   auto t1 = Clock::now();
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
   FrameState now;
-  const FramePlan plan = plan_at_quality(force, now, choose && !asked ? &choose : nullptr);
+  const FramePlan plan = plan_at_quality(force, read_back, now, choose && !asked ? &choose : nullptr);
   t.plan_ms = ms_since(t1);
   dirty_ = false;
   if (!plan.draw) {

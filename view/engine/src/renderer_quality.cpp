@@ -2,6 +2,7 @@
 // see renderer.hpp and docs/engine.md, "Quality levels".
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "gl/scene_resolve.hpp"
 #include "gl/text_drawing.hpp"
@@ -14,22 +15,36 @@ void Renderer::make_targets() {
   const float scale = quality_.global.scale;
   draw_width_ = std::max(1, static_cast<int>(std::lround(double(width_) * double(scale))));
   draw_height_ = std::max(1, static_cast<int>(std::lround(double(height_) * double(scale))));
+  clean_.clear();  // the integrity monitor's resolved boxes are of the target being left
+  // The rung being left keeps its targets and what they hold.
+  if (target_) {
+    rung_targets_.push_back({targets_level_,
+                             RungTargets{std::move(target_), std::move(layer_), std::move(output_), std::move(drawn_),
+                                         std::move(layer_drawn_), std::move(unresolved_)}});
+  }
+  targets_level_ = quality_.global;
+  const auto kept = std::find_if(rung_targets_.begin(), rung_targets_.end(),
+                                 [&](const auto& r) { return r.first == quality_.global; });
+  if (kept != rung_targets_.end()) {  // visited before: its frame and static layer are what they were
+    RungTargets& r = kept->second;
+    target_ = std::move(r.target), layer_ = std::move(r.layer), output_ = std::move(r.output);
+    drawn_ = std::move(r.drawn), layer_drawn_ = std::move(r.layer_drawn), unresolved_ = std::move(r.unresolved);
+    rung_targets_.erase(kept);
+    return;
+  }
   platform::RenderTargetOptions rt;
   rt.width = draw_width_;
   rt.height = draw_height_;
   rt.samples = quality_.global.msaa;
   rt.depth = platform::DepthFormat::Depth24;
   rt.resolve = scene_resolve_filter(scene_.config);
-  target_.reset();
-  layer_.reset();
-  output_.reset();
   target_ = std::make_unique<platform::RenderTarget>(backend_, rt);
   if (draw_width_ != width_ || draw_height_ != height_) {
     platform::RenderTargetOptions out;
     out.width = width_, out.height = height_, out.samples = 1, out.depth = platform::DepthFormat::None;
     output_ = std::make_unique<platform::RenderTarget>(backend_, out);
   }
-  // Nothing drawn into the new targets yet: the next frame is a full one, the layer is rebuilt.
+  // Nothing drawn into the new targets yet: the next frame is a full one, the layer is built.
   drawn_ = DrawnFrame{};
   layer_drawn_ = DrawnFrame{};
   unresolved_ = {platform::PixelRegion{0, 0, draw_width_, draw_height_}};
@@ -47,6 +62,50 @@ void Renderer::set_quality(const governor::QualityChoice& choice) {
   dirty_ = true;
 }
 
+void Renderer::forget_drawn(bool layers) {
+  drawn_ = DrawnFrame{};
+  if (layers) layer_drawn_ = DrawnFrame{};
+  for (auto& [level, r] : rung_targets_) {
+    r.drawn = DrawnFrame{};
+    if (layers) r.layer_drawn = DrawnFrame{};
+  }
+  global_changed_ = true;
+}
+
+int Renderer::warm_up(std::span<const governor::QualityChoice> choices) {
+  if (choices.empty()) return 0;
+  const governor::QualityChoice quality = quality_;
+  const RendererStats stats = stats_;
+  platform::Image image = image_;
+  std::vector<platform::PixelRegion> watched = std::exchange(watched_, {});
+  const std::optional<FaultInjection> fault = std::exchange(fault_, std::nullopt);
+  const bool redraw_all = redraw_all_;
+  // Each frame unforced, as the governor's frames are: the first at each rung makes its targets (or
+  // forgets what they hold) and builds its static layer; the others redraw what the levels damage.
+  forget_drawn(true);
+  int frames = 0;
+  for (const governor::QualityChoice& c : choices) {
+    set_quality(c);
+    dirty_ = true;
+    if (render(false, true).drawn) ++frames;
+  }
+  set_quality(quality);
+  // Every rung's targets are kept (made once, here) but the frames they hold are forgotten, so the
+  // next frame at any rung is a full one, as on new targets. Their static layers are kept with what
+  // they hold (each rung's last warm-up frame drew full quality): the plan reuses one whose
+  // content is still the frame's and rebuilds any other.
+  forget_drawn(false);
+  dirty_ = true;
+  redraw_all_ = redraw_all;
+  stats_ = stats;
+  image_ = std::move(image);
+  watched_ = std::move(watched);
+  fault_ = fault;
+  clean_.clear();
+  written_ = {platform::PixelRegion{0, 0, width_, height_}};
+  return frames;
+}
+
 PlanSettings Renderer::plan_settings(bool force) const {
   PlanSettings settings;
   settings.width = draw_width_, settings.height = draw_height_, settings.force = force;
@@ -55,7 +114,7 @@ PlanSettings Renderer::plan_settings(bool force) const {
   return settings;
 }
 
-FramePlan Renderer::plan_at_quality(bool force, FrameState& now, const LevelChooser* choose) {
+FramePlan Renderer::plan_at_quality(bool force, bool read_back, FrameState& now, const LevelChooser* choose) {
   for (int round = 0;; ++round) {
     if (global_changed_) {
       make_targets();
@@ -77,6 +136,7 @@ FramePlan Renderer::plan_at_quality(bool force, FrameState& now, const LevelChoo
     apply_levels(scene_, units_, quality_, now);
     FramePlan plan = plan_frame(scene_, classes_, now, drawn_, layer_drawn_, plan_settings(force));
     last_load_ = frame_load(scene_, classes_, units_, now, plan, draw_width_, draw_height_, quality_.global.scale);
+    last_load_.read_back = read_back;
     // The chooser is asked once per frame; its choice is planned, not asked about again.
     if (round > 0 || !choose || !*choose) return plan;
     const std::optional<governor::QualityChoice> c = (*choose)(last_load_);

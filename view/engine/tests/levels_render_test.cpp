@@ -35,10 +35,10 @@ const Scene& cluster() {
 }
 
 // A moment of a drive: needles off their rest, a telltale lit.
-BindingOutputs driving(const Scene& scene) {
+BindingOutputs driving(const Scene& scene, double speed = 87) {
   BindingEvaluator ev(scene);
   protocol::SignalTable values;
-  const std::map<std::string, double> v = {{"Vehicle.Speed", 87}, {"Vehicle.Powertrain.CombustionEngine.Speed", 3100},
+  const std::map<std::string, double> v = {{"Vehicle.Speed", speed}, {"Vehicle.Powertrain.CombustionEngine.Speed", 3100},
                                            {"Vehicle.Powertrain.FuelSystem.RelativeLevel", 55},
                                            {"Cluster.Telltale.TurnLeft", 1}};
   for (const auto& [name, x] : v)
@@ -192,13 +192,34 @@ TEST_P(LevelsRender, GlobalRungKeepsTheOutputSize) {
   const auto regions = a.read_regions(std::span<const platform::PixelRegion>(&corner, 1));
   ASSERT_EQ(regions.size(), 1u);
   EXPECT_EQ(regions[0].width, 8);
+  // Back at full quality: the rung's targets were kept with the frame drawn there, which is this
+  // frame (nothing changed since), so nothing is drawn and the image is that frame.
   a.set_quality(governor::QualityChoice{});
-  EXPECT_TRUE(a.render(false, true).drawn);
+  EXPECT_FALSE(a.render(false, true).drawn) << "a rung visited again redrew a frame its targets hold";
   EXPECT_EQ(differing_pixels(a.last_image(), never.last_image()), 0u) << "back at full quality the frame differs";
-  // Down again: the half-height text drawing kept from the first visit draws the same frame.
   a.set_quality(low);
-  EXPECT_TRUE(a.render(false, true).drawn);
-  EXPECT_EQ(differing_pixels(a.last_image(), first_low), 0u) << "the rung visited again draws another frame";
+  EXPECT_FALSE(a.render(false, true).drawn);
+  EXPECT_EQ(differing_pixels(a.last_image(), first_low), 0u) << "the rung visited again shows another frame";
+  // The speed moves while at the low rung: only the damage is redrawn there, and back at full
+  // quality only what differs from the frame that rung last drew; each image is a fresh
+  // renderer's full frame at that rung.
+  const BindingOutputs faster = driving(scene, 131);
+  a.apply(faster);
+  const FrameTiming low_t = a.render(false, true);
+  EXPECT_TRUE(low_t.drawn);
+  EXPECT_LT(low_t.redrawn_fraction, 1.0);
+  Renderer fresh_low(*backend_, scene, options());
+  fresh_low.set_quality(low);
+  fresh_low.apply(faster);
+  fresh_low.render(false, true);
+  EXPECT_EQ(differing_pixels(a.last_image(), fresh_low.last_image()), 0u) << "partial redraw at a kept rung differs";
+  a.set_quality(governor::QualityChoice{});
+  const FrameTiming full_t = a.render(false, true);
+  EXPECT_TRUE(full_t.drawn);
+  EXPECT_LT(full_t.redrawn_fraction, 1.0);
+  never.apply(faster);
+  never.render(false, true);
+  EXPECT_EQ(differing_pixels(a.last_image(), never.last_image()), 0u) << "back at full quality after a change, the frame differs";
 }
 
 TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
@@ -220,6 +241,7 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
   EXPECT_TRUE(first.drawn);
   EXPECT_TRUE(first.full_frame);
   EXPECT_DOUBLE_EQ(first.redrawn_pixels, double(kWidth) * kHeight);
+  EXPECT_TRUE(first.read_back) << "a frame rendered with read = true is a read-back frame for the governor";
   ASSERT_EQ(first.unit_pixels.size(), a.draw_units().size());
   double covered = 0;
   for (double p : first.unit_pixels) {
@@ -237,6 +259,7 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
   EXPECT_FALSE(a.render(false, false, chooser).drawn);
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_FALSE(seen[1].drawn);
+  EXPECT_FALSE(seen[1].read_back);
   // An idle frame whose chooser raises the quality draws what that changes, asking once.
   auto back_to_full = [&](const governor::FrameLoad& load) -> std::optional<governor::QualityChoice> {
     seen.push_back(load);
@@ -248,6 +271,48 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
   full.apply(outputs);
   full.render(false, true);
   EXPECT_EQ(differing_pixels(a.last_image(), full.last_image()), 0u) << "raised on an idle frame, the image is not full quality";
+}
+
+// The governor's warm-up at load: every level and rung drawn once, then nothing of it is left: the
+// quality, the stats and the last image are as before, and the next frame (a full one) is bit for
+// bit the frame of a renderer that never warmed up, both before the first frame and mid-drive.
+TEST_P(LevelsRender, WarmUpDrawsEveryLevelAndLeavesNoTrace) {
+  const Scene& scene = cluster();
+  const BindingOutputs outputs = driving(scene);
+  Renderer a(*backend_, scene, options()), never(*backend_, scene, options());
+  std::vector<governor::QualityChoice> choices;
+  for (const governor::GlobalLevel g : {governor::GlobalLevel{4, 1.0f}, governor::GlobalLevel{1, 0.5f}}) {
+    for (int k = 0; k < 3; ++k) {
+      auto c = every_unit(a.draw_units(), [k](const governor::UnitLadder& l) {
+        return governor::UnitLevel{std::min(k, int(l.shadings.size()) - 1), std::min(k, int(l.lod_errors.size()) - 1)};
+      });
+      c.global = g;
+      choices.push_back(c);
+    }
+  }
+  const governor::QualityChoice initial = a.quality();
+  EXPECT_EQ(a.warm_up(choices), 6);
+  EXPECT_EQ(a.quality(), initial);
+  EXPECT_EQ(a.stats().frames, 0u) << "the warm-up's frames were counted";
+  EXPECT_TRUE(a.last_image().rgba.empty());
+  a.apply(outputs), never.apply(outputs);
+  const FrameTiming t = a.render(false, true);
+  never.render(false, true);
+  EXPECT_TRUE(t.drawn);
+  EXPECT_DOUBLE_EQ(t.redrawn_fraction, 1.0) << "the frame after a warm-up must be a full one";
+  EXPECT_EQ(differing_pixels(a.last_image(), never.last_image()), 0u) << "warmed up before the first frame, it differs";
+  // Mid-drive, with the partial-redraw and static-layer state of earlier frames.
+  const governor::QualityChoice held = a.quality();
+  const RendererStats before = a.stats();
+  const platform::Image shown = a.last_image();
+  EXPECT_EQ(a.warm_up(choices), 6);
+  EXPECT_EQ(a.quality(), held);
+  EXPECT_EQ(a.stats().drawn, before.drawn);
+  EXPECT_EQ(differing_pixels(a.last_image(), shown), 0u) << "last_image() is a warm-up frame";
+  EXPECT_TRUE(a.render(false, true).drawn) << "the frame after a warm-up was skipped: the target holds a warm-up frame";
+  never.render(true, true);
+  EXPECT_EQ(differing_pixels(a.last_image(), never.last_image()), 0u) << "warmed up mid-drive, the next frame differs";
+  EXPECT_EQ(a.warm_up({}), 0);
 }
 
 TEST_P(LevelsRender, BadChoicesAreRefusedNamingTheUnitAndLevel) {

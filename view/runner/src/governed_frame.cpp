@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "meter/engine/governor/cost_file.hpp"
+#include "meter/engine/governor/warm_up_choices.hpp"
 #include "meter/view/view_error.hpp"
 
 namespace meter::view {
@@ -97,17 +98,27 @@ GovernedFrames::GovernedFrames(engine::Renderer& renderer, const ViewOptions& op
   governor_.emplace(std::move(model), go);
   log << "meter-view: frame-rate governor on: target " << options.target_ms << " ms, " << renderer.draw_units().size()
       << " draw units, costs " << path << "\n";
+  // Every level the governor may take drawn once now, so none costs its first-use work (program
+  // compiles, the driver's shader variants, a rung's targets) on a timed frame.
+  const auto w0 = Clock::now();
+  const int frames = renderer.warm_up(gov::warm_up_choices(governor_->model()));
+  log << "meter-view: governor warm-up: " << frames << " frames at its levels in "
+      << ms_text(std::chrono::duration<double, std::milli>(Clock::now() - w0).count()) << " ms\n";
 }
 
 engine::FrameTiming GovernedFrames::render(bool force, bool read) {
   const std::uint64_t frame = frame_++;
   const auto t0 = Clock::now();
+  // The first drawn frame is the start-up frame: it makes the targets and the static layer once,
+  // which no level makes fit the target. It is drawn at the quality the run starts with and not
+  // shown to the governor: a rung lowered for it would cost a second full frame to come back.
+  const bool start_up = drawn_ == 0;
   const engine::FrameTiming timing =
-      governor_ ? renderer_.render(force, read,
-                                   [this](const gov::FrameLoad& load) -> std::optional<gov::QualityChoice> {
-                                     return governor_->choose(load);
-                                   })
-                : renderer_.render(force, read);
+      governor_ && !start_up ? renderer_.render(force, read,
+                                                [this](const gov::FrameLoad& load) -> std::optional<gov::QualityChoice> {
+                                                  return governor_->choose(load);
+                                                })
+                             : renderer_.render(force, read);
   if (inject_ && timing.drawn && frame >= inject_->first && frame <= inject_->last) {
     const float s = renderer_.quality().global.scale;
     const double pixels = renderer_.last_load().redrawn_pixels * double(s) * double(s);
@@ -120,7 +131,7 @@ engine::FrameTiming GovernedFrames::render(bool force, bool read) {
   ++drawn_;
   if (interval_ != Clock::duration::zero()) window_ms_.push_back(ms);
   if (target_ms_ > 0 && ms > target_ms_) ++over_, ++window_over_;
-  if (governor_) {
+  if (governor_ && !start_up) {
     governor_->observe(renderer_.last_load(), renderer_.quality(), ms);
     const gov::QualityChoice& now = governor_->current();
     cells_.predicted_ms = governor_->predicted_ms(), cells_.measured_ms = ms;
@@ -157,9 +168,11 @@ void GovernedFrames::print_if_due(Clock::time_point now, std::ostream& log) {
     const auto st = governor_->state();
     log << "; last frame predicted " << ms_text(cells_.predicted_ms) << " measured " << ms_text(cells_.measured_ms)
         << " ms; model scale pixel " << ms_text(st.scale.pixel) << " fixed " << ms_text(st.scale.fixed)
-        << (st.fast_attack > 1.0 ? " (fast attack x" + ms_text(st.fast_attack) + ")" : std::string()) << "; MSAA " << st.global.msaa
+        << (st.fast_attack > 1.0 ? " (fast attack x" + ms_text(st.fast_attack) + ")" : std::string())
+        << (st.spread > 1.0 ? "; spread x" + ms_text(st.spread) : std::string()) << "; MSAA " << st.global.msaa
         << " scale " << st.global.scale << "; " << st.reduced.size() << " units below full quality"
-        << (st.reduced.empty() ? "" : ": " + cells_.reduced);
+        << (st.reduced.empty() ? "" : ": " + cells_.reduced)
+        << (st.readback_reserved ? "; readback " + ms_text(st.readback_ms) + " ms reserved" : std::string());
   }
   log << "\n";
   window_ms_.clear();

@@ -39,6 +39,20 @@ bool OnlineEstimate::add(const PredictionParts& predicted, double measured_ms) {
   return true;
 }
 
+double OnlineEstimate::upper_ratio(double share, double min_predicted_ms) const {
+  std::vector<double> ratios;
+  ratios.reserve(frames_.size());
+  for (const Frame& f : frames_) {
+    const double fitted = scale_.pixel * f.pixel_ms + scale_.fixed * f.fixed_ms;
+    if (fitted >= min_predicted_ms && fitted > 0) ratios.push_back(f.measured_ms / fitted);
+  }
+  if (int(ratios.size()) < kMinSpreadPoints || !(share >= 0 && share < 1)) return 1.0;
+  const auto k = static_cast<std::ptrdiff_t>(std::lround((1.0 - share) * double(ratios.size() - 1)));
+  std::nth_element(ratios.begin(), ratios.begin() + k, ratios.end());
+  const double q = ratios[std::size_t(k)];
+  return std::isfinite(q) ? std::max(1.0, q) : 1.0;
+}
+
 void OnlineEstimate::reset() {
   frames_.clear();
   scale_ = {};

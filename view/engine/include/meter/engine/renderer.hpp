@@ -182,6 +182,15 @@ class Renderer {
   // scale < 1 is upscaled with a linear blit when it is resolved.
   void set_quality(const governor::QualityChoice& choice);
   const governor::QualityChoice& quality() const { return quality_; }
+  // Draws and reads back one full frame at each of `choices` (checked as set_quality checks them)
+  // and then puts everything back as it was: the quality, stats(), last_image(), the pending
+  // integrity boxes and the injected fault (off while warming up); the targets are made anew, so
+  // the next frame is drawn in full as after construction and looks as it would have without
+  // the call (each rung keeps its static layer, which the plan reuses only where it still holds
+  // the frame's static content). What a level needs the first time it is drawn (its programs compiled, the driver's
+  // shader variants for each MSAA rung, a rung's targets and text sizes) is so made before any
+  // frame is timed, not on the first frame that uses it. Returns the frames drawn.
+  int warm_up(std::span<const governor::QualityChoice> choices);
   // As render(force, read), with `choose` asked once per frame between planning and drawing (see
   // LevelChooser). A frame with nothing to redraw asks it too, with an empty load (drawn = false),
   // so a choice made while the display is idle is drawn at once.
@@ -202,11 +211,15 @@ class Renderer {
   void resolve_watched(const FramePlan& plan);
   void resolve_pending();
   // Quality levels (renderer_quality.cpp): the targets for quality_.global (drawn at
-  // draw_width_ x draw_height_; output_ holds the upscaled frame when that is smaller than the output).
+  // draw_width_ x draw_height_; output_ holds the upscaled frame when that is smaller than the output),
+  // made, or taken back from rung_targets_.
   void make_targets();
+  // What every rung's targets hold forgotten: the next frame at each is drawn in full (with
+  // `layers`, its static layer rebuilt too).
+  void forget_drawn(bool layers);
   // The frame evaluated at the current quality and planned; with `choose`, re-planned once after
   // the chooser changed the quality.
-  FramePlan plan_at_quality(bool force, FrameState& now, const LevelChooser* choose);
+  FramePlan plan_at_quality(bool force, bool read_back, FrameState& now, const LevelChooser* choose);
   PlanSettings plan_settings(bool force) const;
   platform::PixelRegion to_output(const platform::PixelRegion& r) const;
   platform::PixelRegion to_drawn(const platform::PixelRegion& r) const;
@@ -248,6 +261,16 @@ class Renderer {
   bool global_changed_ = false;                 // targets to recreate at the next render()
   int draw_width_ = 0, draw_height_ = 0;        // target_'s size: the output size times the scale
   std::unique_ptr<platform::RenderTarget> output_;  // scale < 1: the frame upscaled to the output size
+  // The targets of the rungs visited before, with what they hold: a rung change back redraws what
+  // differs from the frame drawn there last (the static layer too) instead of making new targets
+  // and building the layer again. Memory: one set of targets per rung visited.
+  struct RungTargets {
+    std::unique_ptr<platform::RenderTarget> target, layer, output;
+    DrawnFrame drawn, layer_drawn;
+    std::vector<platform::PixelRegion> unresolved;
+  };
+  std::vector<std::pair<governor::GlobalLevel, RungTargets>> rung_targets_;
+  governor::GlobalLevel targets_level_;          // the rung target_ was made for
   std::uint64_t draws_ = 0;                      // counts what was drawn into the target
   std::vector<platform::PixelRegion> watched_;  // see resolve_with_frame()
   std::vector<platform::PixelRegion> clean_;    // resolved after draw number clean_after_

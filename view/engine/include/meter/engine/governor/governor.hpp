@@ -12,6 +12,13 @@
 // is predicted over the target, at once (a frame over the target is worse than a change).
 // After the frame is drawn, observe(load, choice, measured_ms) feeds the online estimate.
 //
+// A step up that held its judged frame but is reversed by a step down within `window` drawn frames
+// (the window's fit drifted back: each rung and level has its own error, one scale fits them in
+// turn) did not last either: the wait before the next step up doubles from 2 x
+// min_frames_between_changes (up to kMaxStepUpWait) at each such reversal, and ends once a step up
+// has stayed for a window. A choice that would flap between two levels every few dozen frames
+// settles instead (the picture does not flicker).
+//
 // A step up whose first frame (for a global rung: the frame after the one that made its targets)
 // measures over the target is undone at the next frame (one frame over instead of the fast
 // attack's three), and the wait before the next step up doubles (up to
@@ -21,6 +28,22 @@
 // the rung's cost is multiplied by it from then on, and moved halfway back to 1 each time a step
 // up to the rung holds. observe() compares each frame with that corrected model, so the window
 // and the fast attack learn only what is left.
+//
+// A frame that is also read back whole (FrameLoad::read_back: a dump) costs the readback on top of
+// its drawing, the same at every quality. The governor learns that cost from the read-back frames
+// (measured minus the corrected prediction, >= 0; the first sample, then halfway to each new one)
+// and, while frames are being read back (one within the last `window` drawn frames, or this one),
+// reserves it in every frame's prediction and both budgets (capped at half the target): the
+// quality then holds on the dumped frames too, and a dump shows what its neighbours show instead of
+// a dip. The window and the fast attack see a read-back frame's measurement less the readback.
+//
+// The spread. The model predicts a frame's mean time; on a shared machine single frames come out
+// above it by a few to tens of percent (other processes, the rasterizer threads' scheduling), and a
+// choice predicted just under the target misses it on every such frame. So the target is divided
+// by the spread: the (1 - miss_share) quantile of measured / fitted over the window's frames that
+// matter (fitted at least half the target; at least 20 of them, else 1), between 1 and
+// kMaxSpread: a choice within target / spread misses the target on about miss_share of frames.
+// Both the trigger and the budget are so divided.
 //
 // Fast attack, slow release: the window's fit follows a load step once it holds half the window.
 // When the last fast_attack_frames drawn frames in a row each measured over the budget and more
@@ -47,6 +70,8 @@ struct GovernorOptions {
   int min_frames_between_changes = 8;  // >= 0 (0: may change every frame)
   int window = 60;                     // online estimate window, frames (>= OnlineEstimate::kMinPoints)
   int fast_attack_frames = 3;          // >= 0 (0: off; the window alone moves the model)
+  double miss_share = 0.02;            // in [0, 0.5): the share of frames allowed over the target
+                                       // by the frame-to-frame spread (0: no spread margin)
 };
 
 struct ReducedUnit {
@@ -66,8 +91,11 @@ struct GovernorState {
   double measured_ms = 0.0;           // last accepted measurement (0 before any)
   ModelScale scale;                   // the online correction in use (window x fast attack)
   double fast_attack = 1.0;           // the fast-attack factor in that scale (1: not attacking)
+  double spread = 1.0;                // the target is divided by it (see above)
   std::uint64_t step_ups_undone = 0;  // step ups whose judged frame missed the target
   int step_up_wait = 0;               // drawn frames a step up waits for after a change now
+  double readback_ms = 0.0;           // the learnt readback cost (0 before a read-back frame)
+  bool readback_reserved = false;     // reserved in the last choice (frames are being read back)
   int global_rung = 0;                // index in CostModel::globals
   GlobalLevel global;
   std::vector<ReducedUnit> reduced;   // units not at full quality, in unit order
@@ -103,8 +131,11 @@ class Governor {
  private:
   ModelScale scale() const;  // the window's fit x the fast-attack factor
   double fast_attack() const;
+  double spread() const;
+  static constexpr double kMaxSpread = 1.5;
   int judged_frame() const;  // frames after a step up whose measurement can undo it
   void set_rung_error(int rung, double error);
+  double readback_reserve(const FrameLoad& load) const;  // what choose() adds for the readback
 
   CostModel model_;
   GovernorOptions options_;
@@ -126,6 +157,12 @@ class Governor {
   QualityChoice before_step_up_;
   std::uint64_t step_ups_undone_ = 0;
   int step_up_wait_ = 0;
+  // A step up reversed by a step down within `window` frames: the wait before the next one.
+  int frames_since_step_up_ = 1 << 30, late_backoff_ = 0;
+  // The readback of dumped frames.
+  bool readback_known_ = false, readback_reserved_ = false;
+  double readback_ms_ = 0.0;
+  int frames_since_readback_ = 1 << 30;
 };
 
 }  // namespace meter::engine::governor

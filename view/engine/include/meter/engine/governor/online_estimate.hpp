@@ -30,6 +30,12 @@ class OnlineEstimate {
   void reset();
 
   ModelScale scale() const { return scale_; }
+  // How far over the fit the slow frames of the window come: of the frames whose fitted
+  // prediction is at least min_predicted_ms, the (1 - share) quantile of measured / fitted
+  // prediction (share 0.02: 98 % of those frames measured at most that many times their fit).
+  // 1 when fewer than kMinSpreadPoints frames count; never below 1.
+  static constexpr int kMinSpreadPoints = 20;
+  double upper_ratio(double share, double min_predicted_ms) const;
   int points() const { return int(frames_.size()); }
   int window() const { return window_; }
   int rejected_last_fit() const { return rejected_; }  // frames the last fit dropped as outliers

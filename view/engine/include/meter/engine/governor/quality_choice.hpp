@@ -50,6 +50,8 @@ struct UnitLadder {
 struct FrameLoad {
   bool drawn = false;                // false: nothing can have changed, the frame is skipped
   bool full_frame = false;           // a full redraw (not limited to damaged regions)
+  bool read_back = false;            // the frame is also resolved and read back whole (a dump):
+                                     // a cost of its own, the same at every quality
   double redrawn_pixels = 0.0;       // output pixels inside this frame's damaged regions
   std::vector<double> unit_pixels;   // per draw unit: its screen pixels inside those regions at
                                      // scale 1 (0 = not drawn this frame)
