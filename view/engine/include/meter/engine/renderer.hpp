@@ -177,7 +177,8 @@ class Renderer {
   // when an index is out of its ladder, a safety unit is moved, units has neither 0 nor
   // draw_units().size() entries, msaa is not 1, 2 or 4, or scale is not in (0, 1]. Damages exactly
   // what changes: the boxes of the units whose level changed (a static-layer member's change
-  // rebuilds the layer); a GlobalLevel change recreates the targets and draws a full frame. The
+  // rebuilds the layer); a GlobalLevel change moves to that rung's targets (made and drawn in full
+  // the first time; kept with their frame and layer after, so a return redraws what differs). The
   // output (last_image(), read(), read_regions()) keeps width() x height(): a frame drawn at a
   // scale < 1 is upscaled with a linear blit when it is resolved.
   void set_quality(const governor::QualityChoice& choice);
