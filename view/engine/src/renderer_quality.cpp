@@ -90,11 +90,10 @@ int Renderer::warm_up(std::span<const governor::QualityChoice> choices) {
     if (render(false, true).drawn) ++frames;
   }
   set_quality(quality);
-  // Every rung's targets are kept (made once, here) but the frames they hold are forgotten, so the
-  // next frame at any rung is a full one, as on new targets. Their static layers are kept with what
-  // they hold (each rung's last warm-up frame drew full quality): the plan reuses one whose
-  // content is still the frame's and rebuilds any other.
-  forget_drawn(false);
+  // Every rung's targets are kept (made once, here) with what they hold, as after any frame: each
+  // rung's last warm-up frame drew the current outputs at full quality, so a frame at a rung
+  // redraws only what differs from that (nothing, at full quality with unchanged outputs).
+  global_changed_ = true;
   dirty_ = true;
   redraw_all_ = redraw_all;
   stats_ = stats;

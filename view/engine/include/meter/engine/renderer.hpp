@@ -183,12 +183,11 @@ class Renderer {
   // scale < 1 is upscaled with a linear blit when it is resolved.
   void set_quality(const governor::QualityChoice& choice);
   const governor::QualityChoice& quality() const { return quality_; }
-  // Draws and reads back one full frame at each of `choices` (checked as set_quality checks them)
-  // and then puts everything back as it was: the quality, stats(), last_image(), the pending
-  // integrity boxes and the injected fault (off while warming up); the targets are made anew, so
-  // the next frame is drawn in full as after construction and looks as it would have without
-  // the call (each rung keeps its static layer, which the plan reuses only where it still holds
-  // the frame's static content). What a level needs the first time it is drawn (its programs compiled, the driver's
+  // Draws and reads back one frame at each of `choices` (checked as set_quality checks them; the
+  // first at each rung in full, its static layer built) and then puts back what was: the quality,
+  // stats(), last_image(), the pending integrity boxes and the injected fault (off while warming
+  // up). Each rung's targets are kept with the frame last drawn there, so the next frame redraws
+  // what differs from that and looks as it would have without the call. What a level needs the first time it is drawn (its programs compiled, the driver's
   // shader variants for each MSAA rung, a rung's targets and text sizes) is so made before any
   // frame is timed, not on the first frame that uses it. Returns the frames drawn.
   int warm_up(std::span<const governor::QualityChoice> choices);

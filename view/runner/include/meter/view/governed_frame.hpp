@@ -61,6 +61,7 @@ class GovernedFrames {
 
  private:
   engine::Renderer& renderer_;
+  std::ostream* log_;  // the constructor's log: the warm-up after the start-up frame reports there
   double target_ms_ = 0.0;
   std::optional<engine::governor::Governor> governor_;
   std::optional<CostInjection> inject_;
