@@ -129,6 +129,9 @@ engine::FrameTiming GovernedFrames::render(bool force, bool read) {
     const int frames = renderer_.warm_up(gov::warm_up_choices(governor_->model()));
     *log_ << "meter-view: governor warm-up after the start-up frame: " << frames << " frames at its levels in "
           << ms_text(std::chrono::duration<double, std::milli>(Clock::now() - w0).count()) << " ms\n";
+    // Its frames.csv / trace cells: drawn at the run's starting quality, no prediction made.
+    cells_.predicted_ms = 0.0, cells_.measured_ms = ms;
+    cells_.msaa = renderer_.quality().global.msaa, cells_.scale = renderer_.quality().global.scale;
   }
   if (!timing.drawn) return timing;
   ++drawn_;
