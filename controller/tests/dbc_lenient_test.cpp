@@ -203,3 +203,24 @@ TEST(DbcLenient, TextThatIsNotUtf8IsReadAsWindows1252WithAWarningAtItsFirstLine)
   expect_strict_refuses(text, 5);
   EXPECT_EQ(warning(parse_dbc(kTwoMessages, "q.dbc"), DbcWarningKind::NotUtf8, 1), nullptr);  // UTF-8: nothing
 }
+
+// Found by the dbc fuzz target (UBSan: a double outside an int's range converted to int): a cycle
+// time an int cannot hold, as a message's attribute or as the default, is no cycle time; the
+// message keeps none and the line is named, the rest of the file is read.
+TEST(DbcLenient, FuzzCycleTimeBeyondAnIntIsIgnoredNamingItsLine) {
+  std::string t = std::string(kTwoMessages) +
+                  "BA_DEF_ BO_ \"GenMsgCycleTime\" INT 0 65535;\n"   // 5
+                  "BA_DEF_DEF_ \"GenMsgCycleTime\" 7777777777777777777777;\n"  // 6: the default
+                  "BA_ \"GenMsgCycleTime\" BO_ 200 1e300;\n";        // 7: one message's
+  Database db = parse_dbc(t, "q.dbc");
+  EXPECT_FALSE(db.find("A")->cycle_time_ms.has_value());
+  EXPECT_FALSE(db.find("B")->cycle_time_ms.has_value());
+  const DbcWarning* d = warning(db, DbcWarningKind::SkippedStatement, 6);
+  ASSERT_NE(d, nullptr);
+  EXPECT_NE(d->text.find("GenMsgCycleTime"), std::string::npos) << d->text;
+  EXPECT_NE(warning(db, DbcWarningKind::SkippedStatement, 7), nullptr);
+  // An ordinary cycle time still reads.
+  Database ok = parse_dbc(std::string(kTwoMessages) + "BA_DEF_ BO_ \"GenMsgCycleTime\" INT 0 65535;\n"
+                                                    "BA_ \"GenMsgCycleTime\" BO_ 100 20;\n", "q.dbc");
+  EXPECT_EQ(ok.find("A")->cycle_time_ms, 20);
+}

@@ -69,6 +69,7 @@ void DbcParser::statement(const std::string& kw, int kw_line) {
     std::string name = lex_.string_lit();
     lex_.skip_ws();
     attr_defaults_[name] = value_lit();
+    attr_default_lines_[name] = kw_line;
     end_statement("BA_DEF_DEF_", kw_line);
   } else if (kw == "BA_") {
     parse_attr(kw_line);

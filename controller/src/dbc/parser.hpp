@@ -91,6 +91,7 @@ class DbcParser {
   std::string defining_name_;    // the BO_ or SG_ being parsed, for the skip record
   std::map<std::string, std::vector<std::string>> enum_defs_;
   std::map<std::string, AttrValue> attr_defaults_;
+  std::map<std::string, int> attr_default_lines_;  // the BA_DEF_DEF_ line of each default
   std::set<std::string> declared_attrs_;
   std::vector<PendingAttr> attrs_;
   std::vector<PendingRef> pending_;

@@ -3,6 +3,7 @@
 // simple multiplexing onto the message's 'M' switch, layout checks against the message size, and
 // the attributes (GenMsgCycleTime, VFrameFormat incl. CAN FD and J1939PG, ProtocolType J1939).
 #include <algorithm>
+#include <limits>
 #include <set>
 
 #include "parser.hpp"
@@ -115,9 +116,11 @@ void DbcParser::finish() {
     }
   }
   // Attributes: defaults first, then per-object values.
+  // A cycle time is a whole number of ms an int holds: a larger one (or a NaN) is no cycle time.
+  auto cycle_time_fits = [](double ms) { return ms <= double(std::numeric_limits<int>::max()); };
   auto apply_msg_attr = [&](DbcMessage& m, const std::string& name, const AttrValue& v) {
     if (name == "GenMsgCycleTime" && !v.is_string) {
-      if (v.number > 0) m.cycle_time_ms = static_cast<int>(v.number);
+      if (v.number > 0 && cycle_time_fits(v.number)) m.cycle_time_ms = static_cast<int>(v.number);
       else m.cycle_time_ms.reset();
     } else if (name == "VFrameFormat") {
       auto t = enum_text(name, v);
@@ -129,6 +132,16 @@ void DbcParser::finish() {
   };
   for (auto& a : attrs_)
     if (a.object == 'G' && a.name == "ProtocolType" && a.value.is_string) db_.protocol_type = a.value.text;
+  // Named once, where it is written: a cycle time too large for any message.
+  auto check_cycle_time = [&](const std::string& name, const AttrValue& v, int line, const std::string& what) {
+    if (name == "GenMsgCycleTime" && !v.is_string && v.number > 0 && !cycle_time_fits(v.number))
+      warn(DbcWarningKind::SkippedStatement, line,
+           what + " \"GenMsgCycleTime\" " + std::to_string(v.number) + " ms: expected a cycle time of at most " +
+               std::to_string(std::numeric_limits<int>::max()) + " ms; ignored (no cycle time)");
+  };
+  for (auto& [name, v] : attr_defaults_) check_cycle_time(name, v, attr_default_lines_[name], "BA_DEF_DEF_");
+  for (auto& a : attrs_)
+    if (a.object == 'B') check_cycle_time(a.name, a.value, a.line, "BA_");
   for (auto& m : db_.messages) {
     for (auto& [name, v] : attr_defaults_) apply_msg_attr(m, name, v);
     if (db_.protocol_type == "J1939") m.j1939 = true;
