@@ -207,6 +207,24 @@ TEST(DbcLenient, TextThatIsNotUtf8IsReadAsWindows1252WithAWarningAtItsFirstLine)
 // Found by the dbc fuzz target (UBSan: a double outside an int's range converted to int): a cycle
 // time an int cannot hold, as a message's attribute or as the default, is no cycle time; the
 // message keeps none and the line is named, the rest of the file is read.
+// An ENUM attribute's value given as an index far outside its values (a fuzzed 1e300, or a
+// negative one) is no value: no frame format is taken from it and nothing is converted out of range.
+TEST(DbcLenient, FuzzEnumIndexOutsideItsValuesIsIgnored) {
+  const std::string def = "BA_DEF_ BO_ \"VFrameFormat\" ENUM \"StandardCAN\",\"ExtendedCAN\",\"reserved\",\"J1939PG\",\"StandardCAN_FD\";\n";
+  Database db = parse_dbc(std::string(kTwoMessages) + def +
+                              "BA_ \"VFrameFormat\" BO_ 100 1e300;\n"
+                              "BA_ \"VFrameFormat\" BO_ 200 -7;\n",
+                          "q.dbc");
+  for (const char* name : {"A", "B"}) {
+    EXPECT_FALSE(db.find(name)->fd) << name;
+    EXPECT_FALSE(db.find(name)->j1939) << name;
+  }
+  // An index inside the list still names its value.
+  Database ok = parse_dbc(std::string(kTwoMessages) + def + "BA_ \"VFrameFormat\" BO_ 100 4;\nBA_ \"VFrameFormat\" BO_ 200 1;\n", "q.dbc");
+  EXPECT_TRUE(ok.find("A")->fd);   // StandardCAN_FD
+  EXPECT_FALSE(ok.find("B")->fd);  // ExtendedCAN
+}
+
 TEST(DbcLenient, FuzzCycleTimeBeyondAnIntIsIgnoredNamingItsLine) {
   std::string t = std::string(kTwoMessages) +
                   "BA_DEF_ BO_ \"GenMsgCycleTime\" INT 0 65535;\n"   // 5

@@ -32,9 +32,10 @@ std::optional<std::string> DbcParser::enum_text(const std::string& name, const A
   if (v.is_string) return v.text;
   auto it = enum_defs_.find(name);
   if (it == enum_defs_.end()) return std::nullopt;
-  auto idx = static_cast<std::size_t>(v.number);
-  if (v.number < 0 || idx >= it->second.size()) return std::nullopt;
-  return it->second[idx];
+  // Checked as a double first: converting one outside size_t's range (negative, huge, NaN) is
+  // undefined behaviour.
+  if (!(v.number >= 0.0 && v.number < double(it->second.size()))) return std::nullopt;
+  return it->second[static_cast<std::size_t>(v.number)];
 }
 
 void DbcParser::finish() {
