@@ -1,5 +1,5 @@
-// The film filter's resolve pass (film_resolve.hpp).
-#include "film_resolve.hpp"
+// The MSAA resolve's shader pass (shader_resolve.hpp).
+#include "shader_resolve.hpp"
 
 #include <cstdio>
 #include <string>
@@ -47,7 +47,7 @@ std::string fragment_source(int reach, int samples, const std::vector<float>& we
 
 }  // namespace
 
-FilmResolve::FilmResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo)
+ShaderResolve::ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo)
     : gl_(gl), samples_(samples), reach_(filter_reach_px(filter)) {
   // The driver's own sample positions (the ones it rasterizes with), of the multisample framebuffer.
   GLint previous_draw = 0;
@@ -72,12 +72,12 @@ FilmResolve::FilmResolve(const Gl& gl, const ResolveFilter& filter, int samples,
   check_gl(gl_, "film filter resolve: creating the program");
 }
 
-FilmResolve::~FilmResolve() {
+ShaderResolve::~ShaderResolve() {
   if (vao_) gl_.DeleteVertexArrays(1, &vao_);
   if (program_) gl_.DeleteProgram(program_);
 }
 
-void FilmResolve::run(GLuint ms_texture, GLuint dst_fbo, int width, int height, std::span<const PixelRegion> regions) const {
+void ShaderResolve::run(GLuint ms_texture, GLuint dst_fbo, int width, int height, std::span<const PixelRegion> regions) const {
   GLint program = 0, vao = 0, active = 0, bound = 0;
   gl_.GetIntegerv(GL_CURRENT_PROGRAM, &program);
   gl_.GetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);

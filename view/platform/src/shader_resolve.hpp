@@ -1,6 +1,8 @@
-// Internal to meter_platform: the film filter's MSAA resolve, a shader pass that reads every sample
-// of each pixel's neighbourhood from a multisample colour texture (sampler2DMS, texelFetch) and
-// writes their weighted mean (resolve_filter.hpp) into a single-sample framebuffer.
+// Internal to meter_platform: the MSAA resolve as a shader pass that reads every sample of each
+// pixel's neighbourhood from a multisample colour texture (sampler2DMS, texelFetch) and writes their
+// weighted mean (resolve_filter.hpp) into a single-sample framebuffer: the film filter's kernel, or
+// the box's equal weights of the pixel's own samples (the same bytes as a glBlitFramebuffer resolve,
+// in one draw per region of one pass, where llvmpipe runs every blit as a pass of its own).
 #pragma once
 
 #include <array>
@@ -13,15 +15,15 @@
 
 namespace meter::platform {
 
-class FilmResolve {
+class ShaderResolve {
  public:
   // `msaa_fbo` (complete, its colour attachment a `samples`-sample texture) is bound as the draw
   // framebuffer to ask the driver for its sample positions. Throws GlError when the program does not
   // compile or a query fails; the caller has checked GlInfo::has_multisample_texture.
-  FilmResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo);
-  ~FilmResolve();
-  FilmResolve(const FilmResolve&) = delete;
-  FilmResolve& operator=(const FilmResolve&) = delete;
+  ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo);
+  ~ShaderResolve();
+  ShaderResolve(const ShaderResolve&) = delete;
+  ShaderResolve& operator=(const ShaderResolve&) = delete;
 
   // Resolves `regions` (clipped to width x height) of `ms_texture` into `dst_fbo`, each grown by
   // reach() pixels: a changed sample changes the resolved pixels that far away. Draws one

@@ -62,6 +62,9 @@ struct RendererOptions {
   // shaded again every frame. Costs one more target of the same size and samples (about 20 MB at
   // 1280x480 MSAA 4). Used only where glCopyImageSubData exists (GLES 3.2 / GL 4.3 / copy_image).
   bool static_layer = true;
+  // Benchmark baseline only (bench/view): resolve the box with glBlitFramebuffer, as before the
+  // shader pass (platform::RenderTargetOptions::box_resolve_by_blit). The same image.
+  bool box_resolve_by_blit = false;
   // Benchmark baseline only (bench/view): when set, every draw goes through this ONE uber-shader
   // (shadergen::generate_uber(), made by the caller: the runtime does not link the generator)
   // with runtime switches set per draw from its generated program's features, as an engine

@@ -48,15 +48,19 @@ struct RenderTargetOptions {
   int samples = 1;
   DepthFormat depth = DepthFormat::Depth24;
   bool srgb = true;
-  // How resolve() turns the samples into pixels (resolve_filter.hpp). Box: a blit. BlackmanHarris:
-  // the film filter's shader pass over a multisample colour texture; needs
-  // GlInfo::has_multisample_texture (GLES 3.1 / GL 4.5; GlError naming it otherwise) and width_px
-  // in ResolveFilter's range (std::invalid_argument). Without MSAA (samples 1) there are no samples
-  // to filter: the target then resolves nothing, as a box one, and says so in warning().
+  // How resolve() turns the samples into pixels (resolve_filter.hpp), in a shader pass over a
+  // multisample colour texture where GlInfo::has_multisample_texture (GLES 3.1 / GL 4.5). Box: the
+  // same bytes as a blit, and a blit without multisample textures. BlackmanHarris: the film filter;
+  // needs multisample textures (GlError naming them otherwise) and width_px in ResolveFilter's range
+  // (std::invalid_argument). Without MSAA (samples 1) there are no samples to filter: the target
+  // then resolves nothing, as a box one, and says so in warning().
   ResolveFilter resolve = {};
+  // The box resolve by glBlitFramebuffer of a multisample renderbuffer even where the shader pass
+  // exists: the baseline the benchmarks measure the shader pass against.
+  bool box_resolve_by_blit = false;
 };
 
-class FilmResolve;
+class ShaderResolve;
 
 // Owns GL objects in the backend's context; the backend must outlive the target and be current.
 class RenderTarget {
@@ -73,8 +77,8 @@ class RenderTarget {
   // Binds the drawing framebuffer (the multisample one when samples > 1) for draw and read, sets
   // the viewport to the full target, and enables sRGB encoding where the API needs it.
   void bind();
-  // Resolves MSAA into the single-sample framebuffer (in linear space for sRGB targets; a blit, or
-  // the film filter: options.resolve), reads RGBA8 and flips rows to top-down. Leaves the drawing
+  // Resolves MSAA into the single-sample framebuffer (in linear space for sRGB targets; the box or
+  // the film filter, options.resolve), reads RGBA8 and flips rows to top-down. Leaves the drawing
   // framebuffer bound.
   Image resolve_and_read();
   // Resolves only `regions` into the single-sample framebuffer (no-op without MSAA). After a redraw
@@ -108,6 +112,8 @@ class RenderTarget {
   // Pixels a resolved pixel reads beyond itself (0 for the box resolve): a change drawn in a
   // region changes the resolved image up to this far outside it.
   int resolve_margin_px() const;
+  // Whether resolve() is the shader pass (true) or a glBlitFramebuffer (false; also without MSAA).
+  bool resolves_by_shader() const { return shader_resolve_ != nullptr; }
   // The framebuffer draws go to (multisample one when samples() > 1).
   GLuint draw_framebuffer() const { return samples_ > 1 ? msaa_fbo_ : fbo_; }
   // The single-sample framebuffer holding the last resolve (what read_resolved() reads; a caller
@@ -130,13 +136,13 @@ class RenderTarget {
   GLuint fbo_ = 0;        // single-sample: colour texture + depth renderbuffer (when samples == 1)
   GLuint color_tex_ = 0;
   GLuint depth_rb_ = 0;
-  GLuint msaa_fbo_ = 0;   // multisample: colour + depth renderbuffers (when samples > 1)
+  GLuint msaa_fbo_ = 0;   // multisample: colour texture (shader resolve) or renderbuffer, depth renderbuffer
   GLuint msaa_color_rb_ = 0;
   GLuint msaa_depth_rb_ = 0;
   // Film filter resolve: the multisample colour is this texture (msaa_color_rb_ stays 0).
   GLuint msaa_color_tex_ = 0;
   ResolveFilter resolve_;
-  std::unique_ptr<FilmResolve> film_;
+  std::unique_ptr<ShaderResolve> shader_resolve_;
   std::string warning_;
 };
 
