@@ -9,7 +9,8 @@
 //   MSAA 4 linear   4 samples into RGBA8: separates the sRGB (linear-space) resolve cost
 //   MSAA 4 no read  4-sample draw without resolve/readback: separates draw from resolve
 //   fill MSAA 4 film  as fill MSAA 4, resolved with the film filter (Blackman-Harris 1.5 px, 36
-//                   samples per pixel) instead of the box blit: the filter's cost is the difference
+//                   samples per pixel) instead of the box (the same shader pass with the pixel's
+//                   own 4 samples): the filter's cost is the difference
 //   text x5         fill floor + five overlay strings and a banner (the HUD cost)
 // Cases are interleaved frame by frame (A B C A B C ...) so machine noise hits all alike.
 // Also prints backend start-up time (create_backend to first usable context).

@@ -13,6 +13,8 @@ std::string gl_string(const Gl& gl, GLenum what) {
   return s ? reinterpret_cast<const char*>(s) : std::string();
 }
 
+}  // namespace
+
 bool has_extension(const Gl& gl, std::string_view name) {
   GLint count = 0;
   gl.GetIntegerv(GL_NUM_EXTENSIONS, &count);
@@ -22,8 +24,6 @@ bool has_extension(const Gl& gl, std::string_view name) {
   }
   return false;
 }
-
-}  // namespace
 
 Gl load_gl(GetProcAddress get_proc, std::string_view backend_name, bool is_gles) {
   Gl gl;
@@ -89,6 +89,9 @@ Gl load_gl(GetProcAddress get_proc, std::string_view backend_name, bool is_gles)
     gl.GetMultisamplefv = reinterpret_cast<PfnGetMultisamplefv>(load("glGetMultisamplefv"));
     info.has_multisample_texture = gl.TexStorage2DMultisample && gl.GetMultisamplefv;
   }
+  // Shader storage barriers: GLES 3.1, desktop GL 4.2.
+  if (is_gles ? (info.major > 3 || (info.major == 3 && info.minor >= 1)) : (info.major > 4 || (info.major == 4 && info.minor >= 2)))
+    gl.MemoryBarrier = reinterpret_cast<PfnMemoryBarrier>(load("glMemoryBarrier"));
   while (gl.GetError() != GL_NO_ERROR) {
   }
   return gl;

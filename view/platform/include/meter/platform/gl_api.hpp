@@ -211,12 +211,15 @@ using PfnCopyImageSubData = void(GL_APIENTRYP)(GLuint src, GLenum src_target, GL
 using PfnTexStorage2DMultisample = void(GL_APIENTRYP)(GLenum target, GLsizei samples, GLenum internalformat,
                                                       GLsizei width, GLsizei height, GLboolean fixedsamplelocations);
 using PfnGetMultisamplefv = void(GL_APIENTRYP)(GLenum pname, GLuint index, GLfloat* val);
+// Orders shader storage writes before later reads of the buffer (GLES 3.1 / desktop GL 4.2).
+using PfnMemoryBarrier = void(GL_APIENTRYP)(GLbitfield barriers);
 #define METER_GL_OPTIONAL_FUNCTIONS(X)                 \
   X(QueryCounter, PfnQueryCounter)                     \
   X(GetQueryObjectui64v, PfnGetQueryObjectui64v)       \
   X(CopyImageSubData, PfnCopyImageSubData)             \
   X(TexStorage2DMultisample, PfnTexStorage2DMultisample) \
-  X(GetMultisamplefv, PfnGetMultisamplefv)
+  X(GetMultisamplefv, PfnGetMultisamplefv)             \
+  X(MemoryBarrier, PfnMemoryBarrier)
 
 // What kind of GL the table talks to; decides the few places where desktop GL and GLES differ.
 struct GlInfo {
@@ -249,6 +252,9 @@ struct Gl {
 
 // Resolves one entry point by name ("glClear"); returns null when unknown.
 using GetProcAddress = void* (*)(const char* name);
+
+// Whether the current context lists the extension `name` (GL_NUM_EXTENSIONS / glGetStringi).
+bool has_extension(const Gl& gl, std::string_view name);
 
 // Fills every entry of the table with `get_proc` (the context must be current) and then queries
 // GlInfo. Throws GlError naming every missing required function and the backend.
