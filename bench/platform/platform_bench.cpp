@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "meter/platform/backend.hpp"
+#include "on_both_backends.hpp"
 #include "meter/platform/render_target.hpp"
 #include "meter/platform/text.hpp"
 
@@ -156,17 +157,5 @@ void run_backend(mp::BackendKind kind, int frames) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int frames = argc > 1 ? std::atoi(argv[1]) : 60;
-  if (frames <= 0) {
-    std::fprintf(stderr, "usage: %s [frames > 0]\n", argv[0]);
-    return 2;
-  }
-  try {
-    run_backend(mp::BackendKind::Egl, frames);
-    run_backend(mp::BackendKind::OSMesa, frames);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "meter_platform_bench: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  return meter::bench::run_on_both_backends(argc, argv, 60, "meter_platform_bench", run_backend);
 }
