@@ -56,7 +56,7 @@ std::vector<Ladder> ladder() {
           {"lod0.25", base + ",lod=0.25"},
           // Only scenes with an environment map measure this point (elsewhere it changes nothing).
           {"no-env", base + ",environment=off"},
-          // The MSAA resolve: the box blit or EEVEE's film filter (Blackman-Harris). The base is
+          // The MSAA resolve: the box or EEVEE's film filter (Blackman-Harris). The base is
           // the scene's own ("resolve" in its config: the film filter for the feature scenes, box for
           // the cluster), so on each scene one of the two rows is the base again and is left out.
           {"box-resolve", base + ",resolve=box"},
@@ -338,9 +338,9 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
       {"environment map on (scenes that name one)", "no-env", true,
        "what the world image costs: one texture fetch and the ambient cube per fragment, only in the programs of scenes that have one"},
       {"film filter resolve on (scenes whose default is the box)", "film-resolve", false,
-       "EEVEE's Blackman-Harris pixel filter over the MSAA samples of each 3 x 3 neighbourhood instead of the box blit: edges spread as in the authoring tool's render. Its own cost is within this table's frame-to-frame noise on a shared machine (12 frames per point); measured alone, interleaved with the box, by `meter_platform_bench 30`: +28 to +38 ms a full 1280x480 frame on llvmpipe (docs/scene-config.md, \"Resolve\")"},
+       "EEVEE's Blackman-Harris pixel filter over the MSAA samples of each 3 x 3 neighbourhood instead of the box (each pixel's own 4 samples, the same shader pass): edges spread as in the authoring tool's render. Its own cost is within this table's frame-to-frame noise on a shared machine (12 frames per point); measured alone, interleaved with the box, by `meter_platform_bench 30`: +12.5 ms a full 1280x480 frame on llvmpipe (28.3 ms against 15.7) (docs/scene-config.md, \"Resolve\")"},
       {"film filter resolve off (scenes whose default is the film filter)", "box-resolve", false,
-       "what dropping the film filter for the box blit saves and loses on the scenes rendered with it (the time is within the noise here, see the row above)"},
+       "what dropping the film filter for the box saves and loses on the scenes rendered with it (the time is within the noise here, see the row above)"},
       {"2x supersampling on top of the maximum", "ss2x", false,
        "the only setting that gets closer to Blender than the default: EEVEE's 64-sample film filter is smoother than MSAA 4"},
   };

@@ -8,6 +8,8 @@
 //   fill linear     the n=1 floor into an RGBA8 (non-sRGB) target: the cost of the sRGB encode
 //   MSAA 4 linear   4 samples into RGBA8: separates the sRGB (linear-space) resolve cost
 //   MSAA 4 no read  4-sample draw without resolve/readback: separates draw from resolve
+//   fill MSAA 4 blit  as fill MSAA 4, the box resolved by glBlitFramebuffer instead of the shader
+//                   pass (the same bytes): what the pass costs against the driver's own resolve
 //   fill MSAA 4 film  as fill MSAA 4, resolved with the film filter (Blackman-Harris 1.5 px, 36
 //                   samples per pixel) instead of the box (the same shader pass with the pixel's
 //                   own 4 samples): the filter's cost is the difference
@@ -92,6 +94,7 @@ void run_backend(mp::BackendKind kind, int frames) {
   mp::RenderTarget t4(*backend, {.width = w, .height = h, .samples = 4});
   mp::RenderTarget tlin(*backend, {.width = w, .height = h, .samples = 1, .srgb = false});
   mp::RenderTarget t4lin(*backend, {.width = w, .height = h, .samples = 4, .srgb = false});
+  mp::RenderTarget t4blit(*backend, {.width = w, .height = h, .samples = 4, .box_resolve_by_blit = true});
   mp::RenderTarget t4film(*backend, {.width = w, .height = h, .samples = 4,
                                      .resolve = {mp::ResolveFilter::Kind::BlackmanHarris, 1.5}});
   FlatPass flat(gl);
@@ -116,6 +119,7 @@ void run_backend(mp::BackendKind kind, int frames) {
   cases.push_back({"fill MSAA 1 (floor)", [&] { fill(t1); }, {}});
   cases.push_back({"fill MSAA 2", [&] { fill(t2); }, {}});
   cases.push_back({"fill MSAA 4", [&] { fill(t4); }, {}});
+  cases.push_back({"fill MSAA 4 blit", [&] { fill(t4blit); }, {}});
   cases.push_back({"fill MSAA 4 film", [&] { fill(t4film); }, {}});
   cases.push_back({"fill linear RGBA8", [&] { fill(tlin); }, {}});
   cases.push_back({"fill MSAA 4 linear", [&] { fill(t4lin); }, {}});
