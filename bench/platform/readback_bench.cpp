@@ -20,21 +20,12 @@
 #include <cstdlib>
 #include <ctime>
 #include <functional>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "meter/platform/backend.hpp"
-#include "on_both_backends.hpp"
 #include "meter/platform/render_target.hpp"
-
-// GLES 3.1 names (<GLES3/gl3.h>, which the GL table includes, stops at 3.0).
-#ifndef GL_SHADER_STORAGE_BUFFER
-#define GL_SHADER_STORAGE_BUFFER 0x90D2
-#endif
-#ifndef GL_BUFFER_UPDATE_BARRIER_BIT
-#define GL_BUFFER_UPDATE_BARRIER_BIT 0x00000200
-#endif
+#include "on_both_backends.hpp"
 
 namespace mp = meter::platform;
 using Clock = std::chrono::steady_clock;
@@ -79,12 +70,6 @@ void main() {
   samples[u_box.w + (p.y * u_box.z + p.x) * 4 + gl_SampleID] = o_color;
 }
 )";
-
-std::uint8_t srgb_byte(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-  return static_cast<std::uint8_t>(std::lround(s * 255.0f));
-}
 
 struct Case {
   std::string name;
@@ -141,6 +126,7 @@ void run_backend(mp::BackendKind kind, int frames) {
   GLint box_loc = -1;
   int slots = 0;
   for (const auto& b : boxes) slots += b.width * b.height * 4;
+  std::vector<std::uint8_t> fetched(static_cast<std::size_t>(slots));  // RGBA8 per pixel: 4 bytes = 4 sample slots
   if (gl.info.is_gles && gl.MemoryBarrier && mp::has_extension(gl, "GL_EXT_shader_framebuffer_fetch")) {
     fetch = mp::compile_program(gl, std::string("#version 320 es") + kTriangle, kFetch, "readback bench fetch");
     box_loc = gl.GetUniformLocation(fetch, "u_box");
@@ -167,11 +153,11 @@ void run_backend(mp::BackendKind kind, int frames) {
                        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, storage);
                        const auto* s = static_cast<const float*>(
                            gl.MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(slots) * 16, GL_MAP_READ_BIT));
-                       std::vector<std::uint8_t> rgba(static_cast<std::size_t>(slots));  // 4 bytes per pixel = one per sample slot
                        for (int p = 0; s && p < slots / 4; ++p)
                          for (int c = 0; c < 4; ++c) {
-                           const float mean = 0.25f * (s[p * 16 + c] + s[p * 16 + 4 + c] + s[p * 16 + 8 + c] + s[p * 16 + 12 + c]);
-                           rgba[std::size_t(p) * 4 + std::size_t(c)] = c == 3 ? std::uint8_t(std::lround(mean * 255.0f)) : srgb_byte(mean);
+                           const double mean = 0.25 * (double(s[p * 16 + c]) + s[p * 16 + 4 + c] + s[p * 16 + 8 + c] + s[p * 16 + 12 + c]);
+                           fetched[std::size_t(p) * 4 + std::size_t(c)] = static_cast<std::uint8_t>(
+                               c == 3 ? std::lround(std::clamp(mean, 0.0, 1.0) * 255.0) : mp::linear_to_srgb8(mean));
                          }
                        gl.UnmapBuffer(GL_SHADER_STORAGE_BUFFER);
                      }, {}, {}});

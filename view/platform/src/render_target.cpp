@@ -86,9 +86,9 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
     }
   }
   // A shader pass resolves wherever the samples can be read one by one, the box as well: llvmpipe
-  // runs each glBlitFramebuffer as a rasterizer pass of its own, with a fixed cost (about 0.3 ms at
-  // 1280x480), where the shader pass draws every region in one pass, to the same bytes. The box is
-  // a blit without multisample textures, or when asked (the baseline benchmarks measure against).
+  // runs each glBlitFramebuffer as a rasterizer pass of its own, with a fixed cost (0.05-0.2 ms of
+  // CPU, meter_readback_bench), where the shader pass draws every region in one pass, to the same
+  // bytes. The box is a blit without multisample textures, or when asked (the benchmarks' baseline).
   const bool by_shader = samples_ > 1 && (resolve_.kind != ResolveFilter::Kind::Box ||
                                           (info.has_multisample_texture && !options.box_resolve_by_blit));
 
@@ -258,8 +258,8 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
                                 describe(source.width_, source.height_, source.samples_, source.srgb_, source.depth_) +
                                 " differs from target " + describe(width_, height_, samples_, srgb_, depth_));
   }
-  // Single-sample targets draw into a colour texture; multisample ones into renderbuffers, or a
-  // multisample texture under the film filter (copies between the two kinds are allowed).
+  // Single-sample targets draw into a colour texture; multisample ones into a multisample texture
+  // (shader-pass resolve) or a renderbuffer (blit; copies between the two kinds are allowed).
   const bool ms = samples_ > 1;
   auto colour = [ms](const RenderTarget& t) -> std::pair<GLuint, GLenum> {
     if (!ms) return {t.color_tex_, GL_TEXTURE_2D};

@@ -44,6 +44,12 @@
 #ifndef GL_SAMPLE_POSITION
 #define GL_SAMPLE_POSITION 0x8E50
 #endif
+#ifndef GL_SHADER_STORAGE_BUFFER
+#define GL_SHADER_STORAGE_BUFFER 0x90D2  // GLES 3.1 / GL 4.3
+#endif
+#ifndef GL_BUFFER_UPDATE_BARRIER_BIT
+#define GL_BUFFER_UPDATE_BARRIER_BIT 0x00000200  // glMemoryBarrier: GLES 3.1 / GL 4.2
+#endif
 
 namespace meter::platform {
 

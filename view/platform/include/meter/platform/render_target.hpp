@@ -139,7 +139,7 @@ class RenderTarget {
   GLuint msaa_fbo_ = 0;   // multisample: colour texture (shader resolve) or renderbuffer, depth renderbuffer
   GLuint msaa_color_rb_ = 0;
   GLuint msaa_depth_rb_ = 0;
-  // Film filter resolve: the multisample colour is this texture (msaa_color_rb_ stays 0).
+  // Shader-pass resolve: the multisample colour is this texture (msaa_color_rb_ stays 0).
   GLuint msaa_color_tex_ = 0;
   ResolveFilter resolve_;
   std::unique_ptr<ShaderResolve> shader_resolve_;
