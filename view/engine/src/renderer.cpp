@@ -62,6 +62,7 @@ glm::vec2 Renderer::project(int node) const {
 void Renderer::execute(const FramePlan& plan, const FrameState& now) {
   gpu_->prepare(now);
   gpu_->update_groups(now, stats_);
+  gpu_->update_skinned(now, stats_);
   if (plan.layer_build) {
     if (!layer_) {
       platform::RenderTargetOptions rt;

@@ -18,6 +18,9 @@ bool is_light_semantic(UniformSemantic s) {
          s == UniformSemantic::LightDirection || s == UniformSemantic::LightRange ||
          s == UniformSemantic::LightInnerConeCos || s == UniformSemantic::LightOuterConeCos;
 }
+bool reads_normals(const bridge::Program& p) {
+  return std::any_of(p.attributes.begin(), p.attributes.end(), [](const auto& a) { return a.semantic == AttributeSemantic::Normal; });
+}
 }  // namespace
 
 GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged)
@@ -185,11 +188,17 @@ void GpuScene::build_draws(bool uber) {
       gd->lods.emplace_back(total * sizeof(std::uint32_t), static_cast<GLsizei>(l.indices.size()));
       total += l.indices.size();
     }
+    // A skinned primitive whose program reads normals gets a buffer per draw: its normals are
+    // rewritten with the draw's pose.
+    const bool skinned = scene_.nodes[static_cast<std::size_t>(d.node)].skin >= 0 && has_skinned_normals(prim) &&
+                         reads_normals(scene_.programs[static_cast<std::size_t>(d.program)].program);
+    if (skinned) key = {-1 - static_cast<int>(di), 0};
     if (!vbos.count(key)) {
       GLuint b[2];
       gl_.GenBuffers(2, b);
       gl_.BindBuffer(GL_ARRAY_BUFFER, b[0]);
-      gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.vertices.size() * sizeof(float)), prim.vertices.data(), GL_STATIC_DRAW);
+      gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(prim.vertices.size() * sizeof(float)), prim.vertices.data(),
+                     skinned ? GL_DYNAMIC_DRAW : GL_STATIC_DRAW);
       gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, b[1]);
       gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(total * sizeof(std::uint32_t)), nullptr, GL_STATIC_DRAW);
       gl_.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(prim.indices.size() * sizeof(std::uint32_t)), prim.indices.data());
@@ -200,6 +209,7 @@ void GpuScene::build_draws(bool uber) {
       vbos[key] = {b[0], b[1]};
     }
     const auto [vbo, ebo] = vbos[key];
+    if (skinned) skinned_.push_back({gd.get(), vbo, skinned_normals_layout(prim), prim.vertices, {}});
     GpuShading own;
     own.shape = &scene_.programs[static_cast<std::size_t>(d.program)].program;
     own.program = programs_[uber ? 0 : static_cast<std::size_t>(d.program)].get();
@@ -216,6 +226,20 @@ void GpuScene::build_draws(bool uber) {
       }
     }
     draws_.push_back(std::move(gd));
+  }
+}
+
+void GpuScene::update_skinned(const FrameState& frame, RendererStats& stats) {
+  for (GpuSkinnedDraw& s : skinned_) {
+    const auto node = static_cast<std::size_t>(s.draw->item->node);
+    const Skin& skin = scene_.skins[static_cast<std::size_t>(scene_.nodes[node].skin)];
+    std::vector<glm::mat4> joints = joint_matrices(skin, frame.world, frame.world[node]);
+    if (joints == s.joints) continue;
+    stats.skinned_normals_kept += skin_normals(*s.draw->prim, s.layout, joints, s.vertices);
+    s.joints = std::move(joints);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, s.vbo);
+    gl_.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(s.vertices.size() * sizeof(float)), s.vertices.data());
+    ++stats.skinned_normal_updates;
   }
 }
 

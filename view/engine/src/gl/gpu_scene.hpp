@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "meter/engine/evaluation/frame_state.hpp"
+#include "meter/engine/evaluation/skinned_normals.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/platform/gl_api.hpp"
 
@@ -83,6 +84,16 @@ struct GpuGroup {
   std::vector<Member> members;
 };
 
+// A skinned draw whose normals follow the deformed surface (skinned_normals.hpp): its own vertex
+// buffer (instances of one mesh bend apart), rewritten when its joints move.
+struct GpuSkinnedDraw {
+  const GpuDraw* draw = nullptr;
+  GLuint vbo = 0;
+  SkinnedNormalsLayout layout;
+  std::vector<float> vertices;   // the primitive's records with the current normals
+  std::vector<glm::mat4> joints;  // the joint matrices they were computed for (empty: never)
+};
+
 class GpuScene {
  public:
   // `uber_shader`: every draw goes through this one program (benchmark baseline), else the
@@ -96,6 +107,9 @@ class GpuScene {
   void prepare(const FrameState& frame);
   // Brings the merged groups' buffers to the frame's world matrices, visibility and LODs.
   void update_groups(const FrameState& frame, RendererStats& stats);
+  // Brings the skinned draws' normals to the frame's pose (a draw whose joints did not move costs
+  // one comparison).
+  void update_skinned(const FrameState& frame, RendererStats& stats);
 
   const std::vector<std::unique_ptr<GpuDraw>>& draws() const { return draws_; }
   GLuint texture(int index) const { return index >= 0 ? textures_[static_cast<std::size_t>(index)] : white_texture_; }
@@ -115,6 +129,7 @@ class GpuScene {
   std::vector<std::unique_ptr<GpuProgram>> programs_;
   std::vector<std::unique_ptr<GpuDraw>> draws_;
   std::vector<std::unique_ptr<GpuGroup>> groups_;
+  std::vector<GpuSkinnedDraw> skinned_;
   std::vector<GLuint> textures_;
   GLuint white_texture_ = 0;
   std::vector<GLuint> buffers_;

@@ -93,6 +93,8 @@ struct RendererStats {
   std::uint64_t vertices_transformed = 0;
   std::uint64_t index_rebuilds = 0;     // merged index arrays rebuilt (visibility changed)
   double concat_cpu_ms = 0.0;           // CPU time in member transforms + uploads (all frames)
+  std::uint64_t skinned_normal_updates = 0;  // skinned draws whose normals were recomputed (pose changed)
+  std::uint64_t skinned_normals_kept = 0;    // vertices left at their rest normal (no deformed normal there)
   std::uint64_t partial_frames = 0;     // drawn frames limited to damaged regions
   std::uint64_t layer_builds = 0;       // static layer (re)drawn (RendererOptions::static_layer)
   double redrawn_fraction_sum = 0.0;    // sum over drawn frames of FrameTiming::redrawn_fraction
