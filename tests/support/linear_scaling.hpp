@@ -7,7 +7,17 @@
 // quadratic one near 100. kLinearRatioBound = 3 x factor leaves room for cache effects (the large
 // input no longer fits in cache) and for noise the min-of-runs did not remove, and still fails a
 // quadratic step by a wide margin.
+//
+// Both inputs are timed on memory the process already holds. glibc serves a block over its mmap
+// threshold (at most 32 MB) with a fresh mapping and unmaps it on free, so a large input's
+// buffers are new pages on every run while the small input's come back from the heap: each
+// first touch is a page fault, 3.5 us apiece on a VM measured here (2026-12-04: a 1M-line candump
+// parse took 63x the 100k-line one, 188k faults; the reader itself scales 10x). scaling_ratio()
+// therefore keeps every block on the heap and freed memory mapped (M_MMAP_MAX 0, no trim) for
+// the process: the ratio then measures the reader, not the kernel's page faults.
 #pragma once
+
+#include <malloc.h>
 
 #include <algorithm>
 #include <chrono>
@@ -33,6 +43,8 @@ inline double min_seconds(int runs, const std::function<void()>& f) {
 // Time of the large input over time of the small one (small measured with more runs: it is the
 // noisier of the two).
 inline double scaling_ratio(const std::function<void()>& small, const std::function<void()>& large, int large_runs = 3) {
+  static const bool heap_only = mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max()) == 1;
+  (void)heap_only;
   const double t_small = min_seconds(large_runs * 3, small);
   const double t_large = min_seconds(large_runs, large);
   return t_large / std::max(t_small, 1e-9);
