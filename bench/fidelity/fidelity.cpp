@@ -31,24 +31,26 @@ std::string known_cause(const std::string& scene) {
   static const std::map<std::string, std::string> causes = {
       {"reflection", "The mirror shows the environment's grid lines and softbox edges: one mip-filtered lookup per pixel "
                      "(LOD from the reflection vector's screen footprint) where EEVEE averages 64 samples per pixel; the error "
-                     "sits on those edges and falls with supersampling. Fix planned: anisotropic filtering of the footprint or "
-                     "supersampling where the budget allows"},
-      {"bump", "The hammered dimples' rims (normal-map detail) alias under MSAA 4, which does not multisample shading, while "
-               "EEVEE averages 64 samples per pixel: the error sits on the rims and falls with supersampling (the film "
-               "filter resolve, on for this scene, spreads the rims' edges but cannot add shading samples). Toksvig-style "
-               "roughness from the mip's normal length was tried and bought 0.06 dB (not kept). Fix planned: per-sample "
-               "shading or supersampling of normal-mapped materials where the budget allows"},
-      {"skinning", "Shading, not edges: most of the error lies off the edge pixels and survives the blur (the columns "
-                   "above), so neither the film filter resolve nor supersampling closes it. Which term differs on the "
-                   "skinned (bent) teapot, its skinned normals or Blender's deformation at the reference frame, is not "
-                   "analysed yet"},
+                     "sits on those edges. Shading every MSAA sample instead of every pixel (GL_SAMPLE_SHADING, 4 lookups per "
+                     "pixel, tried 2026-12-04 and not kept) bought only 0.56 dB over object pixels (31.66 -> 32.22), so more "
+                     "lookups per pixel are not what is missing: the footprint's filter shape (one isotropic mip level against "
+                     "EEVEE's many jittered rays) is the next suspect, not yet measured"},
+      {"bump", "The hammered dimples' rims (normal-map detail) carry the error: the engine's highlights inside the dimples are "
+               "smaller and brighter than EEVEE's, and the rims' dark bands sharper. Not aliasing alone: shading every MSAA "
+               "sample (GL_SAMPLE_SHADING, tried 2026-12-04 and not kept) bought 0.64 dB over object pixels (33.24 -> 33.88), "
+               "and Toksvig-style roughness from the mip's normal length 0.06 dB. What EEVEE does differently with the normal "
+               "map (its filtering of the map, its normal-map strength at grazing angles) is not analysed yet"},
       {"cluster", "Thin, high-contrast detail (ticks, numerals, needle and bezel outlines) carries almost all the error: "
                   "EEVEE's film filter (Blackman-Harris, 1.5 px) spreads each edge over about 3 pixels where the engine's MSAA "
-                  "4 box resolve keeps it in one, and EEVEE draws soft shadows (needle hubs, bezels) the engine does not. "
-                  "The film filter resolve is built and measured on it (`--quality resolve=blackman-harris`, 2026-12-02: "
-                  "27.90 -> 30.94 dB full frame, 24.89 -> 28.12 dB object) but is not yet the cluster's default: its golden "
-                  "frames (tests/scenes, tests/vcan) are box renders and must be re-recorded with the switch. Fix planned: "
-                  "that switch, and shadow maps only for the lights that cast shadows"},
+                  "4 box resolve keeps it in one, and EEVEE draws shadows the engine does not (the cluster's four lights keep "
+                  "Blender's default use_shadow: needle and hub shadows on the dial faces). The film filter resolve is built "
+                  "and measured on it (`--quality resolve=blackman-harris`: 27.90 -> 30.94 dB full frame, 24.89 -> 28.12 dB "
+                  "object) but is not the cluster's default: switched on (2026-12-04), the converter can no longer place a "
+                  "needle window for the speedometer and the tachometer (\"other regions or its dial's print cross every "
+                  "radius it sweeps\": the filter spreads the printed ticks and numerals into every band of radii the needle "
+                  "model could read), so the integrity monitor would stop watching the two main needles for 3 dB. The switch "
+                  "waits for a needle model that allows for the filter's reach; shadow maps only for the lights that cast "
+                  "shadows are not built. Shading every MSAA sample (tried, not kept) bought 0.35 dB object"},
   };
   auto it = causes.find(scene);
   return it == causes.end() ? "not analysed yet" : it->second;
@@ -172,7 +174,7 @@ int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path
     }
   }
   if (!any) md << "None: every scene is at or above 35 dB full-frame and 35 dB over object pixels.\n";
-  md << "\n## What changed these numbers (2026-11-28, 2026-12-02)\n\n"
+  md << "\n## What changed these numbers (2026-11-28, 2026-12-02, 2026-12-04)\n\n"
         "Measured with this command before and after each change, EGL and OSMesa identical (full-frame dB; object dB in "
         "brackets):\n\n"
         "- **Environment maps** (the converter loads the image the scene extras name, `meter_environment`; "
@@ -201,6 +203,12 @@ int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path
         "cluster (still box by default) 24.89 → 28.12 (27.90 → 30.94 full frame) with `--quality resolve=blackman-harris`. "
         "`--quality resolve=box` reproduces the before column; the cost is in docs/accuracy-vs-time.md (`box-resolve`, "
         "`film-resolve`).\n"
+        "- **Skinned normals from the deformed surface** (2026-12-04, docs/engine.md, \"Skinning\"): the vertex shader "
+        "carried each rest normal by the vertex's blended joint matrix, which in the bend's blend zone is not the normal "
+        "of the deformed surface; Blender computes the deformed mesh's normals. The engine's render of the mesh as "
+        "Blender deformed it (baked at the reference frame, drawn without skinning) was 48.48 (44.54) dB, so the gap was "
+        "the normals; now the engine recomputes them on the CPU when the pose changes: skinning 39.64 (33.03) → 48.47 "
+        "(44.53).\n"
         "\nFull-frame PSNR flatters small objects on black (the background matches exactly); the object column is the "
         "honest one and is the number to compare across scenes. The paper does not say which one its Table 1 is.\n\n"
      << "Files: `" << (out / "fidelity.csv").string() << "` (this table) and `<scene>.engine.png` (the renders).\n";
