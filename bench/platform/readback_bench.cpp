@@ -5,6 +5,11 @@
 // readout, a small lamp; 7,116 pixels in all) onto the CPU:
 //   shader resolve   the boxes resolved by RenderTarget's shader pass, then glReadPixels (meter's way)
 //   blit resolve     the same by glBlitFramebuffer per box (the box resolve before the shader pass)
+//   resolve only     the shader resolve of the boxes without reading them (what the reads cost
+//                    is the difference from the row above)
+//   atlas resolve    the boxes resolved by a shader pass into one small target, packed side by side,
+//                    and read back with one glReadPixels: a pass over a target the size of what is
+//                    read instead of one the size of the frame
 //   empty pass       no readback: one flat triangle into a 16x16 target after the frame, the fixed
 //                    cost of any second pass (on llvmpipe each is a scene of its own for its threads)
 //   fb fetch         no second pass: the frame's own pass reads each sample of the boxes with
@@ -55,6 +60,19 @@ out vec4 o;
 void main() {
   vec2 q = gl_FragCoord.xy * 0.01;
   o = vec4(u_color.rgb * (0.6 + 0.4 * sin(q.x) * cos(q.y)), 1.0);
+}
+)";
+
+// The box resolve (mean of the samples) of the frame pixel at this atlas pixel plus the box's offset.
+constexpr const char* kAtlasResolve = R"(#version 310 es
+precision highp float;
+uniform highp sampler2DMS u_samples;
+uniform ivec2 u_offset;  // frame pixel minus atlas pixel
+out vec4 o_color;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy) + u_offset;
+  o_color = 0.25 * (texelFetch(u_samples, p, 0) + texelFetch(u_samples, p, 1) +
+                    texelFetch(u_samples, p, 2) + texelFetch(u_samples, p, 3));
 }
 )";
 
@@ -115,6 +133,91 @@ void run_backend(mp::BackendKind kind, int frames) {
                      draw_frame(blit);
                      (void)blit.read_regions(boxes);
                    }, {}, {}});
+  cases.push_back({"+ shader resolve only", [&] {
+                     draw_frame(shader);
+                     shader.resolve(boxes);
+                   }, {}, {}});
+  // A frame of its own over a multisample texture, and the atlas the boxes are packed into.
+  GLuint ms_tex = 0, ms_depth = 0, ms_fbo = 0, atlas_tex = 0, atlas_fbo = 0, full_tex = 0, full_fbo = 0,
+         atlas_prog = 0;
+  GLint offset_loc = -1, samples_loc = -1;
+  int atlas_w = 0, atlas_h = 0;
+  for (const auto& b : boxes) atlas_w += b.width, atlas_h = std::max(atlas_h, b.height);
+  std::vector<std::uint8_t> atlas_pixels(std::size_t(atlas_w) * std::size_t(atlas_h) * 4);
+  if (gl.info.has_multisample_texture) {
+    gl.GenTextures(1, &ms_tex);
+    gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, ms_tex);
+    gl.TexStorage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, 4, GL_SRGB8_ALPHA8, w, h, GL_TRUE);
+    gl.GenRenderbuffers(1, &ms_depth);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, ms_depth);
+    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 4, GL_DEPTH_COMPONENT24, w, h);
+    gl.GenFramebuffers(1, &ms_fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, ms_fbo);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE, ms_tex, 0);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, ms_depth);
+    gl.GenTextures(1, &atlas_tex);
+    gl.BindTexture(GL_TEXTURE_2D, atlas_tex);
+    gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_SRGB8_ALPHA8, atlas_w, atlas_h);
+    gl.GenFramebuffers(1, &atlas_fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, atlas_fbo);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, atlas_tex, 0);
+    gl.GenTextures(1, &full_tex);
+    gl.BindTexture(GL_TEXTURE_2D, full_tex);
+    gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_SRGB8_ALPHA8, w, h);
+    gl.GenFramebuffers(1, &full_fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, full_fbo);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, full_tex, 0);
+    atlas_prog = mp::compile_program(gl, std::string("#version 310 es") + kTriangle, kAtlasResolve, "readback bench atlas");
+    offset_loc = gl.GetUniformLocation(atlas_prog, "u_offset");
+    samples_loc = gl.GetUniformLocation(atlas_prog, "u_samples");
+    mp::check_gl(gl, "readback bench atlas set-up");
+    auto bind_own = [&] {
+      gl.BindFramebuffer(GL_FRAMEBUFFER, ms_fbo);
+      gl.Viewport(0, 0, w, h);
+      if (gl.info.needs_framebuffer_srgb_enable) gl.Enable(GL_FRAMEBUFFER_SRGB);
+    };
+    auto own_frame = [&, bind_own] {  // copies: the cases outlive this block
+      bind_own();
+      gl.Enable(GL_SCISSOR_TEST);
+      gl.Scissor(67, 48, 392, 393);
+      gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      gl.UseProgram(shade);
+      gl.BindVertexArray(vao);
+      gl.Uniform4f(color, 0.2f, float(n % 9) / 9.0f, 0.4f, 1.0f);
+      gl.DrawArrays(GL_TRIANGLES, 0, 3);
+      gl.Disable(GL_SCISSOR_TEST);
+    };
+    cases.push_back({"own frame (MS texture)", own_frame, {}, {}});
+    // The same resolve program either into the atlas (one read) or into a frame-sized target at the
+    // boxes' own places (one read per box): what the size of the pass's target costs.
+    auto resolve_into = [&, own_frame](bool atlas) {
+      own_frame();
+      gl.BindFramebuffer(GL_FRAMEBUFFER, atlas ? atlas_fbo : full_fbo);
+      gl.Viewport(0, 0, atlas ? atlas_w : w, atlas ? atlas_h : h);
+      gl.UseProgram(atlas_prog);
+      gl.ActiveTexture(GL_TEXTURE0);
+      gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, ms_tex);
+      gl.Uniform1i(samples_loc, 0);
+      gl.Enable(GL_SCISSOR_TEST);
+      int x = 0;
+      for (const auto& b : boxes) {
+        const int to_x = atlas ? x : b.x, to_y = atlas ? 0 : b.y;
+        gl.Scissor(to_x, to_y, b.width, b.height);
+        gl.Uniform2i(offset_loc, b.x - to_x, b.y - to_y);
+        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        x += b.width;
+      }
+      gl.Disable(GL_SCISSOR_TEST);
+      gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+      if (atlas) {
+        gl.ReadPixels(0, 0, atlas_w, atlas_h, GL_RGBA, GL_UNSIGNED_BYTE, atlas_pixels.data());
+      } else {
+        for (const auto& b : boxes) gl.ReadPixels(b.x, b.y, b.width, b.height, GL_RGBA, GL_UNSIGNED_BYTE, atlas_pixels.data());
+      }
+    };
+    cases.push_back({"+ frame-size resolve", [resolve_into] { resolve_into(false); }, {}, {}});
+    cases.push_back({"+ atlas resolve, 1 read", [resolve_into] { resolve_into(true); }, {}, {}});
+  }
   cases.push_back({"+ empty pass", [&] {
                      draw_frame(shader);
                      tiny.bind();
@@ -185,6 +288,12 @@ void run_backend(mp::BackendKind kind, int frames) {
   }
   if (!fetch) std::printf("(fb fetch: not offered by this context)\n");
   if (storage) gl.DeleteBuffers(1, &storage);
+  if (atlas_prog) gl.DeleteProgram(atlas_prog);
+  for (GLuint f : {ms_fbo, atlas_fbo, full_fbo})
+    if (f) gl.DeleteFramebuffers(1, &f);
+  for (GLuint t : {ms_tex, atlas_tex, full_tex})
+    if (t) gl.DeleteTextures(1, &t);
+  if (ms_depth) gl.DeleteRenderbuffers(1, &ms_depth);
   if (fetch) gl.DeleteProgram(fetch);
   gl.DeleteVertexArrays(1, &vao);
   gl.DeleteProgram(shade);
