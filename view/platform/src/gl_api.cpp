@@ -92,6 +92,11 @@ Gl load_gl(GetProcAddress get_proc, std::string_view backend_name, bool is_gles)
   // Shader storage barriers: GLES 3.1, desktop GL 4.2.
   if (is_gles ? (info.major > 3 || (info.major == 3 && info.minor >= 1)) : (info.major > 4 || (info.major == 4 && info.minor >= 2)))
     gl.MemoryBarrier = reinterpret_cast<PfnMemoryBarrier>(load("glMemoryBarrier"));
+  // Per-sample shading: GLES 3.2 or OES_sample_shading; desktop GL 4.0.
+  if (is_gles ? (info.major > 3 || (info.major == 3 && info.minor >= 2)) : info.major >= 4)
+    gl.MinSampleShading = reinterpret_cast<PfnMinSampleShading>(load("glMinSampleShading"));
+  else if (is_gles && has_extension(gl, "GL_OES_sample_shading"))
+    gl.MinSampleShading = reinterpret_cast<PfnMinSampleShading>(load("glMinSampleShadingOES"));
   while (gl.GetError() != GL_NO_ERROR) {
   }
   return gl;

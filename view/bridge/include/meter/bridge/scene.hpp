@@ -121,9 +121,12 @@ struct Texture {
   bool srgb = false;
   int min_filter = 0x2703 /*LINEAR_MIPMAP_LINEAR*/, mag_filter = 0x2601 /*LINEAR*/;
   int wrap_s = 0x2901 /*REPEAT*/, wrap_t = 0x2901;
-  // EXT_texture_filter_anisotropic degree; 1 = off. Set by the quality ladder at load time, not
-  // stored in packages (a runtime choice like MSAA).
-  float max_anisotropy = 1.0f;
+  // EXT_texture_filter_anisotropic degree; 1 = off. 2 by default: what EEVEE samples image
+  // textures with (Blender's factory preference, Viewport > Textures > Anisotropic Filtering 2x;
+  // the references are rendered with it). The quality ladder sets another at load time; not
+  // stored in packages (a runtime choice like MSAA). The scene's environment map is never
+  // filtered anisotropically (GpuScene): it is read at explicit LODs (the reflection footprint).
+  float max_anisotropy = 2.0f;
 };
 
 struct Camera {

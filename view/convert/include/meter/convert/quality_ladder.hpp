@@ -5,7 +5,8 @@
 //   precision       programs regenerated with mediump or highp float precision;
 //   LOD             meshoptimizer's meshopt_simplify keeps a fraction of each primitive's triangles;
 //   texture filter  nearest / bilinear / trilinear / anisotropic (trilinear + 16x anisotropy)
-//                   sampler state (global: textures are shared);
+//                   sampler state (global: textures are shared); unset: the glTF sampler with 2x
+//                   anisotropy, as EEVEE samples image textures (Texture::max_anisotropy);
 //   MSAA            1 / 2 / 4 / 8 samples: a RendererOptions value, carried here so one settings
 //                   object describes a whole ladder point (the target clamps it to GL_MAX_SAMPLES,
 //                   4 on llvmpipe, and says so);

@@ -47,6 +47,9 @@
 #ifndef GL_SHADER_STORAGE_BUFFER
 #define GL_SHADER_STORAGE_BUFFER 0x90D2  // GLES 3.1 / GL 4.3
 #endif
+#ifndef GL_SAMPLE_SHADING
+#define GL_SAMPLE_SHADING 0x8C36  // glMinSampleShading: GLES 3.2 / GL 4.0 (OES / ARB_sample_shading)
+#endif
 #ifndef GL_BUFFER_UPDATE_BARRIER_BIT
 #define GL_BUFFER_UPDATE_BARRIER_BIT 0x00000200  // glMemoryBarrier: GLES 3.1 / GL 4.2
 #endif
@@ -219,13 +222,18 @@ using PfnTexStorage2DMultisample = void(GL_APIENTRYP)(GLenum target, GLsizei sam
 using PfnGetMultisamplefv = void(GL_APIENTRYP)(GLenum pname, GLuint index, GLfloat* val);
 // Orders shader storage writes before later reads of the buffer (GLES 3.1 / desktop GL 4.2).
 using PfnMemoryBarrier = void(GL_APIENTRYP)(GLbitfield barriers);
+// Per-sample shading: with GL_SAMPLE_SHADING enabled and a minimum of 1.0 the fragment shader runs
+// once per covered MSAA sample instead of once per pixel (GLES 3.2 / desktop GL 4.0 core;
+// OES_sample_shading on older GLES).
+using PfnMinSampleShading = void(GL_APIENTRYP)(GLfloat value);
 #define METER_GL_OPTIONAL_FUNCTIONS(X)                 \
   X(QueryCounter, PfnQueryCounter)                     \
   X(GetQueryObjectui64v, PfnGetQueryObjectui64v)       \
   X(CopyImageSubData, PfnCopyImageSubData)             \
   X(TexStorage2DMultisample, PfnTexStorage2DMultisample) \
   X(GetMultisamplefv, PfnGetMultisamplefv)             \
-  X(MemoryBarrier, PfnMemoryBarrier)
+  X(MemoryBarrier, PfnMemoryBarrier)                   \
+  X(MinSampleShading, PfnMinSampleShading)
 
 // What kind of GL the table talks to; decides the few places where desktop GL and GLES differ.
 struct GlInfo {
