@@ -34,20 +34,22 @@ struct Ladder {
 };
 
 std::vector<Ladder> ladder() {
-  // Base = the maximum per-step quality (PBR, highp, trilinear, full mesh, MSAA 4); every other
-  // point changes ONE setting, so each row says what that one step costs and gives.
-  const std::string base = "shading=pbr,precision=highp,filter=trilinear,msaa=4";
+  // Base = the maximum per-step quality (PBR, highp, the scene's texture sampling: trilinear with
+  // EEVEE's 2x anisotropy, full mesh, MSAA 4); every other point changes ONE setting, so each row
+  // says what that one step costs and gives.
+  const std::string base = "shading=pbr,precision=highp,msaa=4";
   return {{"max (pbr msaa4)", base},
-          {"blinn-phong", "shading=blinn-phong,precision=highp,filter=trilinear,msaa=4"},
-          {"gouraud", "shading=gouraud,precision=highp,filter=trilinear,msaa=4"},
-          {"flat", "shading=flat,precision=highp,filter=trilinear,msaa=4"},
-          {"unlit", "shading=unlit,precision=highp,filter=trilinear,msaa=4"},
+          {"blinn-phong", "shading=blinn-phong,precision=highp,msaa=4"},
+          {"gouraud", "shading=gouraud,precision=highp,msaa=4"},
+          {"flat", "shading=flat,precision=highp,msaa=4"},
+          {"unlit", "shading=unlit,precision=highp,msaa=4"},
           // MSAA 8 where the driver has it (llvmpipe clamps to 4: the row then equals the base).
-          {"msaa8", "shading=pbr,precision=highp,filter=trilinear,msaa=8"},
-          {"msaa2", "shading=pbr,precision=highp,filter=trilinear,msaa=2"},
-          {"msaa1", "shading=pbr,precision=highp,filter=trilinear,msaa=1"},
-          {"mediump", "shading=pbr,precision=mediump,filter=trilinear,msaa=4"},
+          {"msaa8", "shading=pbr,precision=highp,msaa=8"},
+          {"msaa2", "shading=pbr,precision=highp,msaa=2"},
+          {"msaa1", "shading=pbr,precision=highp,msaa=1"},
+          {"mediump", "shading=pbr,precision=mediump,msaa=4"},
           {"anisotropic", "shading=pbr,precision=highp,filter=anisotropic,msaa=4"},
+          {"trilinear", "shading=pbr,precision=highp,filter=trilinear,msaa=4"},
           {"bilinear", "shading=pbr,precision=highp,filter=bilinear,msaa=4"},
           {"nearest", "shading=pbr,precision=highp,filter=nearest,msaa=4"},
           // The EClay paper's trade: no perspective correction of varyings.
@@ -59,6 +61,11 @@ std::vector<Ladder> ladder() {
           // The MSAA resolve: the box or EEVEE's film filter (Blackman-Harris). The base is
           // the scene's own ("resolve" in its config: the film filter for the feature scenes, box for
           // the cluster), so on each scene one of the two rows is the base again and is left out.
+          // Normal-mapped materials shaded per MSAA sample (sample_shading=normal-maps) or per pixel;
+          // the base is the scene's own, so on each scene one of the two is the base again and is
+          // left out, and scenes without a normal map measure neither.
+          {"per-sample-shading", base + ",sample_shading=normal-maps"},
+          {"per-pixel-shading", base + ",sample_shading=off"},
           {"box-resolve", base + ",resolve=box"},
           {"film-resolve", base + ",resolve=blackman-harris"},
           // Supersampling on top of the maximum: the frame time is the 2x draw (the downsample, a
@@ -164,6 +171,9 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
       try {
         const convert::QualityReport rep = convert::apply_quality(scenes[i], q);
         if (q.environment == false && !rep.environment_dropped) continue;  // no map: the base again
+        const bool normal_maps = std::any_of(base.programs.begin(), base.programs.end(),
+                                             [](const auto& e) { return e.program.features.normal_texture; });
+        if (q.sample_shading && (!normal_maps || *q.sample_shading == base.config.sample_shading)) continue;  // the base again
         if (q.resolve && steps[i].scale == 1 && *q.resolve == base.config.resolve.filter) continue;  // the scene's own resolve
       } catch (const std::exception& e) {
         skipped.push_back(s.name + " / " + steps[i].name + ": " + e.what());
@@ -287,7 +297,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
         "ladder setting) and every ladder point gets its own Renderer; round r draws " << frames << " frames of every point in turn, "
      << rounds << " rounds (" << rounds * frames << " frames per point; few, to keep the command to a few minutes — p99 over so few "
         "frames is close to the maximum). Frame time = `Renderer::render(force)` wall time, which includes glFinish (llvmpipe "
-        "executes the frame there). PSNR (a) against the engine's maximum quality supersampled (PBR, highp, trilinear, MSAA 4 "
+        "executes the frame there). PSNR (a) against the engine's maximum quality supersampled (PBR, highp, trilinear with 2x anisotropy, MSAA 4 "
         "drawn at 2x size and box-filtered to 1x in linear light) and (b) against the Blender reference. `no-env` (the "
         "environment map dropped, `environment=off`) runs only on the scenes that name one; `ss2x` is the maximum drawn at "
         "2x size (timed without the downsample, a GPU blit on a target) and is by construction identical to (a).\n\n"
@@ -295,7 +305,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
   for (const auto& l : left_out) md << "Left out on this backend: " << l << ".\n\n";
   if (!plotted) md << "(The plot was not drawn: `" << cmd << "` failed; install python3-matplotlib, see scripts/install-deps.)\n\n";
   md << "## What each step buys, averaged over the scenes\n\n"
-     << "Each row changes one setting from the maximum (PBR, highp, trilinear, full mesh, MSAA 4). *ms saved* = base median − "
+     << "Each row changes one setting from the maximum (PBR, highp, trilinear with 2x anisotropy, full mesh, MSAA 4). *ms saved* = base median − "
         "this median (negative = slower); *dB* = PSNR of this setting against the supersampled maximum.\n\n"
      << "| step | scenes | ms saved per frame (mean over scenes) | PSNR vs supersampled (mean dB) | dB vs Blender, change (mean) | in plain words |\n|---|---|---|---|---|---|\n";
   auto mean = [](const std::vector<double>& v) {
@@ -341,6 +351,12 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
        "EEVEE's Blackman-Harris pixel filter over the MSAA samples of each 3 x 3 neighbourhood instead of the box (each pixel's own 4 samples, the same shader pass): edges spread as in the authoring tool's render. Its own cost is within this table's frame-to-frame noise on a shared machine (12 frames per point); measured alone, interleaved with the box, by `meter_platform_bench 30`: +12.5 ms a full 1280x480 frame on llvmpipe (28.3 ms against 15.7) (docs/scene-config.md, \"Resolve\")"},
       {"film filter resolve off (scenes whose default is the film filter)", "box-resolve", false,
        "what dropping the film filter for the box saves and loses on the scenes rendered with it (the time is within the noise here, see the row above)"},
+      {"2x anisotropic texture sampling on (EEVEE's, the default) instead of trilinear", "trilinear", true,
+       "textures sampled along the pixel's footprint's long axis as EEVEE samples image textures (Blender's factory 2x); the environment map excluded"},
+      {"per-sample shading of normal maps on (scenes with one, where it is off)", "per-sample-shading", false,
+       "each MSAA sample of a normal-mapped material shaded on its own (GL_SAMPLE_SHADING) instead of once per pixel, on a scene that does not ask for it (the cluster's dial faces): up to 4x those draws' fragment work"},
+      {"per-sample shading of normal maps off (scenes that ask for it)", "per-pixel-shading", false,
+       "each MSAA sample of a normal-mapped material shaded on its own (GL_SAMPLE_SHADING) instead of once per pixel: the normal map's detail inside a pixel is averaged as EEVEE's many samples average it; only those draws pay, up to 4x their fragment work"},
       {"2x supersampling on top of the maximum", "ss2x", false,
        "the only setting that gets closer to Blender than the default: EEVEE's 64-sample film filter is smoother than MSAA 4"},
   };

@@ -159,7 +159,8 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   if (!j.is_object()) c.fail("$", "expected a JSON object");
   check_keys(c, j, "$",
              {"format", "size", "camera", "clear_color", "time", "ambient", "exposure", "bindings",
-              "link_loss", "groups", "materials", "scripts", "comment", "pages", "theme", "units", "sweep", "resolve"});
+              "link_loss", "groups", "materials", "scripts", "comment", "pages", "theme", "units", "sweep", "resolve",
+              "sample_shading"});
   SceneConfig out;
   out.source_json = std::string(text);
   out.origin = origin;
@@ -192,6 +193,12 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
     }
   }
   if (j.contains("resolve")) out.resolve = parse_resolve(c, j["resolve"]);
+  if (j.contains("sample_shading")) {
+    const std::string v = string(c, j["sample_shading"], "$.sample_shading");
+    if (v == "normal-maps") out.sample_shading = SampleShading::NormalMaps;
+    else if (v == "off") out.sample_shading = SampleShading::Off;
+    else c.fail("$.sample_shading", "unknown value \"" + v + "\" (expected normal-maps or off)");
+  }
   if (j.contains("link_loss")) {
     const json& l = j["link_loss"];
     if (!l.is_object()) c.fail("$.link_loss", "expected an object");

@@ -109,3 +109,14 @@ TEST(SceneConfig, ResolveFilterDefaultsToTheBoxAndIsChecked) {
   EXPECT_NE(error_of(head + R"(, "resolve": {"filtre": "box"}})").find("$.resolve.filtre: unknown key"), std::string::npos);
   EXPECT_NE(error_of(head + R"(, "resolve": "box"})").find("$.resolve: expected an object"), std::string::npos);
 }
+
+TEST(SceneConfig, SampleShadingDefaultsToOffAndIsChecked) {
+  const std::string head = R"({"format": "meter-scene-config/1")";
+  EXPECT_EQ(parse_scene_config(head + "}", "t.json").sample_shading, SampleShading::Off);
+  EXPECT_EQ(parse_scene_config(head + R"(, "sample_shading": "off"})", "t.json").sample_shading, SampleShading::Off);
+  EXPECT_EQ(parse_scene_config(head + R"(, "sample_shading": "normal-maps"})", "t.json").sample_shading,
+            SampleShading::NormalMaps);
+  EXPECT_NE(error_of(head + R"(, "sample_shading": "all"})").find("t.json: $.sample_shading: unknown value \"all\""),
+            std::string::npos);
+  EXPECT_NE(error_of(head + R"(, "sample_shading": true})").find("$.sample_shading"), std::string::npos);
+}

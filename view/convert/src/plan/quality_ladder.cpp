@@ -126,6 +126,7 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
   };
 
   if (q.resolve) s.config.resolve.filter = *q.resolve;
+  if (q.sample_shading) s.config.sample_shading = *q.sample_shading;
   if (q.environment == false && s.environment.present()) {
     // The texture stays in the list (indices of other textures are unchanged); nothing samples it.
     s.environment = Environment{};
@@ -262,13 +263,17 @@ QualitySettings parse_quality(const std::string& text) {
       if (v == "box") q.resolve = bridge::ResolveConfig::Filter::Box;
       else if (v == "blackman-harris") q.resolve = bridge::ResolveConfig::Filter::BlackmanHarris;
       else throw bad("box or blackman-harris");
+    } else if (k == "sample_shading") {
+      if (v == "normal-maps") q.sample_shading = bridge::SampleShading::NormalMaps;
+      else if (v == "off") q.sample_shading = bridge::SampleShading::Off;
+      else throw bad("normal-maps or off");
     } else if (k == "lod") {
       char* end = nullptr;
       const float f = std::strtof(v.c_str(), &end);
       if (v.empty() || *end != '\0' || !(f > 0.0f && f <= 1.0f)) throw bad("a fraction of triangles in (0, 1]");
       q.global.lod = f;
     } else {
-      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, interpolation, resolve)");
+      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, interpolation, resolve, sample_shading)");
     }
   }
   return q;
@@ -289,6 +294,7 @@ std::string describe_quality(const QualitySettings& q) {
   if (q.environment) add(std::string("environment=") + (*q.environment ? "on" : "off"));
   if (q.affine) add(std::string("interpolation=") + (*q.affine ? "affine" : "perspective"));
   if (q.resolve) add(std::string("resolve=") + (*q.resolve == bridge::ResolveConfig::Filter::Box ? "box" : "blackman-harris"));
+  if (q.sample_shading) add(std::string("sample_shading=") + (*q.sample_shading == bridge::SampleShading::Off ? "off" : "normal-maps"));
   return out.empty() ? "default" : out;
 }
 

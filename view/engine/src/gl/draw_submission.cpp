@@ -58,16 +58,37 @@ void DrawSubmission::submit(platform::RenderTarget& target, const Pass& pass, co
   if (pass.set != DrawSet::OverStatic) gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl.Enable(GL_DEPTH_TEST);
   gl.DepthFunc(GL_LEQUAL);
+  // Normal-mapped materials shaded once per MSAA sample (the scene's "sample_shading"): their
+  // shading varies inside a pixel, and EEVEE averages many shading samples per pixel.
+  const bool per_sample = scene_.config.sample_shading == bridge::SampleShading::NormalMaps && gl.MinSampleShading &&
+                          target.samples() > 1;
+  if (per_sample) gl.MinSampleShading(1.0f);
+  bool sample_shading_on = false;
   std::vector<float> scratch;
   const GpuProgram* current = nullptr;
   for (int i : pass.draws) {
+    if (per_sample) {
+      const bool want = shades_per_sample(static_cast<std::size_t>(i), frame);
+      if (want != sample_shading_on) {
+        if (want) gl.Enable(GL_SAMPLE_SHADING);
+        else gl.Disable(GL_SAMPLE_SHADING);
+        sample_shading_on = want;
+      }
+    }
     draw_one(static_cast<std::size_t>(i), frame, current, scratch);
     ++stats.draw_calls;
   }
+  if (sample_shading_on) gl.Disable(GL_SAMPLE_SHADING);
   gl.BindVertexArray(0);
   gl.DepthMask(GL_TRUE);
   gl.Disable(GL_BLEND);
   gl.UseProgram(0);
+}
+
+bool DrawSubmission::shades_per_sample(std::size_t index, const FrameState& frame) const {
+  const GpuDraw* d = gpu_.draws()[index].get();
+  const auto shading = std::min(static_cast<std::size_t>(frame.draws[index].shading), d->shadings.size() - 1);
+  return d->shadings[shading].shape->features.normal_texture;
 }
 
 void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current,

@@ -23,6 +23,8 @@ class DrawSubmission {
 
  private:
   void draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current, std::vector<float>& scratch) const;
+  // Whether the draw's program at its current shading level samples a normal map.
+  bool shades_per_sample(std::size_t index, const FrameState& frame) const;
 
   const platform::Gl& gl_;
   const Scene& scene_;

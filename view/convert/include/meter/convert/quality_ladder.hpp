@@ -19,7 +19,10 @@
 //                   supported environment maps. Only scenes that have one are affected;
 //   resolve         box / blackman-harris: the MSAA resolve (the scene config's "resolve" filter;
 //                   its width stays the config's), a RendererOptions-free setting: the Renderer
-//                   reads it from the scene.
+//                   reads it from the scene;
+//   sample_shading  normal-maps / off: shade normal-mapped materials once per MSAA sample, or every
+//                   material once per pixel (the scene config's "sample_shading"), read from the
+//                   scene like the resolve.
 //
 // Why after conversion and not inside convert_gltf: the ladder is a runtime choice (the frame-rate
 // governor picks a level on the target), and a Scene already holds the features
@@ -56,6 +59,7 @@ struct QualitySettings {
   std::optional<bool> environment;                 // false: no environment map (global)
   std::optional<bool> affine;                      // true: no perspective correction (global)
   std::optional<bridge::ResolveConfig::Filter> resolve;  // the MSAA resolve filter (global)
+  std::optional<bridge::SampleShading> sample_shading;   // per-sample shading of normal maps (global)
 };
 
 struct QualityReport {
@@ -79,7 +83,7 @@ const char* filter_name(TextureFilter f);  // "nearest" | "bilinear" | "trilinea
 
 // Parses a ladder point written as comma-separated key=value pairs, e.g.
 // "shading=gouraud,precision=mediump,lod=0.5,filter=nearest,msaa=2,environment=off,interpolation=affine,
-// resolve=blackman-harris"
+// resolve=blackman-harris,sample_shading=off"
 // (every key optional; "" = no change). Throws SceneError naming the pair and what was expected.
 QualitySettings parse_quality(const std::string& text);
 // The canonical text of the global part ("shading=..,msaa=.." in a fixed order; "default" if empty).
