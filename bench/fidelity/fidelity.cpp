@@ -209,6 +209,12 @@ int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path
         "Blender deformed it (baked at the reference frame, drawn without skinning) was 48.48 (44.54) dB, so the gap was "
         "the normals; now the engine recomputes them on the CPU when the pose changes: skinning 39.64 (33.03) → 48.47 "
         "(44.53).\n"
+        "- **Textures sampled with 2x anisotropy** (2026-12-04, Blender's factory preference, which EEVEE renders image "
+        "textures with; never the environment map): bump 39.54 (33.24) → 40.86 (34.80); the others unchanged. "
+        "`--quality filter=trilinear` reproduces the before column; cost in docs/accuracy-vs-time.md (`trilinear`).\n"
+        "- **Per-sample shading of normal maps** (2026-12-04, the feature scenes' `\"sample_shading\": \"normal-maps\"`, "
+        "docs/scene-config.md): bump 40.86 (34.80) → 41.51 (35.45); `--quality sample_shading=off` reproduces the "
+        "before column; cost in docs/accuracy-vs-time.md (`per-pixel-shading`: about 3x the bump frame).\n"
         "\nFull-frame PSNR flatters small objects on black (the background matches exactly); the object column is the "
         "honest one and is the number to compare across scenes. The paper does not say which one its Table 1 is.\n\n"
      << "Files: `" << (out / "fidelity.csv").string() << "` (this table) and `<scene>.engine.png` (the renders).\n";
