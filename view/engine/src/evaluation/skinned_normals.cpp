@@ -58,15 +58,17 @@ SkinnedNormalsLayout skinned_normals_layout(const Primitive& prim) {
   return out;
 }
 
+glm::mat4 joint_matrix(const Skin& skin, std::size_t j, std::span<const glm::mat4> world, const glm::mat4& inverse_model) {
+  const auto node = static_cast<std::size_t>(skin.joints[j]);
+  const glm::mat4 bind = j < skin.inverse_bind.size() ? skin.inverse_bind[j] : glm::mat4(1.0f);
+  return node < world.size() ? inverse_model * world[node] * bind : glm::mat4(1.0f);
+}
+
 std::vector<glm::mat4> joint_matrices(const Skin& skin, std::span<const glm::mat4> world, const glm::mat4& model) {
   const glm::mat4 inv_model = glm::inverse(model);
   std::vector<glm::mat4> out;
   out.reserve(skin.joints.size());
-  for (std::size_t j = 0; j < skin.joints.size(); ++j) {
-    const auto node = static_cast<std::size_t>(skin.joints[j]);
-    const glm::mat4 bind = j < skin.inverse_bind.size() ? skin.inverse_bind[j] : glm::mat4(1.0f);
-    out.push_back(node < world.size() ? inv_model * world[node] * bind : glm::mat4(1.0f));
-  }
+  for (std::size_t j = 0; j < skin.joints.size(); ++j) out.push_back(joint_matrix(skin, j, world, inv_model));
   return out;
 }
 

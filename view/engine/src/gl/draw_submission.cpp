@@ -196,10 +196,12 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
       case UniformSemantic::JointMatrices: {
         if (node.skin < 0) break;
         const Skin& skin = scene_.skins[static_cast<std::size_t>(node.skin)];
-        const std::vector<glm::mat4> joints = joint_matrices(skin, frame.world, model);
+        const glm::mat4 inv_model = glm::inverse(model);
         scratch.assign(static_cast<std::size_t>(u.array_size) * 16, 0.0f);
-        for (std::size_t j = 0; j < joints.size() && j < static_cast<std::size_t>(u.array_size); ++j)
-          std::copy(glm::value_ptr(joints[j]), glm::value_ptr(joints[j]) + 16, scratch.begin() + static_cast<std::ptrdiff_t>(j * 16));
+        for (std::size_t j = 0; j < skin.joints.size() && j < static_cast<std::size_t>(u.array_size); ++j) {
+          const glm::mat4 jm = joint_matrix(skin, j, frame.world, inv_model);
+          std::copy(glm::value_ptr(jm), glm::value_ptr(jm) + 16, scratch.begin() + static_cast<std::ptrdiff_t>(j * 16));
+        }
         gl.UniformMatrix4fv(l, u.array_size, GL_FALSE, scratch.data());
         break;
       }

@@ -41,7 +41,9 @@ bool has_skinned_normals(const Primitive& prim);
 SkinnedNormalsLayout skinned_normals_layout(const Primitive& prim);
 
 // The joint matrices the vertex shader gets (u_joint_matrices): joint j takes the rest pose into
-// the mesh node's space, inverse(model) * world(joint j) * inverse_bind(j).
+// the mesh node's space, inverse(model) * world(joint j) * inverse_bind(j). One joint, given
+// inverse(model), without allocating (the draw loop), and all of them.
+glm::mat4 joint_matrix(const Skin& skin, std::size_t j, std::span<const glm::mat4> world, const glm::mat4& inverse_model);
 std::vector<glm::mat4> joint_matrices(const Skin& skin, std::span<const glm::mat4> world, const glm::mat4& model);
 
 // Writes into `vertices` (a copy of prim.vertices, same record layout) the NORMAL of every vertex:
