@@ -111,8 +111,8 @@ void run_backend(mp::BackendKind kind, int frames) {
   const std::vector<mp::PixelRegion> boxes = {{496, 15, 38, 30}, {180, 200, 64, 64}, {900, 210, 64, 64},
                                               {623, 143, 148, 21}, {1100, 420, 20, 20}};
   int n = 0;
-  auto draw_frame = [&](mp::RenderTarget& t) {
-    t.bind();
+  // The frame's work after its framebuffer is bound: one dial-sized box cleared and shaded again.
+  auto shade_box = [&] {
     gl.Enable(GL_SCISSOR_TEST);
     gl.Scissor(67, 48, 392, 393);
     gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -121,6 +121,10 @@ void run_backend(mp::BackendKind kind, int frames) {
     gl.Uniform4f(color, 0.2f, float(n % 9) / 9.0f, 0.4f, 1.0f);
     gl.DrawArrays(GL_TRIANGLES, 0, 3);
     gl.Disable(GL_SCISSOR_TEST);
+  };
+  auto draw_frame = [&](mp::RenderTarget& t) {
+    t.bind();
+    shade_box();
   };
 
   std::vector<Case> cases;
@@ -178,14 +182,7 @@ void run_backend(mp::BackendKind kind, int frames) {
     };
     auto own_frame = [&, bind_own] {  // copies: the cases outlive this block
       bind_own();
-      gl.Enable(GL_SCISSOR_TEST);
-      gl.Scissor(67, 48, 392, 393);
-      gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      gl.UseProgram(shade);
-      gl.BindVertexArray(vao);
-      gl.Uniform4f(color, 0.2f, float(n % 9) / 9.0f, 0.4f, 1.0f);
-      gl.DrawArrays(GL_TRIANGLES, 0, 3);
-      gl.Disable(GL_SCISSOR_TEST);
+      shade_box();
     };
     cases.push_back({"own frame (MS texture)", own_frame, {}, {}});
     // The same resolve program either into the atlas (one read) or into a frame-sized target at the
