@@ -31,6 +31,7 @@ const char* to_string(TextureSlot s) {
     case TextureSlot::Emissive: return "emissive";
     case TextureSlot::Occlusion: return "occlusion";
     case TextureSlot::Environment: return "environment";
+    case TextureSlot::ShadowMap: return "shadow_map";
   }
   return "?";
 }
@@ -66,6 +67,7 @@ const char* to_string(UniformSemantic s) {
     case UniformSemantic::Exposure: return "Exposure";
     case UniformSemantic::UberSwitches: return "UberSwitches";
     case UniformSemantic::UberLightCounts: return "UberLightCounts";
+    case UniformSemantic::LightShadowMatrix: return "LightShadowMatrix";
   }
   return "?";
 }

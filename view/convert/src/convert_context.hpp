@@ -80,6 +80,7 @@ void validate_material(ConvertContext& c, std::size_t material);
 void validate_textures(ConvertContext& c);
 void validate_cameras(ConvertContext& c);
 void validate_lights(ConvertContext& c);
+bool casts_shadow(const tinygltf::Light& l);  // extras.meter_cast_shadow true (lights_cameras.cpp)
 void validate_environment(ConvertContext& c, std::size_t scene);
 
 // ---- conversion of validated elements into the Scene (one stage per file)

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -9,6 +10,7 @@
 #include "meter/shadergen/shadergen.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
+#include "meter/convert/quality_ladder.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "test_scenes.hpp"
@@ -200,4 +202,65 @@ TEST(ConverterDial, OptimizeFoldsConstants) {
     found = r.scene.programs[static_cast<std::size_t>(d.program)].program.find_uniform(meter::shadergen::UniformSemantic::EmissiveFactor) != nullptr;
   }
   EXPECT_TRUE(found);
+}
+
+// Blender's use_shadow arrives as the light's extras.meter_cast_shadow (true / false or 1 / 0):
+// lit programs then get a shadow lookup for that light and nothing else does; a wrong type is an
+// error naming the field; a point light that casts is repaired to cast nothing (its map would be a
+// cube map, which is not built); the quality key shadows=off takes the lookups out again.
+TEST(ConverterLights, ShadowFlagComesFromTheLightExtras) {
+  const auto dir = test::scratch_dir("converter_shadow_flag");
+  const std::string original = test::write_dial_scene(dir);
+  auto with_light = [&](const nlohmann::json& extras, const std::string& type, const std::string& name) {
+    std::ifstream in(original);
+    nlohmann::json j = nlohmann::json::parse(in);
+    auto& light = j["extensions"]["KHR_lights_punctual"]["lights"][0];
+    light["extras"] = extras;
+    light["type"] = type;
+    const std::string path = dir + "/" + name + ".gltf";
+    std::ofstream(path) << j.dump();
+    return path;
+  };
+  const SceneConfig cfg = parse_scene_config(test::dial_config_json());
+  auto shadow_masks = [](const Scene& s) {
+    std::set<unsigned> masks;
+    for (const auto& p : s.programs)
+      if (p.program.features.shading != meter::shadergen::ShadingModel::Unlit) masks.insert(p.program.features.lights.shadows);
+    return masks;
+  };
+
+  const auto plain = convert_gltf(original, cfg, ConvertOptions{false});
+  EXPECT_FALSE(plain.scene.lights[0].cast_shadow);
+  EXPECT_EQ(shadow_masks(plain.scene), (std::set<unsigned>{0u}));
+
+  for (const auto& flag : {nlohmann::json(true), nlohmann::json(1)}) {
+    const auto r = convert_gltf(with_light({{"meter_cast_shadow", flag}}, "directional", "cast"), cfg, ConvertOptions{false});
+    EXPECT_TRUE(r.scene.lights[0].cast_shadow) << flag;
+    EXPECT_EQ(shadow_masks(r.scene), (std::set<unsigned>{1u})) << flag;
+    for (const auto& p : r.scene.programs) {
+      const bool samples_map = std::any_of(p.program.samplers.begin(), p.program.samplers.end(),
+                                           [](const auto& s) { return s.slot == meter::bridge::TextureSlot::ShadowMap; });
+      EXPECT_EQ(samples_map, p.program.features.lights.shadows != 0);
+    }
+    Scene off = r.scene;
+    const QualityReport q = apply_quality(off, parse_quality("shadows=off"));
+    EXPECT_EQ(q.shadow_maps_dropped, 1);
+    for (const auto& d : off.draws) EXPECT_EQ(off.programs[std::size_t(d.program)].program.features.lights.shadows, 0u);
+  }
+  const auto no = convert_gltf(with_light({{"meter_cast_shadow", false}}, "directional", "no"), cfg, ConvertOptions{false});
+  EXPECT_FALSE(no.scene.lights[0].cast_shadow);
+
+  try {
+    convert_gltf(with_light({{"meter_cast_shadow", "yes"}}, "directional", "bad"), cfg, ConvertOptions{false});
+    FAIL() << "a string shadow flag was accepted";
+  } catch (const ConvertError& e) {
+    EXPECT_NE(std::string(e.what()).find("extensions.KHR_lights_punctual.lights[0].extras.meter_cast_shadow: expected true / false"),
+              std::string::npos) << e.what();
+  }
+
+  const auto point = convert_gltf(with_light({{"meter_cast_shadow", true}}, "point", "point"), cfg, ConvertOptions{false});
+  EXPECT_FALSE(point.scene.lights[0].cast_shadow);
+  EXPECT_EQ(shadow_masks(point.scene), (std::set<unsigned>{0u}));
+  ASSERT_EQ(point.repairs.size(), 1u);
+  EXPECT_NE(point.repairs[0].message.find("point-light shadows"), std::string::npos) << point.repairs[0].message;
 }

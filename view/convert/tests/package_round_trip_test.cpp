@@ -64,6 +64,7 @@ Scene every_section() {
   l.name = "Sun";
   l.type = LightType::Spot;
   l.intensity = 3.0f;
+  l.cast_shadow = true;
   s.lights.push_back(l);
   Skin k;
   k.name = "Rig";
@@ -82,6 +83,10 @@ Scene every_section() {
   pe.program.attributes.push_back({"a_position", AttributeSemantic::Position, -1, 0, 3});
   pe.program.attributes.push_back({"a_vertex_alpha", AttributeSemantic::VertexAlpha, -1, 1, 1});
   pe.program.blend = true;
+  // Shadows (version 6): the spot's map sampled on unit 1.
+  pe.program.features.lights.spot = 1;
+  pe.program.features.lights.shadows = 1;
+  pe.program.samplers.push_back({"u_light0_shadow_map", bridge::TextureSlot::ShadowMap, 1, 0});
   pe.optimize_report.spirv_instructions_before = 120;
   pe.optimize_report.folded = {"u_base_color"};
   s.programs.push_back(pe);
@@ -140,6 +145,7 @@ TEST(PackageRoundTrip, WriterToReaderKeepsEverySection) {
   EXPECT_TRUE(r.textures[0].srgb);
   EXPECT_FLOAT_EQ(r.cameras[0].yfov, 0.7f);
   EXPECT_EQ(r.lights[0].type, LightType::Spot);
+  EXPECT_TRUE(r.lights[0].cast_shadow);
   EXPECT_EQ(r.skins[0].joints, (std::vector<int>{0}));
   EXPECT_EQ(r.animations[0].samplers[0].interpolation, Interpolation::Step);
   EXPECT_EQ(r.animations[0].samplers[0].output, s.animations[0].samplers[0].output);
@@ -147,6 +153,10 @@ TEST(PackageRoundTrip, WriterToReaderKeepsEverySection) {
   EXPECT_EQ(r.programs[0].program.fragment_source, "void main() { }");
   EXPECT_EQ(r.programs[0].program.attributes.size(), 2u);
   EXPECT_TRUE(r.programs[0].program.blend);
+  EXPECT_EQ(r.programs[0].program.features.lights.shadows, 1u);
+  ASSERT_EQ(r.programs[0].program.samplers.size(), 1u);
+  EXPECT_EQ(r.programs[0].program.samplers[0].slot, bridge::TextureSlot::ShadowMap);
+  EXPECT_EQ(r.programs[0].program.samplers[0].index, 0);
   EXPECT_EQ(r.programs[0].optimize_report.spirv_instructions_before, 120u);
   EXPECT_EQ(r.programs[0].optimize_report.folded, (std::vector<std::string>{"u_base_color"}));
   EXPECT_EQ(r.draws.size(), 1u);

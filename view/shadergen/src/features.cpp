@@ -2,6 +2,7 @@
 // vocabulary's, view/bridge/src/program_names.cpp).
 #include "features.hpp"
 
+#include <bit>
 #include <stdexcept>
 #include <string>
 
@@ -17,6 +18,7 @@ bool has_texture(const MaterialFeatures& f, TextureSlot slot) {
     case TextureSlot::Emissive: return f.emissive_texture;
     case TextureSlot::Occlusion: return f.occlusion_texture;
     case TextureSlot::Environment: return f.environment_map_2d;
+    case TextureSlot::ShadowMap: return f.lights.shadows != 0;
   }
   return false;
 }
@@ -74,6 +76,13 @@ void validate(const MaterialFeatures& f) {
   if (f.lights.total() > kMaxLights)
     fail("lights = " + std::to_string(f.lights.total()) + ", expected at most " +
          std::to_string(kMaxLights));
+  if (f.lights.total() < 32 && (f.lights.shadows >> f.lights.total()) != 0)
+    fail("shadows names light bits beyond the " + std::to_string(f.lights.total()) + " lights");
+  if (std::popcount(f.lights.shadows) > kMaxShadowMaps)
+    fail("shadows = " + std::to_string(std::popcount(f.lights.shadows)) + " shadow maps, expected at most " +
+         std::to_string(kMaxShadowMaps));
+  for (int i = f.lights.directional; i < f.lights.directional + f.lights.point; ++i)
+    if (f.lights.casts_shadow(i)) fail("shadows names point light " + std::to_string(i) + " (only directional and spot lights have shadow maps)");
   if (f.metallic_roughness_texture && f.shading != ShadingModel::PbrMetallicRoughness)
     fail(std::string("metallic_roughness_texture needs shading = pbr, got ") + model);
   if (f.normal_texture && !per_pixel_normal(f.shading))
@@ -111,6 +120,9 @@ MaterialFeatures canonical(const MaterialFeatures& features) {
   // Data the shading model never reads does not change the program: drop it so equal programs
   // share one key (and one cache entry).
   if (c.shading == ShadingModel::Unlit) c.lights = {};
+  // Shadow lookups exist in per-pixel light loops only (Gouraud lights per vertex: a cheaper
+  // quality level that drops shadows with the rest of the per-pixel work).
+  if (!detail::per_pixel_normal(c.shading) && c.shading != ShadingModel::Flat) c.lights.shadows = 0;
   if (!c.normal_texture) c.has_tangents = false;
   if (c.shading == ShadingModel::Unlit || c.shading == ShadingModel::Flat) c.morph_normals = false;
   return c;
@@ -139,6 +151,7 @@ std::string program_key(const MaterialFeatures& features) {
   if (c.lights.total())
     k += "|L" + std::to_string(c.lights.directional) + "." + std::to_string(c.lights.point) + "." +
          std::to_string(c.lights.spot);
+  if (c.lights.shadows) k += "|S" + std::to_string(c.lights.shadows);
   if (c.has_tangents) k += "|tan";
   return k;
 }

@@ -35,7 +35,7 @@ Needs analyse(const MaterialFeatures& f) {
   n.view_vector = f.shading == ShadingModel::PbrMetallicRoughness ||
                   (f.shading == ShadingModel::BlinnPhong && (lights > 0 || f.environment_map_2d));
   n.world_position = f.shading == ShadingModel::Flat || n.view_vector ||
-                     (per_pixel && (f.lights.point + f.lights.spot) > 0) ||
+                     (per_pixel && (f.lights.point + f.lights.spot) > 0) || f.lights.shadows != 0 ||
                      (f.normal_texture && !f.has_tangents);
   n.normal_varying = per_pixel;
   n.tangent = f.normal_texture && f.has_tangents;
@@ -50,7 +50,8 @@ Needs analyse(const MaterialFeatures& f) {
 
 // Declares the uniforms of every light in `stage` and returns the code that accumulates them:
 // for each light `l` (unit vector to the light) and `e` (irradiance, W/m^2 in Blender's units at
-// the surface, before N.L) are computed, then `accumulate` is pasted with them in scope.
+// the surface, before N.L, times the shadow map's visibility for a light that casts shadows) are
+// computed, then `accumulate` is pasted with them in scope.
 std::string light_loop(GlslBuilder& b, Stage stage, const LightCounts& lights,
                        const std::string& position, const std::string& accumulate) {
   std::string code;
@@ -60,6 +61,13 @@ std::string light_loop(GlslBuilder& b, Stage stage, const LightCounts& lights,
     b.uniform(stage, name, type, sem, g);
     return name;
   };
+  auto shadow = [&] {
+    if (stage != Stage::Fragment || !lights.casts_shadow(g)) return std::string();
+    const std::string map = "u_light" + std::to_string(g) + "_shadow_map";
+    b.sampler(map, TextureSlot::ShadowMap, g);
+    const auto matrix = U("shadow_matrix", "highp mat4", UniformSemantic::LightShadowMatrix);
+    return "    e *= shadow_visibility(" + map + ", " + matrix + ", " + position + ");\n";
+  };
   for (int i = 0; i < lights.directional; ++i, ++g) {
     const auto color = U("color", "vec3", UniformSemantic::LightColor);
     const auto intensity = U("intensity", "float", UniformSemantic::LightIntensity);
@@ -67,6 +75,7 @@ std::string light_loop(GlslBuilder& b, Stage stage, const LightCounts& lights,
     code += "  {  // directional light " + std::to_string(g) + " (intensity in lux)\n";
     code += "    vec3 l = -normalize(" + direction + ");\n";
     code += "    vec3 e = " + color + " * (" + intensity + " * kWattsPerLumen);\n";
+    code += shadow();
     code += accumulate + "  }\n";
   }
   for (int i = 0; i < lights.point + lights.spot; ++i, ++g) {
@@ -90,6 +99,7 @@ std::string light_loop(GlslBuilder& b, Stage stage, const LightCounts& lights,
               inner + ", " + outer + ");\n";
     }
     code += "    vec3 e = " + color + " * (" + intensity + " * kWattsPerLumen * attenuation);\n";
+    code += shadow();
     code += accumulate + "  }\n";
   }
   return code;
@@ -99,6 +109,7 @@ std::string light_helpers(const LightCounts& lights) {
   std::string s = detail::kLightConstants;
   if (lights.point + lights.spot > 0) s += detail::kRangeAttenuation;
   if (lights.spot > 0) s += detail::kSpotAttenuation;
+  if (lights.shadows != 0) s += detail::kShadowVisibility;
   return s;
 }
 

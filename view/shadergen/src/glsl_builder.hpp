@@ -26,10 +26,13 @@ class GlslBuilder {
     program_.uniforms.push_back(info);
   }
 
-  void sampler(const std::string& name, TextureSlot slot) {
-    fs_uniforms_ += "uniform sampler2D " + name + ";\n";
+  // A fragment-stage sampler on the next texture unit. A shadow map is a depth-compare sampler
+  // (highp: depths need full precision) and names its light (`index`).
+  void sampler(const std::string& name, TextureSlot slot, int index = -1) {
+    const bool shadow = slot == TextureSlot::ShadowMap;
+    fs_uniforms_ += std::string(shadow ? "uniform highp sampler2DShadow " : "uniform sampler2D ") + name + ";\n";
     const int unit = static_cast<int>(program_.samplers.size());
-    program_.samplers.push_back({name, slot, unit});
+    program_.samplers.push_back({name, slot, unit, index});
   }
 
   // `layout(location = n) in <type> <name>;` with locations assigned in declaration order.

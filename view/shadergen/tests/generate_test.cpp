@@ -194,6 +194,39 @@ TEST(Generate, EnvironmentCodeExistsOnlyWhenTheFeatureIsOn) {
   }
 }
 
+// Shadows exist only for the lights that cast them: one depth-compare sampler and one matrix per
+// casting light, with that light's index, and no shadow code at all in a program whose lights cast
+// none. Gouraud (per-vertex light) and unlit programs drop shadows in their canonical form.
+TEST(Generate, ShadowLookupsExistOnlyForCastingLights) {
+  for (ShadingModel m : {ShadingModel::Flat, ShadingModel::BlinnPhong, ShadingModel::PbrMetallicRoughness}) {
+    SCOPED_TRACE(to_string(m));
+    MaterialFeatures f = with(m);
+    f.lights.directional = 1, f.lights.point = 1, f.lights.spot = 1;
+    const Program plain = generate(f);
+    EXPECT_FALSE(contains(plain.fragment_source, "shadow")) << plain.fragment_source;
+    f.lights.shadows = 0b101;  // the sun (0) and the spot (2); the point light (1) has no map
+    const Program p = generate(f);
+    std::vector<int> sampler_lights, matrix_lights;
+    for (const auto& s : p.samplers)
+      if (s.slot == TextureSlot::ShadowMap) sampler_lights.push_back(s.index);
+      else EXPECT_EQ(s.index, -1) << s.name;
+    for (const auto& u : p.uniforms)
+      if (u.semantic == UniformSemantic::LightShadowMatrix) matrix_lights.push_back(u.index);
+    EXPECT_EQ(sampler_lights, (std::vector<int>{0, 2}));
+    EXPECT_EQ(matrix_lights, (std::vector<int>{0, 2}));
+    EXPECT_TRUE(contains(p.fragment_source, "uniform highp sampler2DShadow u_light0_shadow_map;"));
+    EXPECT_FALSE(contains(p.fragment_source, "u_light1_shadow"));
+    EXPECT_TRUE(compiles(p));
+    EXPECT_NE(program_key(f), program_key(with(m)));
+  }
+  for (ShadingModel m : {ShadingModel::Unlit, ShadingModel::Gouraud}) {
+    MaterialFeatures f = with(m);
+    f.lights.directional = 1, f.lights.shadows = 1;
+    EXPECT_EQ(canonical(f).lights.shadows, 0u) << to_string(m);
+    EXPECT_FALSE(contains(generate(f).fragment_source, "shadow")) << to_string(m);
+  }
+}
+
 TEST(Generate, PlainPbrHasNoOptionalCode) {
   const Program p = generate(pbr());
   const std::string all = p.vertex_source + p.fragment_source;
@@ -423,6 +456,9 @@ TEST(Invalid, ImpossibleSetsThrowNamingTheField) {
          f.morph_normals = true;  // 1 + 1 + 16 attributes > 16
        },
        "vertex attributes"},
+      {[](auto& f) { f.lights.directional = 1; f.lights.shadows = 0b10; }, "shadows"},
+      {[](auto& f) { f.lights.point = 1; f.lights.shadows = 0b1; }, "point light"},
+      {[](auto& f) { f.lights.directional = 5; f.lights.shadows = 0b11111; }, "shadow maps"},
   };
   for (std::size_t i = 0; i < bad.size(); ++i) {
     MaterialFeatures f = pbr();

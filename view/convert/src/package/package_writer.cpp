@@ -54,7 +54,7 @@ void write_features(Writer& w, const bridge::MaterialFeatures& f) {
   w.boolean(f.double_sided);
   w.i32(f.skin_joints), w.i32(f.morph_targets);
   w.boolean(f.morph_normals);
-  w.i32(f.lights.directional), w.i32(f.lights.point), w.i32(f.lights.spot);
+  w.i32(f.lights.directional), w.i32(f.lights.point), w.i32(f.lights.spot), w.u32(f.lights.shadows);
   w.boolean(f.environment_map_2d), w.boolean(f.has_tangents);
 }
 
@@ -93,7 +93,7 @@ void write_program(Writer& w, const ProgramEntry& e) {
   w.u32(static_cast<std::uint32_t>(p.uniforms.size()));
   for (const auto& u : p.uniforms) w.str(u.name), w.str(u.glsl_type), w.i32(int(u.semantic)), w.i32(u.index), w.i32(u.array_size);
   w.u32(static_cast<std::uint32_t>(p.samplers.size()));
-  for (const auto& s : p.samplers) w.str(s.name), w.i32(int(s.slot)), w.i32(s.unit);
+  for (const auto& s : p.samplers) w.str(s.name), w.i32(int(s.slot)), w.i32(s.unit), w.i32(s.index);
   write_features(w, p.features);
   w.boolean(p.blend), w.boolean(p.cull_back_faces), w.boolean(p.optimized), w.boolean(p.uber);
   const auto& o = e.optimize_report;
@@ -175,7 +175,8 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
   }
   w.u32(static_cast<std::uint32_t>(s.lights.size()));
   for (const auto& l : s.lights) {
-    w.str(l.name), w.i32(int(l.type)), w.v3(l.color), w.f32(l.intensity), w.f32(l.range), w.f32(l.inner_cone), w.f32(l.outer_cone);
+    w.str(l.name), w.i32(int(l.type)), w.v3(l.color), w.f32(l.intensity), w.f32(l.range), w.f32(l.inner_cone), w.f32(l.outer_cone),
+        w.boolean(l.cast_shadow);
   }
   w.u32(static_cast<std::uint32_t>(s.skins.size()));
   for (const auto& k : s.skins) {

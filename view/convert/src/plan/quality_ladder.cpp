@@ -5,6 +5,7 @@
 #include <cmath>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <meshoptimizer.h>
 
@@ -132,6 +133,8 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     s.environment = Environment{};
     report.environment_dropped = true;
   }
+  if (q.shadows == false)
+    for (Light& l : s.lights) report.shadow_maps_dropped += std::exchange(l.cast_shadow, false) ? 1 : 0;
   // Programs: regenerate those whose draws ask for another model / precision, or that sample an
   // environment the settings dropped (deduplicated by key).
   std::map<std::string, int> cache;
@@ -140,11 +143,13 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     DrawItem& d = s.draws[i];
     const QualityOverride e = effective(d.node);
     const shadergen::MaterialFeatures& stored = s.programs[std::size_t(d.program)].program.features;
-    const bool drop_environment = stored.environment_map_2d && !s.environment.present();
-    if (!e.shading && !e.precision && !drop_environment) continue;
+    // An environment or shadow maps the settings dropped: the program must stop sampling them.
+    const bool drop_maps = (stored.environment_map_2d && !s.environment.present()) ||
+                                  (stored.lights.shadows != 0 && report.shadow_maps_dropped > 0);
+    if (!e.shading && !e.precision && !drop_maps) continue;
     const ShadingModel shading = e.shading.value_or(stored.shading);
     const shadergen::Precision precision = e.precision.value_or(stored.precision);
-    if (shading == stored.shading && precision == stored.precision && !drop_environment) continue;
+    if (shading == stored.shading && precision == stored.precision && !drop_maps) continue;
     const int mat = s.meshes[std::size_t(d.mesh)].primitives[std::size_t(d.primitive)].material;
     if ((shading == ShadingModel::BlinnPhong || shading == ShadingModel::Gouraud) &&
         s.materials[std::size_t(mat)].shading == ShadingModel::PbrMetallicRoughness && mapped_materials.insert(mat).second)
@@ -259,6 +264,10 @@ QualitySettings parse_quality(const std::string& text) {
       if (v == "on") q.environment = true;
       else if (v == "off") q.environment = false;
       else throw bad("on or off");
+    } else if (k == "shadows") {
+      if (v == "on") q.shadows = true;
+      else if (v == "off") q.shadows = false;
+      else throw bad("on or off");
     } else if (k == "resolve") {
       if (v == "box") q.resolve = bridge::ResolveConfig::Filter::Box;
       else if (v == "blackman-harris") q.resolve = bridge::ResolveConfig::Filter::BlackmanHarris;
@@ -273,7 +282,7 @@ QualitySettings parse_quality(const std::string& text) {
       if (v.empty() || *end != '\0' || !(f > 0.0f && f <= 1.0f)) throw bad("a fraction of triangles in (0, 1]");
       q.global.lod = f;
     } else {
-      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, interpolation, resolve, sample_shading)");
+      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, shadows, interpolation, resolve, sample_shading)");
     }
   }
   return q;
@@ -292,6 +301,7 @@ std::string describe_quality(const QualitySettings& q) {
   if (q.filter) add(std::string("filter=") + filter_name(*q.filter));
   if (q.msaa) add("msaa=" + std::to_string(*q.msaa));
   if (q.environment) add(std::string("environment=") + (*q.environment ? "on" : "off"));
+  if (q.shadows) add(std::string("shadows=") + (*q.shadows ? "on" : "off"));
   if (q.affine) add(std::string("interpolation=") + (*q.affine ? "affine" : "perspective"));
   if (q.resolve) add(std::string("resolve=") + (*q.resolve == bridge::ResolveConfig::Filter::Box ? "box" : "blackman-harris"));
   if (q.sample_shading) add(std::string("sample_shading=") + (*q.sample_shading == bridge::SampleShading::Off ? "off" : "normal-maps"));

@@ -22,6 +22,7 @@ void validate_cameras(ConvertContext& ctx) {
 }
 
 void validate_lights(ConvertContext& ctx) {
+  int casting = 0;
   for (std::size_t i = 0; i < ctx.m.lights.size(); ++i) {
     const auto& l = ctx.m.lights[i];
     const std::string p = "extensions.KHR_lights_punctual.lights[" + std::to_string(i) + "]";
@@ -32,7 +33,24 @@ void validate_lights(ConvertContext& ctx) {
                               l.spot.outerConeAngle <= 1.5707964)) {
       ctx.error(p + ".spot", "need 0 <= innerConeAngle < outerConeAngle <= pi/2");
     }
+    if (l.extras.IsObject() && l.extras.Has("meter_cast_shadow")) {
+      const auto& v = l.extras.Get("meter_cast_shadow");
+      if (!v.IsBool() && !v.IsInt())
+        ctx.error(p + ".extras.meter_cast_shadow", "expected true / false or 1 / 0 (Blender's use_shadow of the light)");
+      else if (casts_shadow(l) && l.type == "point")
+        ctx.repair(p + ".extras.meter_cast_shadow", "light \"" + l.name + "\" casts shadows in the scene; point-light shadows "
+                   "(cube maps) are not drawn: it lights without a shadow");
+      else if (casts_shadow(l) && ++casting > bridge::kMaxShadowMaps)
+        ctx.repair(p + ".extras.meter_cast_shadow", "light \"" + l.name + "\": more than " + std::to_string(bridge::kMaxShadowMaps) +
+                   " lights cast shadows; only the first " + std::to_string(bridge::kMaxShadowMaps) + " in light order get a shadow map");
+    }
   }
+}
+
+bool casts_shadow(const tinygltf::Light& l) {
+  if (!l.extras.IsObject() || !l.extras.Has("meter_cast_shadow")) return false;
+  const auto& v = l.extras.Get("meter_cast_shadow");
+  return v.IsBool() ? v.Get<bool>() : v.IsInt() && v.Get<int>() != 0;
 }
 
 void convert_cameras(const ConvertContext& ctx, Scene& s) {
@@ -62,6 +80,8 @@ void convert_lights(const ConvertContext& ctx, Scene& s) {
     out.range = static_cast<float>(l.range);
     out.inner_cone = static_cast<float>(l.spot.innerConeAngle);
     out.outer_cone = static_cast<float>(l.spot.outerConeAngle);
+    // Shadow maps for directional and spot lights (a point light's would be a cube map).
+    out.cast_shadow = casts_shadow(l) && out.type != LightType::Point;
     s.lights.push_back(out);
   }
 }

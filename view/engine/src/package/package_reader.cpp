@@ -108,6 +108,7 @@ bridge::MaterialFeatures read_features(Reader& r) {
   f.lights.directional = r.i32("features");
   f.lights.point = r.i32("features");
   f.lights.spot = r.i32("features");
+  f.lights.shadows = r.u32("features");
   f.environment_map_2d = r.boolean("features");
   f.has_tangents = r.boolean("features");
   return f;
@@ -133,7 +134,7 @@ ProgramEntry read_program(Reader& r) {
     UniformInfo u;
     u.name = r.str("uniform.name");
     u.glsl_type = r.str("uniform.glsl_type");
-    u.semantic = enum_in<UniformSemantic>(r, int(UniformSemantic::UberLightCounts), "uniform.semantic");
+    u.semantic = enum_in<UniformSemantic>(r, int(UniformSemantic::LightShadowMatrix), "uniform.semantic");
     u.index = r.i32("uniform.index");
     u.array_size = r.i32("uniform.array_size");
     if (u.array_size < 1 || u.array_size > 1024) r.fail("uniform array size out of range");
@@ -142,9 +143,12 @@ ProgramEntry read_program(Reader& r) {
   for (std::uint32_t n = r.count("program.samplers", 12), i = 0; i < n; ++i) {
     SamplerInfo s;
     s.name = r.str("sampler.name");
-    s.slot = enum_in<TextureSlot>(r, int(TextureSlot::Environment), "sampler.slot");
+    s.slot = enum_in<TextureSlot>(r, int(TextureSlot::ShadowMap), "sampler.slot");
     s.unit = r.i32("sampler.unit");
     if (s.unit < 0 || s.unit > 15) r.fail("sampler unit out of range");
+    s.index = r.i32("sampler.index");
+    if (s.slot == TextureSlot::ShadowMap ? s.index < 0 || s.index >= kMaxLights : s.index != -1)
+      r.fail("sampler.index: a shadow map names a light 0.." + std::to_string(kMaxLights - 1) + ", any other sampler -1");
     p.samplers.push_back(s);
   }
   p.features = read_features(r);
@@ -405,6 +409,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     l.type = enum_in<LightType>(r, 2, "light.type");
     l.color = r.v3("light.color");
     l.intensity = r.f32("light"), l.range = r.f32("light"), l.inner_cone = r.f32("light"), l.outer_cone = r.f32("light");
+    l.cast_shadow = r.boolean("light");
     s.lights.push_back(std::move(l));
   }
   for (std::uint32_t n = r.count("skins", 8), i = 0; i < n; ++i) {

@@ -39,7 +39,8 @@ namespace meter::bridge {
 // 3: the world environment (texture index, strength, ambient cube) after the groups.
 // 4: the integrity table (safety regions and their signatures) after the scene config text.
 // 5: the draw levels (cheaper LODs and shadings, draw_levels.hpp) after the integrity table.
-inline constexpr std::uint32_t kPackageVersion = 5;
+// 6: shadows: a light's cast_shadow flag, a program's shadow-light mask, a sampler's light index.
+inline constexpr std::uint32_t kPackageVersion = 6;
 inline constexpr char kPackageMagic[8] = {'M', 'E', 'T', 'E', 'R', 'S', 'C', 'N'};
 // magic + version + reserved + payload size + payload checksum
 inline constexpr std::size_t kPackageHeaderSize = 8 + 4 + 4 + 8 + 8;

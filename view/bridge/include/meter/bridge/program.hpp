@@ -16,20 +16,28 @@ enum class ShadingModel { Unlit, Flat, Gouraud, BlinnPhong, PbrMetallicRoughness
 enum class AlphaMode { Opaque, Mask, Blend };
 enum class Precision { Mediump, Highp };
 
-// How many KHR_lights_punctual lights of each type the program evaluates (scene-wide).
+// How many KHR_lights_punctual lights of each type the program evaluates (scene-wide), and which
+// of them cast shadows: bit i of `shadows` = light i of the program's light list (directionals,
+// then points, then spots) has a shadow map. Only the lights the scene says cast shadows
+// (Blender's use_shadow, exported as the light's extras) get one.
 struct LightCounts {
   int directional = 0, point = 0, spot = 0;
+  unsigned shadows = 0;
   int total() const { return directional + point + spot; }
+  bool casts_shadow(int light) const { return light >= 0 && light < 32 && (shadows >> light) & 1u; }
   bool operator==(const LightCounts&) const = default;
 };
 
-enum class TextureSlot { BaseColor, MetallicRoughness, Normal, Emissive, Occlusion, Environment };
+// ShadowMap: a light's depth map (SamplerInfo::index = the light's place in the light list),
+// sampled with depth comparison (sampler2DShadow).
+enum class TextureSlot { BaseColor, MetallicRoughness, Normal, Emissive, Occlusion, Environment, ShadowMap };
 
 // Limits that keep every generated program inside the GLES 3.0 minimums
 // (16 vertex attributes, 256 vertex uniform vectors, 16 texture units).
 inline constexpr int kMaxSkinJoints = 48;   // 48 mat4 = 192 vectors, leaves room for the rest
 inline constexpr int kMaxMorphTargets = 8;  // further bounded by the 16-attribute limit
 inline constexpr int kMaxLights = 8;        // directional + point + spot
+inline constexpr int kMaxShadowMaps = 4;    // lights with a shadow map (one texture unit each)
 
 // Everything that changes the generated code. Values that only change uniform contents
 // (factors, light colours, ...) are NOT here: they are uniforms, or constants after optimize().
@@ -96,6 +104,9 @@ enum class UniformSemantic {
   Exposure,            // float linear scale 2^exposure applied to the final colour (Blender: 0 -> 1)
   UberSwitches,        // ivec4 runtime switches of generate_uber() only (see docs/shaders.md)
   UberLightCounts,     // ivec3 directional/point/spot counts in use, generate_uber() only
+  // mat4 world -> the light's shadow-map texture space ([0,1]^3 inside its frustum; index = the
+  // light's place in the light list, as LightColor)
+  LightShadowMatrix,
 };
 
 struct UniformInfo {
@@ -129,7 +140,8 @@ struct AttributeInfo {
 struct SamplerInfo {
   std::string name;
   TextureSlot slot{};
-  int unit = 0;  // texture unit the runtime binds (glUniform1i(name, unit))
+  int unit = 0;    // texture unit the runtime binds (glUniform1i(name, unit))
+  int index = -1;  // ShadowMap: the light's place in the light list; -1 otherwise
 };
 
 struct Program {

@@ -145,6 +145,9 @@ struct Light {
   float intensity = 1.0f;
   float range = 0.0f;  // 0 = infinite
   float inner_cone = 0.0f, outer_cone = 0.7853982f;
+  // Casts shadows (Blender's use_shadow; glTF light extras `meter_cast_shadow`): the light gets a
+  // shadow map and its pass, lit programs a shadow lookup for it. Directional and spot lights.
+  bool cast_shadow = false;
 };
 
 struct Skin {

@@ -57,6 +57,7 @@ struct QualitySettings {
   std::optional<TextureFilter> filter;             // all textures
   std::optional<int> msaa;                         // 1, 2, 4 or 8: give to RendererOptions::msaa
   std::optional<bool> environment;                 // false: no environment map (global)
+  std::optional<bool> shadows;                     // false: no light casts shadows (global)
   std::optional<bool> affine;                      // true: no perspective correction (global)
   std::optional<bridge::ResolveConfig::Filter> resolve;  // the MSAA resolve filter (global)
   std::optional<bridge::SampleShading> sample_shading;   // per-sample shading of normal maps (global)
@@ -70,6 +71,7 @@ struct QualityReport {
   int groups_dropped = 0;           // merged groups whose members no longer share one program
   int textures_changed = 0;
   bool environment_dropped = false;  // the scene had an environment map and settings turned it off
+  int shadow_maps_dropped = 0;       // lights that cast shadows in the scene and settings turned off
   int programs_made_affine = 0;
 };
 

@@ -19,6 +19,7 @@ using bridge::AlphaMode;
 using bridge::AttributeInfo;
 using bridge::AttributeSemantic;
 using bridge::kMaxLights;
+using bridge::kMaxShadowMaps;
 using bridge::kMaxMorphTargets;
 using bridge::kMaxSkinJoints;
 using bridge::LightCounts;
