@@ -7,6 +7,7 @@
 #include "gl/draw_submission.hpp"
 #include "gl/gpu_scene.hpp"
 #include "gl/scene_resolve.hpp"
+#include "gl/shadow_maps.hpp"
 #include "gl/text_drawing.hpp"
 #include "meter/platform/gl_api.hpp"
 
@@ -29,6 +30,12 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
   if (options_.uber_shader) options_.concatenate = false;  // the uber-shader has no vertex-alpha input
   gpu_ = std::make_unique<GpuScene>(gl_, scene, options_.uber_shader, options_.concatenate);
   submission_ = std::make_unique<DrawSubmission>(gl_, scene, *gpu_, evaluator_.light_nodes());
+  // The uber-shader baseline has no shadow lookups: it gets no maps either.
+  if (!options_.uber_shader) {
+    auto maps = std::make_unique<ShadowMaps>(gl_, scene, evaluator_.light_nodes());
+    if (!maps->empty()) shadows_ = std::move(maps);
+    submission_->use_shadow_maps(shadows_.get());
+  }
   text_ = std::make_unique<TextDrawing>(backend, options_.font_file, scene.config.size[1], draw_height_);
   text_height_ = draw_height_;
   classes_ = classify_draws(scene, options_.concatenate, evaluator_.camera_node());
@@ -42,6 +49,7 @@ Renderer::~Renderer() {
   text_.reset();
   text_by_height_.clear();
   submission_.reset();
+  shadows_.reset();
   gpu_.reset();
 }
 
@@ -63,6 +71,13 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
   gpu_->prepare(now);
   gpu_->update_groups(now, stats_);
   gpu_->update_skinned(now, stats_);
+  if (shadows_) {
+    gpu_->prepare_depth(now);
+    // Every visible opaque draw casts (EEVEE: any opaque material); blended ones do not.
+    std::vector<int> casters = draw_list(scene_, classes_, now, DrawSet::Everything, nullptr, draw_width_, draw_height_);
+    std::erase_if(casters, [&](int d) { return scene_.programs[static_cast<std::size_t>(scene_.draws[static_cast<std::size_t>(d)].program)].program.blend; });
+    shadows_->update(now, casters, *submission_, stats_);
+  }
   if (plan.layer_build) {
     if (!layer_) {
       platform::RenderTargetOptions rt;

@@ -330,6 +330,47 @@ TEST(DrawClasses, MovingCameraOrLightOrNoCameraMeansNoLayer) {
   EXPECT_FALSE(classify_draws(s, false, 1).layer_pays);
 }
 
+// A shadow-casting light with a caster that moves (the needle): its shadow can fall on any draw,
+// so there is no static layer and a changed frame is drawn whole. Casters that cannot move, a
+// light that casts no shadow, or a point light (no shadow map) keep the layer.
+TEST(DrawClasses, MovingCasterUnderAShadowLightMeansNoLayerAndFullFrames) {
+  Scene s = test_scene();
+  EXPECT_TRUE(classify_draws(s, false, 1).layer_pays);
+  s.lights[0].cast_shadow = true;
+  const DrawClasses shadowed = classify_draws(s, false, 1);
+  EXPECT_TRUE(shadowed.shadows_move);
+  EXPECT_FALSE(shadowed.layer_pays);
+  s.lights[0].type = LightType::Point;
+  EXPECT_FALSE(classify_draws(s, false, 1).shadows_move);
+  s.lights[0].type = LightType::Spot;
+  s.animations.clear();  // the needle stays put; the lamp's visibility binding still changes it
+  EXPECT_TRUE(classify_draws(s, false, 1).shadows_move);
+  s.config.bindings.pop_back();
+  const DrawClasses still = classify_draws(s, false, 1);
+  EXPECT_FALSE(still.shadows_move);  // only the telltale's colour changes: no shadow moves
+  EXPECT_TRUE(still.layer_pays);
+
+  Scene moving = test_scene();
+  moving.lights[0].cast_shadow = true;
+  SceneEvaluator ev(moving);
+  FixedMeasure measure;
+  BindingOutputs out = resting_outputs(moving);
+  auto frame = [&] {
+    ev.apply(out);
+    ev.update_world();
+    return ev.evaluate(kWidth, kHeight, measure);
+  };
+  const DrawnFrame drawn = drawn_frame(frame());
+  out.animation_time[0] = 1.0;
+  PlanSettings settings;
+  settings.width = kWidth, settings.height = kHeight, settings.static_layer = true;
+  const FramePlan p = plan_frame(moving, classify_draws(moving, false, 1), frame(), drawn, DrawnFrame{}, settings);
+  EXPECT_TRUE(p.draw);
+  EXPECT_TRUE(p.full);
+  EXPECT_FALSE(p.copy_layer);
+  EXPECT_FALSE(p.layer_build.has_value());
+}
+
 TEST(DrawClasses, MergedGroupIsChangeableWhenAMemberIs) {
   Scene s = test_scene();
   s.groups.push_back({"g", {kFace, kLamp}});

@@ -123,6 +123,8 @@ FramePlan plan_frame(const Scene& scene, const DrawClasses& classes, const Frame
   const bool layer_ok = layered && layer_current(classes, now, layer);
   // Without partial redraw every changed frame is drawn whole, and no damage is worked out.
   auto regions = s.force || !s.partial_redraw ? std::nullopt : damage(scene, now, drawn, s.width, s.height);
+  // A moving caster's shadow can change pixels far outside its own boxes (classify_draws).
+  if (regions && !regions->empty() && classes.shadows_move) regions = std::nullopt;
   // A stale layer is redrawn whole from `now`, so copying it under the damaged regions is right
   // even then: a static draw that changed (its quality level) damages its own boxes only, and the
   // rest of the target still holds what `now` shows there.

@@ -1,5 +1,7 @@
 #include "gl/draw_submission.hpp"
 
+#include "gl/shadow_maps.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -85,6 +87,23 @@ void DrawSubmission::submit(platform::RenderTarget& target, const Pass& pass, co
   gl.UseProgram(0);
 }
 
+void DrawSubmission::submit_depth(const std::vector<int>& draws, const FrameState& frame, const glm::mat4& light_view_projection,
+                                  RendererStats& stats) const {
+  const auto& gl = gl_;
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LEQUAL);
+  gl.Disable(GL_BLEND);
+  gl.Disable(GL_CULL_FACE);
+  std::vector<float> scratch;
+  const GpuProgram* current = nullptr;
+  for (int i : draws) {
+    draw_one(static_cast<std::size_t>(i), frame, current, scratch, &light_view_projection);
+    ++stats.draw_calls;
+  }
+  gl.BindVertexArray(0);
+  gl.UseProgram(0);
+}
+
 bool DrawSubmission::shades_per_sample(std::size_t index, const FrameState& frame) const {
   const GpuDraw* d = gpu_.draws()[index].get();
   const auto shading = std::min(static_cast<std::size_t>(frame.draws[index].shading), d->shadings.size() - 1);
@@ -92,15 +111,17 @@ bool DrawSubmission::shades_per_sample(std::size_t index, const FrameState& fram
 }
 
 void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current,
-                              std::vector<float>& scratch) const {
+                              std::vector<float>& scratch, const glm::mat4* light_view_projection) const {
   const auto& gl = gl_;
   const GpuDraw* d = gpu_.draws()[index].get();
   const DrawState& state = frame.draws[index];
   // The draw's quality level (Renderer::set_quality); the frame's levels are within range.
   const auto shading = std::min(static_cast<std::size_t>(state.shading), d->shadings.size() - 1);
   const GpuShading& sh = d->shadings[shading];
-  const GpuProgram* gp = sh.program;
-  const glm::mat4& vp = frame.view_projection;
+  const bool depth_only = light_view_projection != nullptr;
+  const GpuProgram* gp = depth_only ? gpu_.depth_program(sh.program) : sh.program;
+  if (!gp) return;
+  const glm::mat4& vp = depth_only ? *light_view_projection : frame.view_projection;
   const glm::vec3& eye = frame.eye;
   const auto node_index = static_cast<std::size_t>(d->item->node);
   const Node& node = scene_.nodes[node_index];
@@ -113,19 +134,22 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
     current = gp;
   }
   const bridge::Program& shape = *sh.shape;
-  if (shape.blend) {
-    gl.Enable(GL_BLEND);
-    gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    gl.DepthMask(GL_FALSE);
-  } else {
-    gl.Disable(GL_BLEND);
-    gl.DepthMask(GL_TRUE);
-  }
-  if (shape.cull_back_faces) {
-    gl.Enable(GL_CULL_FACE);
-    gl.CullFace(GL_BACK);
-  } else {
-    gl.Disable(GL_CULL_FACE);
+  // A shadow map's draw keeps submit_depth's state: no blending, both faces.
+  if (!depth_only) {
+    if (shape.blend) {
+      gl.Enable(GL_BLEND);
+      gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+      gl.DepthMask(GL_FALSE);
+    } else {
+      gl.Disable(GL_BLEND);
+      gl.DepthMask(GL_TRUE);
+    }
+    if (shape.cull_back_faces) {
+      gl.Enable(GL_CULL_FACE);
+      gl.CullFace(GL_BACK);
+    } else {
+      gl.Disable(GL_CULL_FACE);
+    }
   }
   // A mirroring transform flips the winding.
   gl.FrontFace(glm::determinant(glm::mat3(model)) < 0 ? GL_CW : GL_CCW);
@@ -193,6 +217,11 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
         }
         break;
       }
+      case UniformSemantic::LightShadowMatrix: {
+        const glm::mat4 m = shadow_maps_ ? shadow_maps_->matrix(u.index) : glm::mat4(0.0f);
+        gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(m));
+        break;
+      }
       case UniformSemantic::JointMatrices: {
         if (node.skin < 0) break;
         const Skin& skin = scene_.skins[static_cast<std::size_t>(node.skin)];
@@ -228,10 +257,14 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
     }
   }
   for (const auto& s : gp->samplers) {
-    const int tex = s.slot == bridge::TextureSlot::Environment ? scene_.environment.texture
-                                                                   : mat.texture[static_cast<std::size_t>(s.slot)];
     gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + s.unit));
-    gl.BindTexture(GL_TEXTURE_2D, gpu_.texture(tex));
+    if (s.slot == bridge::TextureSlot::ShadowMap) {
+      gl.BindTexture(GL_TEXTURE_2D, shadow_maps_ ? shadow_maps_->texture(s.index) : 0);
+    } else {
+      const int tex = s.slot == bridge::TextureSlot::Environment ? scene_.environment.texture
+                                                                     : mat.texture[static_cast<std::size_t>(s.slot)];
+      gl.BindTexture(GL_TEXTURE_2D, gpu_.texture(tex));
+    }
     gl.Uniform1i(s.location, s.unit);
   }
   const GpuVertexInput& input = d->group ? d->group->inputs[shading] : sh.input;

@@ -13,6 +13,7 @@
 namespace meter::engine {
 
 struct RendererStats;
+class ShadowMaps;
 
 class DrawSubmission {
  public:
@@ -20,15 +21,24 @@ class DrawSubmission {
   DrawSubmission(const platform::Gl& gl, const Scene& scene, const GpuScene& gpu, const std::vector<int>& light_nodes);
 
   void submit(platform::RenderTarget& target, const Pass& pass, const FrameState& frame, RendererStats& stats) const;
+  // Draws `draws` into the bound depth target as the light sees them (`light_view_projection`),
+  // each with its depth-only program, both faces (EEVEE's shadow maps ignore back-face culling).
+  void submit_depth(const std::vector<int>& draws, const FrameState& frame, const glm::mat4& light_view_projection,
+                    RendererStats& stats) const;
+  // The shadow maps the lit programs sample (none: the scene has no shadow-casting light).
+  void use_shadow_maps(const ShadowMaps* maps) { shadow_maps_ = maps; }
 
  private:
-  void draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current, std::vector<float>& scratch) const;
+  // `light_view_projection` set: the depth-only draw of a shadow map.
+  void draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current, std::vector<float>& scratch,
+                const glm::mat4* light_view_projection = nullptr) const;
   // Whether the draw's program at its current shading level samples a normal map.
   bool shades_per_sample(std::size_t index, const FrameState& frame) const;
 
   const platform::Gl& gl_;
   const Scene& scene_;
   const GpuScene& gpu_;
+  const ShadowMaps* shadow_maps_ = nullptr;
   // First index and count of each light type (directional, point, spot) in light_order.
   int light_first_[3] = {0, 0, 0}, light_count_[3] = {0, 0, 0};
 };

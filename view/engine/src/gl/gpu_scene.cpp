@@ -56,6 +56,8 @@ GpuScene::~GpuScene() {
   if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
   for (auto& p : programs_)
     if (p->program) gl_.DeleteProgram(p->program);
+  for (auto& [_, p] : depth_programs_)
+    if (p->program) gl_.DeleteProgram(p->program);
 }
 
 void GpuScene::add_program(const bridge::Program& p, const std::string& label, bool compile_now) {
@@ -74,10 +76,31 @@ void GpuScene::prepare(const FrameState& frame) {
   }
 }
 
-void GpuScene::compile(GpuProgram& program) {
+void GpuScene::prepare_depth(const FrameState& frame) {
+  // Writes depth only: no outputs, so the driver runs no shading for the map's texels.
+  static const std::string kDepthOnly = "#version 300 es\nvoid main() {}\n";
+  for (std::size_t i = 0; i < draws_.size() && i < frame.draws.size(); ++i) {
+    const auto level = std::min(static_cast<std::size_t>(frame.draws[i].shading), draws_[i]->shadings.size() - 1);
+    const GpuProgram* own = draws_[i]->shadings[level].program;
+    if (depth_programs_.count(own)) continue;
+    auto gp = std::make_unique<GpuProgram>();
+    gp->info = own->info;
+    gp->label = own->label + " (shadow map depth)";
+    compile(*gp, kDepthOnly);
+    depth_programs_.emplace(own, std::move(gp));
+  }
+}
+
+const GpuProgram* GpuScene::depth_program(const GpuProgram* program) const {
+  const auto it = depth_programs_.find(program);
+  return it == depth_programs_.end() ? nullptr : it->second.get();
+}
+
+void GpuScene::compile(GpuProgram& program, const std::string& fragment_source) {
   GpuProgram* gp = &program;
   const bridge::Program& p = *gp->info;
-  gp->program = platform::compile_program(gl_, p.vertex_source, p.fragment_source, gp->label);
+  gp->program = platform::compile_program(gl_, p.vertex_source, fragment_source.empty() ? p.fragment_source : fragment_source,
+                                          gp->label);
   for (const auto& u : p.uniforms) {
     GpuProgram::Uniform gu;
     gu.semantic = u.semantic;
@@ -96,7 +119,7 @@ void GpuScene::compile(GpuProgram& program) {
     if (gu.location >= 0) gp->uniforms.push_back(gu);  // the driver may drop unused uniforms
   }
   for (const auto& s : p.samplers) {
-    GpuProgram::Sampler gs{gl_.GetUniformLocation(gp->program, s.name.c_str()), s.slot, s.unit};
+    GpuProgram::Sampler gs{gl_.GetUniformLocation(gp->program, s.name.c_str()), s.slot, s.unit, s.index};
     if (gs.location >= 0) gp->samplers.push_back(gs);
   }
   platform::check_gl(gl_, gp->label + ": compiling");

@@ -3,6 +3,7 @@
 // buffers (world-space vertices of every member, indices of the visible ones).
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -33,6 +34,7 @@ struct GpuProgram {
     GLint location = -1;
     bridge::TextureSlot slot{};
     int unit = 0;
+    int index = -1;  // ShadowMap: the light's light_order index
   };
   std::vector<Sampler> samplers;
 };
@@ -111,12 +113,20 @@ class GpuScene {
   // one comparison).
   void update_skinned(const FrameState& frame, RendererStats& stats);
 
+  // With shadow maps (`depth_variants`): compiles the depth-only variant of every program `frame`
+  // draws with that has none yet.
+  void prepare_depth(const FrameState& frame);
+  // The depth-only variant of `program` (its vertex shader, an empty fragment shader: what a shadow
+  // map's pass needs); null before prepare_depth compiled it.
+  const GpuProgram* depth_program(const GpuProgram* program) const;
+
   const std::vector<std::unique_ptr<GpuDraw>>& draws() const { return draws_; }
   GLuint texture(int index) const { return index >= 0 ? textures_[static_cast<std::size_t>(index)] : white_texture_; }
 
  private:
   void add_program(const bridge::Program& p, const std::string& label, bool compile_now);
-  void compile(GpuProgram& program);
+  // `fragment_source`: empty for the program's own, else the one to link with its vertex shader.
+  void compile(GpuProgram& program, const std::string& fragment_source = {});
   void upload_textures();
   void build_draws(bool uber);
   void build_groups();
@@ -127,6 +137,7 @@ class GpuScene {
   const platform::Gl& gl_;
   const Scene& scene_;
   std::vector<std::unique_ptr<GpuProgram>> programs_;
+  std::map<const GpuProgram*, std::unique_ptr<GpuProgram>> depth_programs_;
   std::vector<std::unique_ptr<GpuDraw>> draws_;
   std::vector<std::unique_ptr<GpuGroup>> groups_;
   std::vector<GpuSkinnedDraw> skinned_;

@@ -97,6 +97,7 @@ struct RendererStats {
   std::uint64_t skinned_normals_kept = 0;    // vertices left at their rest normal (no deformed normal there)
   std::uint64_t partial_frames = 0;     // drawn frames limited to damaged regions
   std::uint64_t layer_builds = 0;       // static layer (re)drawn (RendererOptions::static_layer)
+  std::uint64_t shadow_map_draws = 0;   // shadow maps drawn (a light's casters or the light moved)
   double redrawn_fraction_sum = 0.0;    // sum over drawn frames of FrameTiming::redrawn_fraction
 };
 
@@ -107,6 +108,7 @@ using LevelChooser = std::function<std::optional<governor::QualityChoice>(const 
 
 class GpuScene;
 class DrawSubmission;
+class ShadowMaps;
 class TextDrawing;
 
 class Renderer {
@@ -240,6 +242,7 @@ class Renderer {
   DrawClasses classes_;
   std::unique_ptr<GpuScene> gpu_;
   std::unique_ptr<DrawSubmission> submission_;
+  std::unique_ptr<ShadowMaps> shadows_;  // only when a light casts shadows in the scene
   std::unique_ptr<TextDrawing> text_;  // for draw_height_
   // The text drawing of every other draw height a rung has used: a rung change back reuses its
   // glyph atlases and programs instead of rasterising and compiling them again.

@@ -22,6 +22,10 @@ struct DrawClasses {
   // stay put (an animated camera, or no camera, where the view frames the bounds of moving draws
   // too, would redraw it every frame).
   bool layer_pays = false;
+  // A light casts shadows and a draw that casts into its map (opaque) can move, appear or change
+  // shape: its shadow may fall on any draw anywhere, so a frame where something changed is drawn
+  // whole and there is no static layer (a static receiver's shading is not static then).
+  bool shadows_move = false;
 
   bool representative(std::size_t draw, const Scene& scene) const {
     return group[draw] >= 0 && scene.groups[static_cast<std::size_t>(group[draw])].draws.front() == static_cast<int>(draw);
