@@ -58,6 +58,8 @@ std::vector<Ladder> ladder() {
           {"lod0.25", base + ",lod=0.25"},
           // Only scenes with an environment map measure this point (elsewhere it changes nothing).
           {"no-env", base + ",environment=off"},
+          // Only scenes with lights that cast shadows measure this point (elsewhere there is no map).
+          {"no-shadows", base + ",shadows=off"},
           // The MSAA resolve: the box or EEVEE's film filter (Blackman-Harris). The base is
           // the scene's own ("resolve" in its config: the film filter for the feature scenes, box for
           // the cluster), so on each scene one of the two rows is the base again and is left out.
@@ -171,6 +173,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
       try {
         const convert::QualityReport rep = convert::apply_quality(scenes[i], q);
         if (q.environment == false && !rep.environment_dropped) continue;  // no map: the base again
+        if (q.shadows == false && rep.shadow_maps_dropped == 0) continue;  // nothing casts: the base again
         const bool normal_maps = std::any_of(base.programs.begin(), base.programs.end(),
                                              [](const auto& e) { return e.program.features.normal_texture; });
         if (q.sample_shading && (!normal_maps || *q.sample_shading == base.config.sample_shading)) continue;  // the base again
@@ -299,7 +302,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
         "frames is close to the maximum). Frame time = `Renderer::render(force)` wall time, which includes glFinish (llvmpipe "
         "executes the frame there). PSNR (a) against the engine's maximum quality supersampled (PBR, highp, trilinear with 2x anisotropy, MSAA 4 "
         "drawn at 2x size and box-filtered to 1x in linear light) and (b) against the Blender reference. `no-env` (the "
-        "environment map dropped, `environment=off`) runs only on the scenes that name one; `ss2x` is the maximum drawn at "
+        "environment map dropped, `environment=off`) runs only on the scenes that name one, `no-shadows` (`shadows=off`) only on the scenes whose lights cast shadows; `ss2x` is the maximum drawn at "
         "2x size (timed without the downsample, a GPU blit on a target) and is by construction identical to (a).\n\n"
      << "![frame time vs PSNR, Pareto front marked](images/accuracy-vs-time.png)\n\n";
   for (const auto& l : left_out) md << "Left out on this backend: " << l << ".\n\n";
@@ -347,6 +350,8 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
        "the cheapest large saving: edges alias, shading is untouched, so the loss is largest where thin edges dominate (the cluster)"},
       {"environment map on (scenes that name one)", "no-env", true,
        "what the world image costs: one texture fetch and the ambient cube per fragment, only in the programs of scenes that have one"},
+      {"shadow maps on (scenes whose lights cast shadows)", "no-shadows", true,
+       "what shadows cost where the scene calls for them: each casting light's depth pass (drawn again only when a caster or the light moves) and a four-tap depth-compare lookup per light per fragment; scenes whose lights cast none have neither"},
       {"film filter resolve on (scenes whose default is the box)", "film-resolve", false,
        "EEVEE's Blackman-Harris pixel filter over the MSAA samples of each 3 x 3 neighbourhood instead of the box (each pixel's own 4 samples, the same shader pass): edges spread as in the authoring tool's render. Its own cost is within this table's frame-to-frame noise on a shared machine (12 frames per point); measured alone, interleaved with the box, by `meter_platform_bench 30`: +12.5 ms a full 1280x480 frame on llvmpipe (28.3 ms against 15.7) (docs/scene-config.md, \"Resolve\")"},
       {"film filter resolve off (scenes whose default is the film filter)", "box-resolve", false,

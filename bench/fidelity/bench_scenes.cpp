@@ -26,7 +26,7 @@ std::vector<SceneSpec> all_scenes() {
       {"shininess", "Shininess", 43.10}, {"emission", "Emission", 34.68},   {"bump", "Bump", 33.91},
       {"reflection", "Reflection", 31.28}, {"envmap2d", "Environment map (2D)", 38.54},
       {"skinning", "Skinning", 33.97}, {"morphing", "Morphing", 34.35},   {"spot", "Spot light", 38.11},
-      {"omni", "Omni light", 39.02}};
+      {"omni", "Omni light", 39.02},   {"shadow", "", -1.0}};
   std::vector<SceneSpec> s;
   for (const auto& [n, paper, db] : features) {
     const fs::path d = kRoot / "scenes/features" / n;

@@ -1,5 +1,6 @@
-# The twelve feature scenes of the paper's Table 1, one Utah teapot each, 640x480, and their
-# reference images rendered by Blender EEVEE (the artist's approved look the engine must match).
+# The feature scenes, one Utah teapot each, 640x480: the twelve of the paper's Table 1 plus
+# `shadow` (lights that cast shadows), and their reference images rendered by Blender EEVEE (the
+# artist's approved look the engine must match).
 #
 #   blender -b --factory-startup --python-exit-code 1 --python build.py -- OUTDIR NAME [--render]
 #
@@ -11,9 +12,12 @@
 #   None, exposure 0, gamma 1, sRGB display; no ambient occlusion, no bloom, no screen-space
 #   reflections/refraction, no motion blur, no volumetrics, soft shadows off and every light's
 #   shadow off (KHR_lights_punctual lights cast no shadows in a forward engine without shadow
-#   maps), light radius 0 (punctual). The world is black with strength 0 except in the scenes whose
-#   feature IS world light (ambient: a uniform colour; reflection, envmap2d: an equirectangular
-#   image); there the world is hidden from the camera so the background stays black.
+#   maps) EXCEPT in the `shadow` scene, whose feature it is: there both lights cast, each from a
+#   single shadow map (sun: one cascade, no fade; 2048 px cascade / 1024 px cube maps, no contact
+#   shadows); the exporter writes each light's flag as extras.meter_cast_shadow. Light radius 0
+#   (punctual). The world is black with strength 0 except in the scenes whose feature IS world
+#   light (ambient: a uniform colour; reflection, envmap2d: an equirectangular image); there the
+#   world is hidden from the camera so the background stays black.
 import math
 import os
 import sys
@@ -29,7 +33,7 @@ WIDTH, HEIGHT, FPS = 640, 480, 24
 # the scene config's "resolve" so the engine's MSAA resolve spreads edges the same way.
 FILTER_SIZE_PX = 1.5
 FEATURES = ("ambient", "diffuse", "specular", "shininess", "emission", "bump", "reflection",
-            "envmap2d", "skinning", "morphing", "spot", "omni")
+            "envmap2d", "skinning", "morphing", "spot", "omni", "shadow")
 ANIM_FRAMES = 24      # skinning / morphing: one second of animation
 REFERENCE_FRAME = 12  # ... rendered half way (tests interpolation, not just a key)
 
@@ -200,7 +204,7 @@ def key_light(energy=3.0):
     return no_shadow(b.light("Key", "SUN", (3.0, -4.0, 5.0), energy=energy, target=(0, 0, 0)))
 
 
-# ---------------------------------------------------------------- the twelve scenes
+# ---------------------------------------------------------------- the scenes
 # Each returns a dict of notes that go into scene.json's glTF-independent side (the config) and
 # into the glTF scene extras (what the engine must know that glTF cannot say: ambient colour,
 # environment map).
@@ -300,6 +304,25 @@ def build_feature(name, outdir):
         floor(b.principled("Floor", base=(0.3, 0.3, 0.3), roughness=0.9), -0.62)
         # A point light close to the teapot: inverse-square falloff across floor and body.
         no_shadow(b.light("Omni", "POINT", (0.9, -1.0, 0.9), energy=60.0, color=(1.0, 0.9, 0.75)))
+    elif name == "shadow":
+        world_setup()
+        mat = b.principled("Teapot", base=(0.8, 0.8, 0.8), roughness=0.5)
+        teapot("Teapot", mat)
+        floor(b.principled("Floor", base=(0.3, 0.3, 0.3), roughness=0.9), -0.62)
+        # Two lights that cast: the teapot's self-shadow and its two shadows on the floor are the
+        # feature (sun's to the right, spot's to the left inside its cone). Each shadow comes
+        # from ONE shadow map the engine can match: the sun has a single cascade reaching just
+        # past the floor's far edge (view depth ~7.9) and no cascade fade; radius / angle 0
+        # (hard edges), no contact shadows.
+        sun = b.light("Key", "SUN", (-3.5, -1.5, 4.5), energy=1.8, target=(0.0, 0.0, 0.0))
+        sun.data.shadow_cascade_count = 1
+        sun.data.shadow_cascade_max_distance = 9.0
+        sun.data.shadow_cascade_fade = 0.0
+        spot = b.light("Spot", "SPOT", (1.0, -1.4, 3.4), energy=260.0, target=(-0.3, 0.2, -0.62),
+                       spot_size_deg=50.0, spot_blend=0.15)
+        for lamp in (sun, spot):
+            lamp.data.use_shadow = True
+            lamp.data.use_contact_shadow = False
     b.camera_persp("Camera", (0.0, -3.7, 1.5), (0.0, 0.0, -0.05), lens_mm=50.0)
     return extras, ambient, config_time
 
@@ -370,6 +393,9 @@ def render_settings(scene):
     ee.use_ssr = False
     ee.use_motion_blur = False
     ee.use_soft_shadows = False
+    # Shadow map sizes; only the `shadow` scene has lights that cast (sun: cascade, spot: cube).
+    ee.shadow_cascade_size = "2048"
+    ee.shadow_cube_size = "1024"
     ee.use_volumetric_lights = False
     ee.gi_cubemap_resolution = "512"
     scene.render.filter_size = FILTER_SIZE_PX

@@ -218,6 +218,10 @@ def light(name, kind, location, energy, color=(1, 1, 1), target=None, spot_size_
     return obj
 
 
+# The light custom property export_glb stamps with Blender's use_shadow (see there).
+SHADOW_PROP = "meter_cast_shadow"
+
+
 def export_glb(path, animations=True, extra=None):
     """Exports the whole scene as binary glTF. export_force_sampling stays on (the 3.4 default):
     with it off a needle keyed across a large angle exports identical end quaternions."""
@@ -243,6 +247,14 @@ def export_glb(path, animations=True, extra=None):
     )
     if extra:
         kwargs.update(extra)
+    # KHR_lights_punctual has no shadow flag: stamp Blender's own one (use_shadow, on by default)
+    # on every light as a custom property, which the exporter writes as the light's
+    # extensions.KHR_lights_punctual.lights[i].extras only with export_extras; the engine's
+    # converter reads extras.meter_cast_shadow (Blender stores the bool as 1 / 0).
+    for lamp in bpy.data.lights:
+        lamp[SHADOW_PROP] = bool(lamp.use_shadow)
+    if bpy.data.lights:
+        kwargs["export_extras"] = True
     bpy.ops.export_scene.gltf(**kwargs)
     print("exported", path, os.path.getsize(path), "bytes")
 

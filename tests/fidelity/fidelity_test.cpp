@@ -43,7 +43,7 @@ std::vector<SceneFiles> all_scenes() {
   const fs::path root = fs::path(METER_SOURCE_DIR) / "scenes";
   std::vector<SceneFiles> s;
   for (const char* f : {"ambient", "diffuse", "specular", "shininess", "emission", "bump", "reflection", "envmap2d", "skinning",
-                        "morphing", "spot", "omni"})
+                        "morphing", "spot", "omni", "shadow"})
     s.push_back({f, (root / "features" / f / (std::string(f) + ".glb")).string(), (root / "features" / f / "scene.json").string()});
   s.push_back({"cluster", (root / "cluster/cluster.glb").string(), (root / "cluster/cluster.scene.json").string()});
   return s;
@@ -142,7 +142,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, PreviewEqualsTarget, ::testing::ValuesIn(all_sc
 // Fidelity against the authoring tool: each feature scene, drawn the product way, keeps its PSNR
 // over object pixels (the reference's pixels more than 8 levels from its background, as
 // meter-bench fidelity counts them) against the Blender reference above a floor. Floor = the value
-// measured on 2026-12-02 (skinning, bump: 2026-12-04) (docs/fidelity.md) minus 0.5 dB: EGL and OSMesa give identical frames and
+// measured on 2026-12-02 (skinning, bump, shadow: 2026-12-04) (docs/fidelity.md) minus 0.5 dB: EGL and OSMesa give identical frames and
 // a Mesa rasteriser change moves a few edge pixels (< 0.1 dB here), while every fix behind these
 // numbers is worth more than 0.7 dB: environment map off (reflection -16 dB, envmap2d -11 dB), the
 // glTF spot curve instead of Blender's (spot -13 dB), diffuse scaled by (1 - F) again (-1.2 to
@@ -151,7 +151,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, PreviewEqualsTarget, ::testing::ValuesIn(all_sc
 // (-0.8 dB reflection ... -9.9 dB emission), skinned normals carried by the blended joint matrix
 // instead of recomputed from the deformed surface (skinning -11.5 dB), trilinear texture filtering
 // instead of EEVEE's 2x anisotropic (bump -1.6 dB), normal-mapped materials shaded per pixel
-// instead of per MSAA sample (bump -0.65 dB).
+// instead of per MSAA sample (bump -0.65 dB), no shadow maps (shadow -13.5 dB).
 struct Floor {
   const char* scene;
   double object_db;  // measured object PSNR - 0.5 dB
@@ -161,6 +161,7 @@ constexpr Floor kFloors[] = {
     {"ambient", 42.9},   {"diffuse", 39.9},  {"specular", 38.7},   {"shininess", 36.7},
     {"emission", 42.2},  {"bump", 34.9},     {"reflection", 31.1}, {"envmap2d", 42.4},
     {"skinning", 44.0},  {"morphing", 40.1}, {"spot", 47.0},       {"omni", 43.7},
+    {"shadow", 38.6},
 };
 
 class AgainstBlender : public ::testing::TestWithParam<Floor> {};
