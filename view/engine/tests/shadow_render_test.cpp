@@ -61,7 +61,7 @@ TEST_P(ShadowRender, MapsAreDrawnOnceAndOnlyTakeLightAway) {
         if (c == 1 && d < -20) ++darker;
       }
   EXPECT_EQ(brighter, 0);
-  // The two floor shadows and the self-shadow: measured 10.8 % of the frame; 5 % would already
+  // The two floor shadows and the self-shadow: measured 10.7 % of the frame; 5 % would already
   // mean a map that misses most of its casters.
   EXPECT_GT(double(darker) / (double(a.width) * a.height), 0.05);
 }
