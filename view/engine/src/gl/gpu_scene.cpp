@@ -77,8 +77,6 @@ void GpuScene::prepare(const FrameState& frame) {
 }
 
 void GpuScene::prepare_depth(const FrameState& frame) {
-  // Writes depth only: no outputs, so the driver runs no shading for the map's texels.
-  static const std::string kDepthOnly = "#version 300 es\nvoid main() {}\n";
   for (std::size_t i = 0; i < draws_.size() && i < frame.draws.size(); ++i) {
     const auto level = std::min(static_cast<std::size_t>(frame.draws[i].shading), draws_[i]->shadings.size() - 1);
     const GpuProgram* own = draws_[i]->shadings[level].program;
@@ -86,7 +84,11 @@ void GpuScene::prepare_depth(const FrameState& frame) {
     auto gp = std::make_unique<GpuProgram>();
     gp->info = own->info;
     gp->label = own->label + " (shadow map depth)";
-    compile(*gp, kDepthOnly);
+    // Writes depth only: no outputs, so the driver runs no shading for the map's texels. Same
+    // #version line as the vertex shader (GLSL ES 3.00 from a package, desktop GLSL from
+    // to_desktop_glsl): stages of different languages do not link.
+    const std::string& vs = own->info->vertex_source;
+    compile(*gp, vs.substr(0, vs.find('\n') + 1) + "void main() {}\n");
     depth_programs_.emplace(own, std::move(gp));
   }
 }
