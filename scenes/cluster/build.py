@@ -564,12 +564,22 @@ def build():
     b.camera_persp("Camera", (0.0, 0.0, CAM_Z), (0.0, 0.0, 0.0), lens_mm=LENS_MM)
     # Lights (all exported as KHR_lights_punctual): a key sun from the upper left, one spot over
     # each dial so the chrome and the normal-mapped face catch a highlight, a weak point fill.
-    b.light("KeySun", "SUN", (-4.0, 6.0, 8.0), energy=2.0, target=(0.0, 0.0, 0.0))
-    b.light("SpotSpeedo", "SPOT", (-3.75, 3.5, 6.0), energy=900.0, target=(-3.75, 0.0, 0.0),
-            spot_size_deg=50.0, spot_blend=0.3)
-    b.light("SpotTacho", "SPOT", (3.75, 3.5, 6.0), energy=900.0, target=(3.75, 0.0, 0.0),
-            spot_size_deg=50.0, spot_blend=0.3)
-    b.light("FillPoint", "POINT", (0.0, -3.0, 5.0), energy=300.0, color=(0.8, 0.85, 1.0))
+    lights = [
+        b.light("KeySun", "SUN", (-4.0, 6.0, 8.0), energy=2.0, target=(0.0, 0.0, 0.0)),
+        b.light("SpotSpeedo", "SPOT", (-3.75, 3.5, 6.0), energy=900.0, target=(-3.75, 0.0, 0.0),
+                spot_size_deg=50.0, spot_blend=0.3),
+        b.light("SpotTacho", "SPOT", (3.75, 3.5, 6.0), energy=900.0, target=(3.75, 0.0, 0.0),
+                spot_size_deg=50.0, spot_blend=0.3),
+        b.light("FillPoint", "POINT", (0.0, -3.0, 5.0), energy=300.0, color=(0.8, 0.85, 1.0)),
+    ]
+    # No light casts shadows (the exporter writes use_shadow; the engine then draws no shadow
+    # map). The needles would cast onto the dial faces: every frame a needle moves would then be
+    # drawn whole, without the static layer (about 45x a partial frame in the drive, docs/engine.md
+    # "Shadows"), and with Blender's default shadow settings the engine's maps came out 0.23 dB
+    # further from this render than no shadows at all (docs/fidelity.md). A cluster that wants
+    # them turns use_shadow on here and pays that.
+    for lamp in lights:
+        lamp.data.use_shadow = False
 
     scene.frame_set(0)
     b.export_glb(os.path.join(outdir, "cluster.glb"), extra=dict(export_tangents=True))

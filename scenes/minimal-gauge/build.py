@@ -72,7 +72,10 @@ def build():
     b.camera_ortho("Camera", (0.0, 0.0, 10.0), ortho_scale=3.2)
     # Sun from the upper left at 45 deg: lit straight from the camera direction the flat dial would
     # mirror the specular peak into every pixel and turn grey.
-    b.light("Sun", "SUN", (-3.0, 3.0, 4.24), energy=3.0, target=(0.0, 0.0, 0.0))
+    sun = b.light("Sun", "SUN", (-3.0, 3.0, 4.24), energy=3.0, target=(0.0, 0.0, 0.0))
+    # No shadow (the exporter writes use_shadow): the needle's shadow would sweep the dial, so
+    # every frame a needle moves would be drawn whole (docs/engine.md, "Shadows").
+    sun.data.use_shadow = False
 
     scene.frame_set(0)
     b.export_glb(os.path.join(outdir, "minimal-gauge.glb"))

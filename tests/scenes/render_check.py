@@ -35,7 +35,7 @@ GOLDEN_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "golden")
 GOLDEN_MIN_PSNR = 42.0
 
 FEATURES = ("ambient", "diffuse", "specular", "shininess", "emission", "bump", "reflection",
-            "envmap2d", "skinning", "morphing", "spot", "omni")
+            "envmap2d", "skinning", "morphing", "spot", "omni", "shadow")
 
 
 def fail(msg):

@@ -37,7 +37,8 @@ namespace {
 const fs::path kScenes = fs::path(METER_SOURCE_DIR) / "scenes";
 const std::vector<std::string> kFeatures = {"ambient",  "diffuse",    "specular", "shininess",
                                             "emission", "bump",       "reflection", "envmap2d",
-                                            "skinning", "morphing",   "spot",     "omni"};
+                                            "skinning", "morphing",   "spot",     "omni",
+                                            "shadow"};
 
 struct Scene {
   std::string name;
@@ -514,6 +515,20 @@ TEST_P(FeatureTest, ReferenceAndFeatureData) {
   if (f == "omni") {
     ASSERT_EQ(model.lights.size(), 1u);
     EXPECT_EQ(model.lights[0].type, "point");
+  }
+  // Lights cast shadows only where that is the feature: the exporter's extras.meter_cast_shadow
+  // (Blender's use_shadow); absent means no shadow.
+  std::set<std::string> casting;
+  for (const auto& l : model.lights)
+    if (l.extras.IsObject() && l.extras.Has("meter_cast_shadow")) {
+      const auto& v = l.extras.Get("meter_cast_shadow");
+      if ((v.IsBool() && v.Get<bool>()) || (v.IsInt() && v.Get<int>() != 0)) casting.insert(l.type);
+    }
+  if (f == "shadow") {
+    EXPECT_EQ(casting, (std::set<std::string>{"directional", "spot"})) << "a sun and a spot, both casting";
+    ASSERT_GE(find_node(model, "Floor"), 0) << "the shadows need a floor to fall on";
+  } else {
+    EXPECT_TRUE(casting.empty()) << f << ": a light casts shadows";
   }
 }
 

@@ -55,7 +55,7 @@ std::vector<SceneFiles> all_scenes() {
       {"minimal_gauge", (root / "minimal-gauge/minimal-gauge.glb").string(),
        (root / "minimal-gauge/minimal-gauge.scene.json").string()}};
   for (const char* f : {"ambient", "diffuse", "specular", "shininess", "emission", "bump", "reflection",
-                        "envmap2d", "skinning", "morphing", "spot", "omni"})
+                        "envmap2d", "skinning", "morphing", "spot", "omni", "shadow"})
     s.push_back({f, (root / "features" / f / (std::string(f) + ".glb")).string(),
                  (root / "features" / f / "scene.json").string()});
   return s;
