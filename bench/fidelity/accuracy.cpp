@@ -351,7 +351,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
       {"environment map on (scenes that name one)", "no-env", true,
        "what the world image costs: one texture fetch and the ambient cube per fragment, only in the programs of scenes that have one"},
       {"shadow maps on (scenes whose lights cast shadows)", "no-shadows", true,
-       "what shadows cost where the scene calls for them: each casting light's depth pass (drawn again only when a caster or the light moves) and a four-tap depth-compare lookup per light per fragment; scenes whose lights cast none have neither"},
+       "what shadows cost where the scene calls for them: one depth-compare lookup per casting light per fragment (here: the shadow scene, still, so each light's depth pass was drawn once; with a caster moving every frame the pass is drawn each frame too: `shadow_bench`); scenes whose lights cast none have neither"},
       {"film filter resolve on (scenes whose default is the box)", "film-resolve", false,
        "EEVEE's Blackman-Harris pixel filter over the MSAA samples of each 3 x 3 neighbourhood instead of the box (each pixel's own 4 samples, the same shader pass): edges spread as in the authoring tool's render. Its own cost is within this table's frame-to-frame noise on a shared machine (12 frames per point); measured alone, interleaved with the box, by `meter_platform_bench 30`: +12.5 ms a full 1280x480 frame on llvmpipe (28.3 ms against 15.7) (docs/scene-config.md, \"Resolve\")"},
       {"film filter resolve off (scenes whose default is the film filter)", "box-resolve", false,

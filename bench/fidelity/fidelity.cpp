@@ -42,15 +42,17 @@ std::string known_cause(const std::string& scene) {
                "map (its filtering of the map, its normal-map strength at grazing angles) is not analysed yet"},
       {"cluster", "Thin, high-contrast detail (ticks, numerals, needle and bezel outlines) carries almost all the error: "
                   "EEVEE's film filter (Blackman-Harris, 1.5 px) spreads each edge over about 3 pixels where the engine's MSAA "
-                  "4 box resolve keeps it in one, and EEVEE draws shadows the engine does not (the cluster's four lights keep "
-                  "Blender's default use_shadow: needle and hub shadows on the dial faces). The film filter resolve is built "
-                  "and measured on it (`--quality resolve=blackman-harris`: 27.90 -> 30.94 dB full frame, 24.89 -> 28.12 dB "
-                  "object) but is not the cluster's default: switched on (2026-12-04), the converter can no longer place a "
-                  "needle window for the speedometer and the tachometer (\"other regions or its dial's print cross every "
-                  "radius it sweeps\": the filter spreads the printed ticks and numerals into every band of radii the needle "
-                  "model could read), so the integrity monitor would stop watching the two main needles for 3 dB. The switch "
-                  "waits for a needle model that allows for the filter's reach; shadow maps only for the lights that cast "
-                  "shadows are not built. Shading every MSAA sample (tried, not kept) bought 0.35 dB object"},
+                  "4 box resolve keeps it in one. The film filter resolve is built and measured on it (`--quality "
+                  "resolve=blackman-harris`: 27.90 -> 30.94 dB full frame, 24.89 -> 28.12 dB object) but is not the cluster's "
+                  "default: switched on (2026-12-04), the converter can no longer place a needle window for the speedometer and "
+                  "the tachometer (\"other regions or its dial's print cross every radius it sweeps\": the filter spreads the "
+                  "printed ticks and numerals into every band of radii the needle model could read), so the integrity monitor "
+                  "would stop watching the two main needles for 3 dB. The switch waits for a needle model that allows for the "
+                  "filter's reach. Shadows are not what is missing: the reference was rendered with every light casting until "
+                  "2026-12-04, and the engine's shadow maps on that scene scored 27.68 dB full frame against 27.91 without "
+                  "(EEVEE's default sun cascades are coarser than the engine's one map, so the ticks' thin shadows it draws "
+                  "are not in the reference); the cluster's lights now cast no shadows (scenes/cluster/build.py says why), "
+                  "which moved it 0.08 dB. Shading every MSAA sample (tried, not kept) bought 0.35 dB object"},
   };
   auto it = causes.find(scene);
   return it == causes.end() ? "not analysed yet" : it->second;
@@ -215,6 +217,12 @@ int run_fidelity(platform::BackendKind kind, const fs::path& out, const fs::path
         "- **Per-sample shading of normal maps** (2026-12-04, the feature scenes' `\"sample_shading\": \"normal-maps\"`, "
         "docs/scene-config.md): bump 40.86 (34.80) → 41.51 (35.45); `--quality sample_shading=off` reproduces the "
         "before column; cost in docs/accuracy-vs-time.md (`per-pixel-shading`: about 3x the bump frame).\n"
+        "- **Shadow maps for the lights that cast shadows** (2026-12-04, docs/engine.md, \"Shadows\"): the new "
+        "`shadow` scene, a sun and a spot that both cast, 20.59 (25.65) without shadow maps → 40.64 (39.47); "
+        "`--quality shadows=off` reproduces the before column; cost in docs/accuracy-vs-time.md (`no-shadows`) and "
+        "`shadow_bench`. The cluster's reference is now rendered with no light casting (its lights' use_shadow off, the "
+        "artist's choice recorded in scenes/cluster/build.py for the frame time): 27.91 (24.90) → 27.99 (24.94), the "
+        "engine's frame unchanged.\n"
         "\nFull-frame PSNR flatters small objects on black (the background matches exactly); the object column is the "
         "honest one and is the number to compare across scenes. The paper does not say which one its Table 1 is.\n\n"
      << "Files: `" << (out / "fidelity.csv").string() << "` (this table) and `<scene>.engine.png` (the renders).\n";
