@@ -33,8 +33,13 @@ std::string known_cause(const std::string& scene) {
                      "(LOD from the reflection vector's screen footprint) where EEVEE averages 64 samples per pixel; the error "
                      "sits on those edges. Shading every MSAA sample instead of every pixel (GL_SAMPLE_SHADING, 4 lookups per "
                      "pixel, tried 2026-12-04 and not kept) bought only 0.56 dB over object pixels (31.66 -> 32.22), so more "
-                     "lookups per pixel are not what is missing: the footprint's filter shape (one isotropic mip level against "
-                     "EEVEE's many jittered rays) is the next suspect, not yet measured"},
+                     "lookups per pixel are not what is missing. Nor is blur alone (2026-12-04): without the roughness term of the "
+                     "mirror's LOD (the footprint alone) it scores 32.16 dB object, with the footprint one level sharper "
+                     "32.29, while the rough envmap2d teapot loses 1.7 dB with the same change, so the mapping stays; and the "
+                     "reflected softbox, grid and lid areas match best unshifted (no offset of the reflection). What is left "
+                     "is how the same image is resampled: EEVEE reflects a 512 px cube probe rendered from the world's "
+                     "equirectangular texture and GGX-prefiltered per mip, the engine samples the equirectangular image's "
+                     "box-filtered mips directly; reproducing the probe is the next step, not built"},
       {"bump", "The hammered dimples' rims (normal-map detail) carry the error: the engine's highlights inside the dimples are "
                "smaller and brighter than EEVEE's, and the rims' dark bands sharper. Not aliasing alone: shading every MSAA "
                "sample (GL_SAMPLE_SHADING, tried 2026-12-04 and not kept) bought 0.64 dB over object pixels (33.24 -> 33.88), "
