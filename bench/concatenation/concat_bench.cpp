@@ -35,6 +35,9 @@
 #include "meter/engine/renderer.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/shadergen/shadergen.hpp"
+#include "bench_stats.hpp"
+
+using meter::bench::median;
 
 using namespace meter;
 using namespace meter::engine;
@@ -46,11 +49,6 @@ namespace {
 constexpr int kTotalVertices = 4000;
 constexpr float kHalf = 0.025f;  // object half size in scene units (~107 pixels per unit)
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 // N ribbons (2 rows of v/2 vertices, indexed triangle lists) on a grid in front of the camera,
 // children of "Board", which the animation "Wobble" rotates about Z (a little, every frame).

@@ -20,6 +20,9 @@
 #include <vector>
 
 #include "meter/controller/dbc/database.hpp"
+#include "bench_stats.hpp"
+
+using meter::bench::median;
 
 using namespace meter::controller;
 
@@ -92,10 +95,6 @@ Run run_child(const std::vector<std::string>& argv) {
   return r;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 }  // namespace
 

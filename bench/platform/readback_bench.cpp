@@ -31,6 +31,9 @@
 #include "meter/platform/backend.hpp"
 #include "meter/platform/render_target.hpp"
 #include "on_both_backends.hpp"
+#include "bench_stats.hpp"
+
+using meter::bench::median;
 
 namespace mp = meter::platform;
 using Clock = std::chrono::steady_clock;
@@ -41,10 +44,6 @@ double cpu_ms() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 constexpr const char* kTriangle = R"(

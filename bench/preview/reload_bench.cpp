@@ -16,6 +16,9 @@
 #include "meter/preview/scene_reloader.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/shadergen/program_cache.hpp"
+#include "bench_stats.hpp"
+
+using meter::bench::median;
 
 namespace {
 
@@ -25,10 +28,6 @@ double thread_cpu_ms() {
   return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) / 1e6;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct Sample {
   std::vector<double> cpu_ms, wall_ms;

@@ -17,16 +17,15 @@
 #include "meter/convert/quality_ladder.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
+#include "bench_stats.hpp"
+
+using meter::bench::median;
 
 namespace fs = std::filesystem;
 using namespace meter;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 // The teapot lifted by 5 cm at t = 1 s: a caster that moves, as a needle does on a cluster.
 engine::Scene with_moving_teapot(engine::Scene s) {

@@ -16,18 +16,15 @@
 #include "meter/engine/evaluation/skinned_normals.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
+#include "bench_stats.hpp"
+
+using meter::bench::median;
+using meter::bench::ms_since;
 
 namespace fs = std::filesystem;
 using namespace meter;
 using Clock = std::chrono::steady_clock;
 
-namespace {
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
 
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(10, std::atoi(argv[1])) : 200;

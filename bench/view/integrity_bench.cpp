@@ -16,6 +16,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/view/integrity_monitor.hpp"
+#include "bench_stats.hpp"
 
 namespace meter::bench {
 
@@ -23,18 +24,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 // CPU time of the whole process (llvmpipe's rasterizer threads included), ms: what a frame costs
 // the machine, less sensitive than wall time to other processes' load.
 double cpu_ms() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 struct Cost {
