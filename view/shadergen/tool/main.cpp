@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
   bool mediump = false, tt = false, vc = false, va = false, ds = false, morph_normals = false;
   bool env = false, tangents = false, uber = false, opt = false, check = false;
   int skin = 0, morph = 0;
+  unsigned shadows = 0;
   std::vector<std::string> consts;
   app.add_option("--shading", shading, "unlit | flat | gouraud | blinn-phong | pbr");
   app.add_option("--alpha", alpha, "opaque | mask | blend");
@@ -100,6 +101,7 @@ int main(int argc, char** argv) {
   app.add_option("--morph", morph, "number of morph targets");
   app.add_flag("--morph-normals", morph_normals);
   app.add_option("--lights", lights, "directional,point,spot counts");
+  app.add_option("--shadows", shadows, "bit mask of the lights (in D,P,S order) that cast shadows");
   app.add_flag("--env", env, "equirectangular environment reflection");
   app.add_flag("--tangents", tangents, "mesh has TANGENT");
   app.add_flag("--uber", uber, "print the uber-shader baseline instead");
@@ -125,7 +127,8 @@ int main(int argc, char** argv) {
           case TextureSlot::Normal: f.normal_texture = true; break;
           case TextureSlot::Emissive: f.emissive_texture = true; break;
           case TextureSlot::Occlusion: f.occlusion_texture = true; break;
-          case TextureSlot::Environment: break;
+          case TextureSlot::Environment: break;  // --env
+          case TextureSlot::ShadowMap: break;    // --shadows
         }
       }
       for (const auto& t : split(texcoord1, ','))
@@ -139,7 +142,7 @@ int main(int argc, char** argv) {
       f.morph_normals = morph_normals;
       const auto counts = split(lights, ',');
       if (counts.size() != 3) throw std::invalid_argument("--lights: expected D,P,S");
-      f.lights = {std::stoi(counts[0]), std::stoi(counts[1]), std::stoi(counts[2])};
+      f.lights = {std::stoi(counts[0]), std::stoi(counts[1]), std::stoi(counts[2]), shadows};
       f.environment_map_2d = env;
       f.has_tangents = tangents;
       if (print == "key") {
