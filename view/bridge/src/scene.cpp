@@ -55,4 +55,14 @@ std::vector<int> light_order(const Scene& scene) {
   return lights;
 }
 
+unsigned shadow_map_lights(const Scene& scene, const std::vector<int>& light_nodes) {
+  unsigned mask = 0;
+  int maps = 0;
+  for (std::size_t i = 0; i < light_nodes.size() && i < 32 && maps < kMaxShadowMaps; ++i) {
+    const Light& l = scene.lights[static_cast<std::size_t>(scene.nodes[static_cast<std::size_t>(light_nodes[i])].light)];
+    if (l.cast_shadow && l.type != LightType::Point) mask |= 1u << i, ++maps;
+  }
+  return mask;
+}
+
 }  // namespace meter::bridge

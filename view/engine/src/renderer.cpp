@@ -74,8 +74,11 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
   if (shadows_) {
     gpu_->prepare_depth(now);
     // Every visible opaque draw casts (EEVEE: any opaque material); blended ones do not.
-    std::vector<int> casters = draw_list(scene_, classes_, now, DrawSet::Everything, nullptr, draw_width_, draw_height_);
-    std::erase_if(casters, [&](int d) { return scene_.programs[static_cast<std::size_t>(scene_.draws[static_cast<std::size_t>(d)].program)].program.blend; });
+    auto casters = [&] {
+      std::vector<int> list = draw_list(scene_, classes_, now, DrawSet::Everything, nullptr, draw_width_, draw_height_);
+      std::erase_if(list, [&](int d) { return scene_.programs[static_cast<std::size_t>(scene_.draws[static_cast<std::size_t>(d)].program)].program.blend; });
+      return list;
+    };
     shadows_->update(now, casters, *submission_, stats_);
   }
   if (plan.layer_build) {

@@ -130,12 +130,9 @@ shadergen::ConstantValues folding_constants(const Scene& s, const Material& m, b
 
 shadergen::LightCounts count_lights(const Scene& s, const std::vector<int>& light_nodes) {
   shadergen::LightCounts lights;
-  int shadow_maps = 0;
-  for (std::size_t g = 0; g < light_nodes.size(); ++g) {
-    const Light& l = s.lights[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(light_nodes[g])].light)];
-    // The first kMaxShadowMaps casting lights in list order get a map (programs.cpp reports the rest).
-    if (l.cast_shadow && shadow_maps < shadergen::kMaxShadowMaps && g < 32) lights.shadows |= 1u << g, ++shadow_maps;
-    switch (l.type) {
+  lights.shadows = shadow_map_lights(s, light_nodes);
+  for (int n : light_nodes) {
+    switch (s.lights[static_cast<std::size_t>(s.nodes[static_cast<std::size_t>(n)].light)].type) {
       case LightType::Directional: ++lights.directional; break;
       case LightType::Point: ++lights.point; break;
       case LightType::Spot: ++lights.spot; break;

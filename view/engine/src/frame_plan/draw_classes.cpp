@@ -64,12 +64,7 @@ DrawClasses classify_draws(const Scene& scene, bool merged, int camera_node) {
   bool view_fixed = camera_node >= 0 && !node_moves[static_cast<std::size_t>(camera_node)];
   for (std::size_t n = 0; n < scene.nodes.size(); ++n)
     if (scene.nodes[n].light >= 0 && node_moves[n]) view_fixed = false;
-  bool shadow_light = false;
-  for (const auto& n : scene.nodes)
-    if (n.light >= 0) {
-      const Light& l = scene.lights[static_cast<std::size_t>(n.light)];
-      shadow_light = shadow_light || (l.cast_shadow && l.type != LightType::Point);
-    }
+  const bool shadow_light = shadow_map_lights(scene, light_order(scene)) != 0;
   for (std::size_t i = 0; i < scene.draws.size() && shadow_light; ++i) {
     const DrawItem& d = scene.draws[i];
     const Primitive& prim = scene.meshes[static_cast<std::size_t>(d.mesh)].primitives[static_cast<std::size_t>(d.primitive)];

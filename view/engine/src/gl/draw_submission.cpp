@@ -1,12 +1,11 @@
 #include "gl/draw_submission.hpp"
 
-#include "gl/shadow_maps.hpp"
-
 #include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/shadow_maps.hpp"
 #include "meter/engine/evaluation/animation.hpp"
 #include "meter/engine/evaluation/skinned_normals.hpp"
 #include "meter/engine/renderer.hpp"

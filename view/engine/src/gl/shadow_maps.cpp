@@ -22,9 +22,10 @@ bool same_casters(const std::vector<DrawState>& a, const std::vector<DrawState>&
 
 ShadowMaps::ShadowMaps(const platform::Gl& gl, const Scene& scene, const std::vector<int>& light_nodes)
     : gl_(gl), scene_(scene), light_nodes_(light_nodes) {
-  for (std::size_t g = 0; g < light_nodes.size() && maps_.size() < static_cast<std::size_t>(bridge::kMaxShadowMaps); ++g) {
+  const unsigned mask = shadow_map_lights(scene, light_nodes);
+  for (std::size_t g = 0; g < light_nodes.size() && g < 32; ++g) {
+    if (!(mask >> g & 1u)) continue;
     const Light& l = scene.lights[static_cast<std::size_t>(scene.nodes[static_cast<std::size_t>(light_nodes[g])].light)];
-    if (!l.cast_shadow || l.type == LightType::Point) continue;
     Map m;
     m.light = static_cast<int>(g);
     gl.GenTextures(1, &m.texture);
@@ -59,15 +60,22 @@ ShadowMaps::~ShadowMaps() {
   }
 }
 
-void ShadowMaps::update(const FrameState& frame, const std::vector<int>& casters, const DrawSubmission& submission,
-                        RendererStats& stats) {
+void ShadowMaps::update(const FrameState& frame, const std::function<std::vector<int>()>& casters,
+                        const DrawSubmission& submission, RendererStats& stats) {
   if (maps_.empty()) return;
+  // The bounds (and the caster list) follow the draws; a frame whose draws kept their geometry
+  // costs one comparison here, however the colours changed.
   const bool casters_moved = !same_casters(frame.draws, drawn_draws_);
-  const WorldBounds bounds = drawn_bounds(scene_, frame);
+  if (casters_moved) {
+    drawn_draws_ = frame.draws;
+    bounds_ = drawn_bounds(scene_, frame);
+  }
+  std::vector<int> drawn;
+  bool listed = false;
   for (Map& m : maps_) {
     const auto& [node, world] = frame.lights[static_cast<std::size_t>(m.light)];
     const Light& light = scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(node)].light)];
-    const auto vp = shadow_view_projection(light, world, bounds);
+    const auto vp = shadow_view_projection(light, world, bounds_);
     const glm::mat4 view_projection = vp ? *vp : glm::mat4(0.0f);
     if (m.drawn && !casters_moved && view_projection == m.view_projection) continue;
     m.view_projection = view_projection;
@@ -83,11 +91,11 @@ void ShadowMaps::update(const FrameState& frame, const std::vector<int>& casters
     // Slope-scaled bias: a lit surface must not shadow itself where its depth varies across a texel.
     gl_.Enable(GL_POLYGON_OFFSET_FILL);
     gl_.PolygonOffset(2.0f, 4.0f);
-    submission.submit_depth(casters, frame, *vp, stats);
+    if (!listed) drawn = casters(), listed = true;
+    submission.submit_depth(drawn, frame, *vp, stats);
     gl_.Disable(GL_POLYGON_OFFSET_FILL);
     ++stats.shadow_map_draws;
   }
-  drawn_draws_ = frame.draws;
   platform::check_gl(gl_, scene_.source_name + ": drawing shadow maps");
 }
 

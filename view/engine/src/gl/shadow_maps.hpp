@@ -6,11 +6,13 @@
 // A scene with no such light has no maps, no textures and no pass.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "meter/engine/evaluation/frame_state.hpp"
+#include "meter/engine/evaluation/shadow_projection.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/platform/gl_api.hpp"
 
@@ -32,8 +34,10 @@ class ShadowMaps {
   ShadowMaps& operator=(const ShadowMaps&) = delete;
 
   bool empty() const { return maps_.empty(); }
-  // Brings every map to `frame`: `casters` are the draws that cast (visible, not blended), in any order.
-  void update(const FrameState& frame, const std::vector<int>& casters, const DrawSubmission& submission, RendererStats& stats);
+  // Brings every map to `frame`. `casters` lists the draws that cast (visible, not blended, in any
+  // order); it is called only when a map is drawn.
+  void update(const FrameState& frame, const std::function<std::vector<int>()>& casters, const DrawSubmission& submission,
+              RendererStats& stats);
 
   // The map of light `light` (its light_order index) and the world -> map texture-space matrix; a
   // light without a map, or with nothing to cover, gets texture 0 and the zero matrix (the shader
@@ -52,7 +56,8 @@ class ShadowMaps {
   const Scene& scene_;
   std::vector<int> light_nodes_;
   std::vector<Map> maps_;
-  std::vector<DrawState> drawn_draws_;  // the frame's draws the maps were last drawn from
+  std::vector<DrawState> drawn_draws_;  // the draws the maps were last drawn from
+  WorldBounds bounds_;                  // their drawn bounds
 };
 
 }  // namespace meter::engine

@@ -225,4 +225,9 @@ std::vector<int> node_preorder(const Scene& scene);
 // order and the runtime sets light uniforms in it.
 std::vector<int> light_order(const Scene& scene);
 
+// Which lights of `light_nodes` (light_order) have a shadow map: bit i = light_nodes[i]. The first
+// kMaxShadowMaps directional or spot lights that cast shadows, in that order. The converter gives
+// programs their shadow lookups by this mask and the runtime draws exactly these maps.
+unsigned shadow_map_lights(const Scene& scene, const std::vector<int>& light_nodes);
+
 }  // namespace meter::bridge
