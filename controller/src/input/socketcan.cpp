@@ -8,6 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -33,77 +34,89 @@ bool kernel_has_can() {
 
 SocketCanInput::SocketCanInput(const std::string& iface, const std::vector<CanIdFilter>& ids)
     : iface_(iface) {
-  fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
-  if (fd_ < 0) throw SocketCanError(no_can_message(errno));
+  const int probe = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
+  if (probe < 0) throw SocketCanError(no_can_message(errno));
+  ::close(probe);
+  if (ids.size() > CAN_RAW_FILTER_MAX)
+    throw SocketCanError(iface + ": " + std::to_string(ids.size()) + " id filters, the kernel takes at most " +
+                         std::to_string(CAN_RAW_FILTER_MAX));
+  const unsigned ifindex = if_nametoindex(iface.c_str());
+  if (ifindex == 0)
+    throw SocketCanError(iface + ": no such CAN interface (create it: ip link add dev " + iface +
+                         " type vcan && ip link set up " + iface + "): " + std::strerror(ENODEV));
+  try {
+    epoll_ = ::epoll_create1(EPOLL_CLOEXEC);
+    if (epoll_ < 0) throw SocketCanError(iface + ": epoll_create1: " + std::strerror(errno));
+    if (ids.empty()) {
+      open_queue(ifindex, Takes::EveryFrame);
+    } else {
+      // Kernel-side filtering: the process never wakes up for frames the mapping does not use.
+      // Remote frames pass too: they are counted (BusHealth), never decoded.
+      for (const CanIdFilter& id : ids) open_queue(ifindex, Takes::OneId, &id);
+      open_queue(ifindex, Takes::ErrorFrames);
+    }
+  } catch (...) {
+    for (const ReceiveQueue& q : queues_) ::close(q.fd);
+    if (epoll_ >= 0) ::close(epoll_);
+    throw;
+  }
+  batch_.reserve(static_cast<std::size_t>(kMaxFramesPerPoll) * 2);
+}
+
+void SocketCanInput::open_queue(unsigned ifindex, Takes what, const CanIdFilter* id) {
+  const int fd = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
+  if (fd < 0) throw SocketCanError(iface_ + ": socket(PF_CAN): " + std::strerror(errno));
   auto fail = [&](const std::string& what) {
-    int e = errno;
-    ::close(fd_);
-    fd_ = -1;
-    throw SocketCanError(iface + ": " + what + ": " + std::strerror(e));
+    const int e = errno;
+    ::close(fd);
+    throw SocketCanError(iface_ + ": " + what + ": " + std::strerror(e));
   };
   int on = 1;
-  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) != 0) fail("enabling CAN FD frames");
-  if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) fail("enabling kernel timestamps");
+  if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) != 0) fail("enabling CAN FD frames");
+  if (::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) fail("enabling kernel timestamps");
   // Without the drop counter a receive-queue overflow would lose frames silently: refuse.
-  if (::setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) != 0) fail("enabling the drop counter (SO_RXQ_OVFL)");
-  can_err_mask_t err_mask = CAN_ERR_MASK;
-  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask) != 0)
-    fail("enabling error frames (CAN_RAW_ERR_FILTER)");
-  if (ids.size() > CAN_RAW_FILTER_MAX) {
-    errno = EINVAL;
-    fail(std::to_string(ids.size()) + " id filters, the kernel takes at most " + std::to_string(CAN_RAW_FILTER_MAX));
+  if (::setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) != 0) fail("enabling the drop counter (SO_RXQ_OVFL)");
+  if (what != Takes::OneId) {
+    const can_err_mask_t err_mask = CAN_ERR_MASK;
+    if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask) != 0)
+      fail("enabling error frames (CAN_RAW_ERR_FILTER)");
   }
-  if (!ids.empty()) {
-    // Kernel-side filtering: the process never wakes up for frames the mapping does not use.
-    // Remote frames pass too: they are counted (BusHealth), never decoded.
-    std::vector<can_filter> f;
-    for (const auto& flt : ids) {
-      can_filter cf{};
-      cf.can_id = flt.extended ? (flt.id | CAN_EFF_FLAG) : flt.id;
-      cf.can_mask = CAN_EFF_FLAG | effective_mask(flt);
-      f.push_back(cf);
-    }
-    if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, f.data(), static_cast<socklen_t>(f.size() * sizeof(can_filter))) != 0)
-      fail("setting id filters");
-  }
-  unsigned idx = if_nametoindex(iface.c_str());
-  if (idx == 0) {
-    errno = ENODEV;
-    fail("no such CAN interface (create it: ip link add dev " + iface + " type vcan && ip link set up " + iface + ")");
+  if (what == Takes::OneId) {
+    can_filter cf{};
+    cf.can_id = id->extended ? (id->id | CAN_EFF_FLAG) : id->id;
+    cf.can_mask = CAN_EFF_FLAG | effective_mask(*id);
+    if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FILTER, &cf, sizeof cf) != 0) fail("setting the id filter");
+  } else if (what == Takes::ErrorFrames) {
+    // An empty id filter list: no data frame at all, only what CAN_RAW_ERR_FILTER lets in.
+    if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FILTER, nullptr, 0) != 0) fail("clearing the id filters");
   }
   sockaddr_can addr{};
   addr.can_family = AF_CAN;
-  addr.can_ifindex = static_cast<int>(idx);
-  if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) fail("bind");
-  epoll_ = ::epoll_create1(EPOLL_CLOEXEC);
-  if (epoll_ < 0) fail("epoll_create1");
+  addr.can_ifindex = static_cast<int>(ifindex);
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) fail("bind");
   epoll_event ev{};
   ev.events = EPOLLIN;
-  ev.data.fd = fd_;
-  if (::epoll_ctl(epoll_, EPOLL_CTL_ADD, fd_, &ev) != 0) fail("epoll_ctl");
+  ev.data.u32 = static_cast<std::uint32_t>(queues_.size());
+  if (::epoll_ctl(epoll_, EPOLL_CTL_ADD, fd, &ev) != 0) fail("epoll_ctl");
+  queues_.push_back({fd, 0});
 }
 
 SocketCanInput::~SocketCanInput() {
+  for (const ReceiveQueue& q : queues_) ::close(q.fd);
   if (epoll_ >= 0) ::close(epoll_);
-  if (fd_ >= 0) ::close(fd_);
 }
 
 std::int64_t SocketCanInput::now_ns() const { return realtime_ns(); }  // kernel stamps' clock
 
 std::string SocketCanInput::describe() const { return "SocketCAN " + iface_; }
 
-bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
-  epoll_event ev;
-  int n = ::epoll_wait(epoll_, &ev, 1, static_cast<int>(timeout.count()));
-  if (n <= 0) return true;
-  // Drain what is queued, bounded so the model still ticks and publishes under a flood: 256
-  // frames is ~9 ms of a full-rate cangen flood in the TCG guest (29 000 frames/s measured), under
-  // one 10 ms model tick; 4096 was 140 ms. Frames on ids the mapping does not use never get here
-  // (kernel CAN_RAW_FILTER), so this only matters for a flood on a mapped id. The cap loses
-  // nothing: what is left stays queued for the next poll; only a full receive queue drops frames,
-  // and the kernel counts those (SO_RXQ_OVFL -> health().kernel_drops).
-  int i = 0;
-  for (; i < kMaxFramesPerPoll; ++i) {
+bool SocketCanInput::drain(ReceiveQueue& queue) {
+  // Bounded so the model still ticks and publishes under a flood: 256 frames is ~9 ms of a
+  // full-rate cangen flood in the TCG guest (29 000 frames/s measured), under one 10 ms model
+  // tick; 4096 was 140 ms. The cap loses nothing: what is left stays queued for the next poll;
+  // only a full receive queue drops frames, and the kernel counts those (SO_RXQ_OVFL, stamped on
+  // every frame queued after a drop).
+  for (int i = 0; i < kMaxFramesPerPoll; ++i) {
     canfd_frame cf{};
     iovec iov{&cf, sizeof cf};
     alignas(cmsghdr) char ctrl[CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t))];
@@ -112,8 +125,8 @@ bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     msg.msg_iovlen = 1;
     msg.msg_control = ctrl;
     msg.msg_controllen = sizeof ctrl;
-    ssize_t got = ::recvmsg(fd_, &msg, MSG_DONTWAIT);
-    if (got < 0) break;  // EAGAIN: drained
+    const ssize_t got = ::recvmsg(queue.fd, &msg, MSG_DONTWAIT);
+    if (got < 0) return false;  // EAGAIN: drained
     CanFrame f;
     f.timestamp_ns = now_ns();
     for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
@@ -124,7 +137,7 @@ bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
       } else if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
         std::uint32_t d;
         std::memcpy(&d, CMSG_DATA(c), sizeof d);
-        health_.kernel_drops = d;  // the socket's total since it was opened
+        queue.drops = d;  // this socket's total since it was opened
       }
     }
     f.extended = (cf.can_id & CAN_EFF_FLAG) != 0;
@@ -135,10 +148,29 @@ bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
     if (f.fd) f.fd_flags = cf.flags & (CANFD_BRS | CANFD_ESI);
     f.len = std::min<std::uint8_t>(cf.len, f.fd ? 64 : 8);
     std::memcpy(f.data.data(), cf.data, f.len);
+    batch_.push_back(f);
+  }
+  return true;
+}
+
+bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
+  std::vector<epoll_event> ready(queues_.size());
+  const int n = ::epoll_wait(epoll_, ready.data(), static_cast<int>(ready.size()), static_cast<int>(timeout.count()));
+  if (n <= 0) return true;
+  batch_.clear();
+  bool capped = false;
+  for (int k = 0; k < n; ++k) capped |= drain(queues_[ready[static_cast<std::size_t>(k)].data.u32]);
+  // Each queue is in order already; across queues the kernel's receive stamps give the bus order.
+  std::stable_sort(batch_.begin(), batch_.end(),
+                   [](const CanFrame& a, const CanFrame& b) { return a.timestamp_ns < b.timestamp_ns; });
+  for (const CanFrame& f : batch_) {
     note_frame(health_, f);
     sink.on_frame(f);
   }
-  if (i == kMaxFramesPerPoll) ++health_.deferred_polls;
+  std::uint64_t drops = 0;
+  for (const ReceiveQueue& q : queues_) drops += q.drops;
+  health_.kernel_drops = drops;
+  if (capped) ++health_.deferred_polls;
   return true;
 }
 

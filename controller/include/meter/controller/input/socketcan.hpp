@@ -17,28 +17,49 @@ class SocketCanError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Raw CAN socket with CAN FD frames enabled, kernel receive timestamps (SO_TIMESTAMPNS), kernel id
-// filters (exact ids, J1939 parameter groups under a mask), every error class (CAN_RAW_ERR_FILTER),
-// the kernel's drop counter (SO_RXQ_OVFL), non-blocking reads driven by epoll. Throws SocketCanError with a clear message when the
-// kernel has no CAN support (pointing at the vcan/ VM harness) or the interface does not exist.
+// Live CAN bus input through raw CAN sockets: CAN FD frames enabled, kernel receive timestamps
+// (SO_TIMESTAMPNS), kernel id filters (exact ids, J1939 parameter groups under a mask), every error
+// class (CAN_RAW_ERR_FILTER), the kernel's drop counter (SO_RXQ_OVFL), non-blocking reads driven
+// by one epoll. Throws SocketCanError with a clear message when the kernel has no CAN support
+// (pointing at the vcan/ VM harness) or the interface does not exist.
+//
+// One receive queue (socket) per id filter, like the receive mailboxes of a CAN controller: a node
+// that floods one id fills only that id's queue, so the frames of every other id the mapping reads
+// still arrive, and the kernel's drops land on the flooded id alone. Error frames have a queue of
+// their own. Each poll drains every ready queue (at most kMaxFramesPerPoll frames from each, so
+// the model keeps ticking under a flood) and hands the frames over in kernel timestamp order.
 class SocketCanInput : public Input {
  public:
-  // filter empty: receive everything. Otherwise only those ids (plus error frames). More filters
-  // than the kernel takes (CAN_RAW_FILTER_MAX, 512) is a SocketCanError, not a silent "all".
+  // filter empty: receive everything (one queue). Otherwise only those ids (plus error frames).
+  // More filters than the kernel takes in one socket (CAN_RAW_FILTER_MAX, 512) is a
+  // SocketCanError, not a silent "all".
   SocketCanInput(const std::string& interface, const std::vector<CanIdFilter>& filter);
   ~SocketCanInput() override;
+  SocketCanInput(const SocketCanInput&) = delete;
+  SocketCanInput& operator=(const SocketCanInput&) = delete;
   bool poll(InputSink& sink, std::chrono::milliseconds timeout) override;
   std::int64_t now_ns() const override;
   std::string describe() const override;
-  int fd() const { return fd_; }
-  std::uint64_t dropped() const { return health_.kernel_drops; }  // kernel SO_RXQ_OVFL count
-  // Error frames (bus state), remote frames, kernel drops, polls cut at the per-poll cap.
+  // Readable whenever any receive queue holds a frame (an epoll descriptor), for an outer epoll.
+  int fd() const { return epoll_; }
+  std::uint64_t dropped() const { return health_.kernel_drops; }  // kernel SO_RXQ_OVFL, all queues
+  // Error frames (bus state), remote frames, kernel drops, polls cut at the per-queue cap.
   BusHealth health() const override { return health_; }
-  static constexpr int kMaxFramesPerPoll = 256;
+  static constexpr int kMaxFramesPerPoll = 256;  // per receive queue
 
  private:
+  struct ReceiveQueue {
+    int fd = -1;
+    std::uint64_t drops = 0;  // the socket's SO_RXQ_OVFL total, as last stamped on a frame
+  };
+  enum class Takes { EveryFrame, OneId, ErrorFrames };  // what a receive queue's socket lets in
+  void open_queue(unsigned ifindex, Takes what, const CanIdFilter* id = nullptr);
+  bool drain(ReceiveQueue& queue);  // true when it stopped at the cap with frames left
+
   std::string iface_;
-  int fd_ = -1, epoll_ = -1;
+  int epoll_ = -1;
+  std::vector<ReceiveQueue> queues_;
+  std::vector<CanFrame> batch_;  // one poll's frames, from every ready queue
   BusHealth health_;
 };
 
