@@ -127,44 +127,37 @@ def thermometer_icon(mb, s):
         mb.rect(side * 0.42 * s - 0.12 * s, -0.42 * s, side * 0.42 * s + 0.12 * s, -0.38 * s)
 
 
+def front_fog_icon(mb, s):
+    lamp_icon(mb, s, [(0.14, 0.0), (0.0, 0.0), (-0.14, 0.0)])
+    mb.poly([(-0.27 * s, -0.3 * s), (-0.22 * s, -0.3 * s), (-0.2 * s, 0.3 * s),
+             (-0.25 * s, 0.3 * s)], z=0.002)
+
+
+# Each telltale's icon, drawn into a MeshBuilder at size s.
+ICONS = {
+    "TurnLeft": lambda mb, s: arrow_icon(mb, s, True),
+    "TurnRight": lambda mb, s: arrow_icon(mb, s, False),
+    "HighBeam": lambda mb, s: lamp_icon(mb, s, [(0.18, 0.0), (0.06, 0.0), (-0.06, 0.0), (-0.18, 0.0)]),
+    "LowBeam": lambda mb, s: lamp_icon(mb, s, [(0.14, -0.14), (0.02, -0.14), (-0.1, -0.14), (-0.22, -0.14)]),
+    "FrontFog": front_fog_icon,
+    "ParkingBrake": lambda mb, s: circle_bracket_icon(mb, s, "P"),
+    "BrakeFault": lambda mb, s: circle_bracket_icon(mb, s, "!"),
+    "ABS": lambda mb, s: circle_bracket_icon(mb, s, "ABS"),
+    "Airbag": airbag_icon,
+    "SeatBelt": seatbelt_icon,
+    "OilPressure": oil_icon,
+    "Battery": battery_icon,
+    "CheckEngine": engine_icon,
+    "ESC": esc_icon,
+    "TPMS": tpms_icon,
+    "FuelLow": fuel_pump_icon,
+    "CoolantTemp": thermometer_icon,
+}
+
+
 def telltale_mesh(name, s):
-    mb = b.MeshBuilder()
-    if name == "TurnLeft":
-        arrow_icon(mb, s, True)
-    elif name == "TurnRight":
-        arrow_icon(mb, s, False)
-    elif name == "HighBeam":
-        lamp_icon(mb, s, [(0.18, 0.0), (0.06, 0.0), (-0.06, 0.0), (-0.18, 0.0)])
-    elif name == "LowBeam":
-        lamp_icon(mb, s, [(0.14, -0.14), (0.02, -0.14), (-0.1, -0.14), (-0.22, -0.14)])
-    elif name == "FrontFog":
-        lamp_icon(mb, s, [(0.14, 0.0), (0.0, 0.0), (-0.14, 0.0)])
-        mb.poly([(-0.27 * s, -0.3 * s), (-0.22 * s, -0.3 * s), (-0.2 * s, 0.3 * s),
-                 (-0.25 * s, 0.3 * s)], z=0.002)
-    elif name == "ParkingBrake":
-        circle_bracket_icon(mb, s, "P")
-    elif name == "BrakeFault":
-        circle_bracket_icon(mb, s, "!")
-    elif name == "ABS":
-        circle_bracket_icon(mb, s, "ABS")
-    elif name == "Airbag":
-        airbag_icon(mb, s)
-    elif name == "SeatBelt":
-        seatbelt_icon(mb, s)
-    elif name == "OilPressure":
-        oil_icon(mb, s)
-    elif name == "Battery":
-        battery_icon(mb, s)
-    elif name == "CheckEngine":
-        engine_icon(mb, s)
-    elif name == "ESC":
-        esc_icon(mb, s)
-    elif name == "TPMS":
-        tpms_icon(mb, s)
-    elif name == "FuelLow":
-        fuel_pump_icon(mb, s)
-    elif name == "CoolantTemp":
-        thermometer_icon(mb, s)
-    else:
+    if name not in ICONS:
         raise ValueError(f"no icon for telltale {name}")
+    mb = b.MeshBuilder()
+    ICONS[name](mb, s)
     return mb
