@@ -53,6 +53,9 @@ fi
 start_controller
 # Every frame on vcan0 from here on (the replays' and the floods'): the flood test's ground truth.
 read -r tx </sys/class/net/vcan0/statistics/tx_packets; event "tx start $tx"
+# Frames the kernel dropped on the receive path before any socket saw them (the per-CPU input
+# backlog of netif_rx overflowing, counted as the interface's rx_dropped): no socket counts these.
+read -r rxd </sys/class/net/vcan0/statistics/rx_dropped; event "rx_dropped start $rxd"
 # The host starts meter-view only now: during the boot it would only take CPU from the guest.
 touch "$out/ready"
 for phase in "$@"; do
@@ -104,6 +107,7 @@ for phase in "$@"; do
 done
 for p in "${bg[@]}"; do wait "$p" || fail "background replay failed"; done
 read -r tx </sys/class/net/vcan0/statistics/tx_packets; event "tx end $tx"
+read -r rxd </sys/class/net/vcan0/statistics/rx_dropped; event "rx_dropped end $rxd"
 [[ -n ${netstat:-} ]] && kill "$netstat"
 
 # The controller must have survived everything after its last (re)start, and stop cleanly.

@@ -322,9 +322,17 @@ class Faults(E2eBase):
         self.assertIsNotNone(m, f"{len(got)} of {sent} frames on mapped ids decoded and the controller's "
                                 "stats line reports no kernel drops: frames lost silently")
         drops = int(m.group(1))
+        rx_dropped = {k.split()[1]: int(k.split()[2]) for k in ev if k.startswith("rx_dropped ")}
+        backlog = rx_dropped["end"] - rx_dropped["start"]
         print(f"e2e_flood: {sent} frames on mapped ids ({flood_only} of the flood): {len(got)} decoded, "
-              f"{drops} dropped by the kernel")
-        self.assertEqual(len(got) + drops, sent, "frames on mapped ids sent vs decoded + counted drops")
+              f"{drops} dropped by the kernel from the controller's queues, {backlog} from the interface's "
+              f"input backlog (any id, before any socket)")
+        # A frame on a mapped id is decoded, or counted by its socket's drop counter, or was dropped
+        # on vcan0's receive path before any socket (rx_dropped: netif_rx's backlog overflowing when
+        # the guest's softirq falls behind; seen in CI: 1635 of 285 947). Nothing else may vanish.
+        self.assertLessEqual(len(got) + drops, sent, "more frames decoded + counted than sent on mapped ids")
+        self.assertGreaterEqual(len(got) + drops + backlog, sent,
+                                "frames on mapped ids sent vs decoded + counted drops + interface drops")
         self.assertGreater(got.count(0x154), flooded // 8, "the flood did not reach the controller")
         self.assertFalse(set(got) - used, "the controller received ids its mapping does not use")
         # The flood is isolated on its id, as a CAN controller's receive mailboxes isolate it: every
