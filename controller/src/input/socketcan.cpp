@@ -38,8 +38,8 @@ SocketCanInput::SocketCanInput(const std::string& iface, const std::vector<CanId
   if (probe < 0) throw SocketCanError(no_can_message(errno));
   ::close(probe);
   if (ids.size() > CAN_RAW_FILTER_MAX)
-    throw SocketCanError(iface + ": " + std::to_string(ids.size()) + " id filters, the kernel takes at most " +
-                         std::to_string(CAN_RAW_FILTER_MAX));
+    throw SocketCanError(iface + ": " + std::to_string(ids.size()) + " id filters, at most " +
+                         std::to_string(CAN_RAW_FILTER_MAX) + " (one receive queue each)");
   const unsigned ifindex = if_nametoindex(iface.c_str());
   if (ifindex == 0)
     throw SocketCanError(iface + ": no such CAN interface (create it: ip link add dev " + iface +
@@ -60,7 +60,7 @@ SocketCanInput::SocketCanInput(const std::string& iface, const std::vector<CanId
     if (epoll_ >= 0) ::close(epoll_);
     throw;
   }
-  batch_.reserve(static_cast<std::size_t>(kMaxFramesPerPoll) * 2);
+  ready_.resize(queues_.size());
 }
 
 void SocketCanInput::open_queue(unsigned ifindex, Takes what, const CanIdFilter* id) {
@@ -154,12 +154,11 @@ bool SocketCanInput::drain(ReceiveQueue& queue) {
 }
 
 bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
-  std::vector<epoll_event> ready(queues_.size());
-  const int n = ::epoll_wait(epoll_, ready.data(), static_cast<int>(ready.size()), static_cast<int>(timeout.count()));
+  const int n = ::epoll_wait(epoll_, ready_.data(), static_cast<int>(ready_.size()), static_cast<int>(timeout.count()));
   if (n <= 0) return true;
   batch_.clear();
   bool capped = false;
-  for (int k = 0; k < n; ++k) capped |= drain(queues_[ready[static_cast<std::size_t>(k)].data.u32]);
+  for (int k = 0; k < n; ++k) capped |= drain(queues_[ready_[static_cast<std::size_t>(k)].data.u32]);
   // Each queue is in order already; across queues the kernel's receive stamps give the bus order.
   std::stable_sort(batch_.begin(), batch_.end(),
                    [](const CanFrame& a, const CanFrame& b) { return a.timestamp_ns < b.timestamp_ns; });

@@ -1,5 +1,7 @@
 #include "gl/shadow_maps.hpp"
 
+#include <optional>
+
 #include "gl/draw_submission.hpp"
 #include "meter/engine/evaluation/shadow_projection.hpp"
 #include "meter/engine/renderer.hpp"
@@ -70,8 +72,7 @@ void ShadowMaps::update(const FrameState& frame, const std::function<std::vector
     drawn_draws_ = frame.draws;
     bounds_ = drawn_bounds(scene_, frame);
   }
-  std::vector<int> drawn;
-  bool listed = false;
+  std::optional<std::vector<int>> drawn;  // the casters, listed at the first map drawn
   for (Map& m : maps_) {
     const auto& [node, world] = frame.lights[static_cast<std::size_t>(m.light)];
     const Light& light = scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(node)].light)];
@@ -91,8 +92,8 @@ void ShadowMaps::update(const FrameState& frame, const std::function<std::vector
     // Slope-scaled bias: a lit surface must not shadow itself where its depth varies across a texel.
     gl_.Enable(GL_POLYGON_OFFSET_FILL);
     gl_.PolygonOffset(2.0f, 4.0f);
-    if (!listed) drawn = casters(), listed = true;
-    submission.submit_depth(drawn, frame, *vp, stats);
+    if (!drawn) drawn = casters();
+    submission.submit_depth(*drawn, frame, *vp, stats);
     gl_.Disable(GL_POLYGON_OFFSET_FILL);
     ++stats.shadow_map_draws;
   }

@@ -10,6 +10,8 @@
 #include "meter/controller/input/can_id_filter.hpp"
 #include "meter/controller/input/input.hpp"
 
+struct epoll_event;  // <sys/epoll.h>, complete where SocketCanInput is built and polled
+
 namespace meter::controller {
 
 class SocketCanError : public std::runtime_error {
@@ -31,8 +33,8 @@ class SocketCanError : public std::runtime_error {
 class SocketCanInput : public Input {
  public:
   // filter empty: receive everything (one queue). Otherwise only those ids (plus error frames).
-  // More filters than the kernel takes in one socket (CAN_RAW_FILTER_MAX, 512) is a
-  // SocketCanError, not a silent "all".
+  // More than CAN_RAW_FILTER_MAX (512) filters, the bound on receive queues, is a SocketCanError,
+  // not a silent "all".
   SocketCanInput(const std::string& interface, const std::vector<CanIdFilter>& filter);
   ~SocketCanInput() override;
   SocketCanInput(const SocketCanInput&) = delete;
@@ -59,6 +61,7 @@ class SocketCanInput : public Input {
   std::string iface_;
   int epoll_ = -1;
   std::vector<ReceiveQueue> queues_;
+  std::vector<epoll_event> ready_;  // epoll_wait's buffer, one slot per queue
   std::vector<CanFrame> batch_;  // one poll's frames, from every ready queue
   BusHealth health_;
 };
