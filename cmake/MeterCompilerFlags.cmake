@@ -20,6 +20,17 @@ if(METER_SANITIZE)
   add_compile_options(-fsanitize=address,undefined,float-cast-overflow -fno-sanitize=vptr
                       -fno-sanitize-recover=undefined,float-cast-overflow -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined,float-cast-overflow)
+  # Line tables are all a sanitizer report needs to name file and line; full debug info made the
+  # sanitizer build 5.6 GB and its links the slowest step.
+  add_compile_options(-g1)
+endif()
+
+# LLVM's lld links the ~60 test and tool programs about 3.5x faster than GNU ld (a 138 MB
+# sanitizer test program: 5.3 s with ld.bfd, 1.5 s with ld.lld); GNU ld when lld is missing.
+include(CheckLinkerFlag)
+check_linker_flag(CXX -fuse-ld=lld METER_HAVE_LLD)
+if(METER_HAVE_LLD)
+  add_link_options(-fuse-ld=lld)
 endif()
 
 foreach(_flags IN ITEMS CMAKE_CXX_FLAGS CMAKE_C_FLAGS CMAKE_CXX_FLAGS_RELEASE CMAKE_CXX_FLAGS_DEBUG
