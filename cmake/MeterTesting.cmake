@@ -18,6 +18,12 @@ function(meter_add_gtest target)
   endif()
   list(APPEND _props TIMEOUT ${T_TIMEOUT})
   add_executable(${target} ${T_SOURCES})
+  # The test drivers themselves at -O1 in release builds (a third less compile time than -O3);
+  # the libraries they test keep the build's own flags.
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
+  if("unit" IN_LIST T_LABELS)
+    set_property(GLOBAL APPEND PROPERTY METER_UNIT_TEST_PROGRAMS ${target})
+  endif()
   target_link_libraries(${target} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main GTest::gmock
                         meter_build_flags Threads::Threads)
   target_compile_definitions(${target} PRIVATE
