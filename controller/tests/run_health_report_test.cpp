@@ -88,10 +88,12 @@ TEST(HealthReport, ChangesBecomeLogLinesTraceRowsAndTheStatsLine) {
   const std::string log = err.str();
   EXPECT_NE(log.find("SocketCAN vcan0: bus error-passive"), std::string::npos) << log;
   EXPECT_NE(log.find("SocketCAN vcan0: bus bus-off"), std::string::npos) << log;
-  EXPECT_NE(log.find("0 dropped by the kernel (receive queue full), 1 replay slips; totals 30 drops, 1 slips"),
+  EXPECT_NE(log.find("0 dropped by the kernel (receive queue full), 0 by the interface (input backlog full), 1 "
+                     "replay slips; totals 30 drops, 0 interface drops, 1 slips"),
             std::string::npos) << log;
   EXPECT_NE(log.find("frames lost: 10 dropped by the kernel"), std::string::npos) << log;
-  EXPECT_NE(log.find("frames lost: 20 dropped by the kernel (receive queue full), 0 replay slips; totals 30 drops"),
+  EXPECT_NE(log.find("frames lost: 20 dropped by the kernel (receive queue full), 0 by the interface (input backlog "
+                     "full), 0 replay slips; totals 30 drops"),
             std::string::npos)
       << "the lines are at most one a second, and none of the drops is left out:\n" << log;
   EXPECT_NE(log.find("view reports a fault: dump-failed (STATUS fault flags 0x2)"), std::string::npos) << log;
@@ -102,6 +104,31 @@ TEST(HealthReport, ChangesBecomeLogLinesTraceRowsAndTheStatsLine) {
   EXPECT_NE(text.find(",kernel_drops,30\n"), std::string::npos) << text;
   EXPECT_NE(text.find(",bus_state,2\n"), std::string::npos) << text;
   EXPECT_NE(text.find(",view_faults,3\n"), std::string::npos) << text;
+  std::filesystem::remove(trace_path);
+}
+
+TEST(HealthReport, InterfaceDropsAreLossesLikeKernelDrops) {
+  const auto trace_path = std::filesystem::temp_directory_path() / "meter_health_report_interface_drops.csv";
+  std::ostringstream err;
+  {
+    Trace trace(trace_path.string());
+    HealthReport r("SocketCAN vcan0");
+    BusHealth b;
+    r.update(b, 0, 1'000'000'000, err, trace);
+    b.interface_drops = 12;
+    r.update(b, 0, 1'100'000'000, err, trace);
+    EXPECT_EQ(r.controller_faults(), protocol::kControllerFaultFramesLost) << "a frame lost before any socket is lost";
+    r.update(b, 0, 2'200'000'000, err, trace);
+    EXPECT_EQ(r.controller_faults(), 0U) << "held 1 s after the last drop, then down";
+    EXPECT_NE(r.stats_text().find("0 kernel drops, 12 interface drops"), std::string::npos) << r.stats_text();
+  }
+  EXPECT_NE(err.str().find("frames lost: 0 dropped by the kernel (receive queue full), 12 by the interface (input "
+                           "backlog full), 0 replay slips; totals 0 drops, 12 interface drops, 0 slips"),
+            std::string::npos)
+      << err.str();
+  std::ifstream in(trace_path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(",interface_drops,12\n"), std::string::npos) << text;
   std::filesystem::remove(trace_path);
 }
 

@@ -83,12 +83,17 @@ TEST(BusHealth, SeveralBusesFoldIntoTheWorstStateAndSummedCounts) {
   a.tx_errors = 90;
   b.state = BusState::BusOff;
   b.kernel_drops = 4;
+  a.interface_drops = 5;
+  b.interface_drops = 6;
   b.replay_slips = 1;
   b.tx_errors = 10;
   add_health(total, a);
   add_health(total, b);
   EXPECT_EQ(total.state, BusState::BusOff);
   EXPECT_EQ(total.kernel_drops, 7u);
+  EXPECT_EQ(total.interface_drops, 11u);
+  EXPECT_NE(describe(total).find(", 7 kernel drops, 11 interface drops, 1 replay slips"), std::string::npos)
+      << describe(total);
   EXPECT_EQ(total.error_frames, 2u);
   EXPECT_EQ(total.replay_slips, 1u);
   EXPECT_EQ(total.tx_errors, 90);

@@ -64,5 +64,5 @@ if ((n > 0)); then
   echo "n $n p50_us $p50 p99_us $p99 max_us $max" >"$OUT/latency.txt"
 fi
 grep -c '^h,' "$trace" >"$OUT/trace_health_rows.txt"
-grep '^h,[0-9]*,kernel_drops' "$trace" | tail -n 1 >"$OUT/trace_drops.txt"
+grep -E '^h,[0-9]*,(kernel|interface)_drops' "$trace" | tail -n 1 >"$OUT/trace_drops.txt"
 exit 0

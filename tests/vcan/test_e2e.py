@@ -324,6 +324,12 @@ class Faults(E2eBase):
         drops = int(m.group(1))
         rx_dropped = {k.split()[1]: int(k.split()[2]) for k in ev if k.startswith("rx_dropped ")}
         backlog = rx_dropped["end"] - rx_dropped["start"]
+        # The controller reads the same counter itself (from its start, before the guest's first
+        # reading, to its stop after the last, with no traffic outside them): the same count.
+        with open(os.path.join(run.out, "controller.log")) as f:
+            m = re.search(r", (\d+) interface drops", f.read())
+        self.assertIsNotNone(m, "the controller's stats line lacks its interface drops")
+        self.assertEqual(int(m.group(1)), backlog, "interface drops: the controller's count vs vcan0's rx_dropped")
         print(f"e2e_flood: {sent} frames on mapped ids ({flood_only} of the flood): {len(got)} decoded, "
               f"{drops} dropped by the kernel from the controller's queues, {backlog} from the interface's "
               f"input backlog (any id, before any socket)")

@@ -65,6 +65,7 @@ void add_health(BusHealth& total, const BusHealth& other) {
   total.tx_errors = std::max(total.tx_errors, other.tx_errors);
   total.rx_errors = std::max(total.rx_errors, other.rx_errors);
   total.kernel_drops += other.kernel_drops;
+  total.interface_drops += other.interface_drops;
   total.replay_slips += other.replay_slips;
   total.deferred_polls += other.deferred_polls;
 }
@@ -74,7 +75,8 @@ std::string describe(const BusHealth& h) {
   s += ", " + std::to_string(h.error_frames) + " error frames (" + std::to_string(h.bus_off_events) + " bus-off, " +
        std::to_string(h.protocol_errors) + " protocol, " + std::to_string(h.no_ack) + " no-ack), tx/rx errors " +
        std::to_string(h.tx_errors) + "/" + std::to_string(h.rx_errors) + ", " + std::to_string(h.remote_frames) +
-       " remote frames, " + std::to_string(h.kernel_drops) + " kernel drops, " + std::to_string(h.replay_slips) +
+       " remote frames, " + std::to_string(h.kernel_drops) + " kernel drops, " + std::to_string(h.interface_drops) +
+       " interface drops, " + std::to_string(h.replay_slips) +
        " replay slips, " + std::to_string(h.deferred_polls) + " deferred polls";
   return s;
 }

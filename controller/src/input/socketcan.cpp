@@ -33,7 +33,7 @@ bool kernel_has_can() {
 }
 
 SocketCanInput::SocketCanInput(const std::string& iface, const std::vector<CanIdFilter>& ids)
-    : iface_(iface) {
+    : iface_(iface), interface_drops_(iface) {
   const int probe = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
   if (probe < 0) throw SocketCanError(no_can_message(errno));
   ::close(probe);
@@ -155,6 +155,7 @@ bool SocketCanInput::drain(ReceiveQueue& queue) {
 
 bool SocketCanInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   const int n = ::epoll_wait(epoll_, ready_.data(), static_cast<int>(ready_.size()), static_cast<int>(timeout.count()));
+  health_.interface_drops = interface_drops_.read();
   if (n <= 0) return true;
   batch_.clear();
   bool capped = false;

@@ -30,14 +30,19 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
   }
   if (bus.error_frames != old.error_frames) trace.health("error_frames", bus.error_frames);
   if (bus.kernel_drops != old.kernel_drops) trace.health("kernel_drops", bus.kernel_drops);
+  if (bus.interface_drops != old.interface_drops) trace.health("interface_drops", bus.interface_drops);
   if (bus.replay_slips != old.replay_slips) trace.health("replay_slips", bus.replay_slips);
   if (bus.deferred_polls != old.deferred_polls) trace.health("deferred_polls", bus.deferred_polls);
-  const bool lost = bus.kernel_drops != logged_drops_ || bus.replay_slips != logged_slips_;
+  const bool lost = bus.kernel_drops != logged_drops_ || bus.interface_drops != logged_interface_drops_ ||
+                    bus.replay_slips != logged_slips_;
   if (lost && (last_loss_line_ns_ == 0 || t - last_loss_line_ns_ >= kLossLineEveryNs)) {
     err << "meter-controller: " << input_ << ": frames lost: " << bus.kernel_drops - logged_drops_
-        << " dropped by the kernel (receive queue full), " << bus.replay_slips - logged_slips_
-        << " replay slips; totals " << bus.kernel_drops << " drops, " << bus.replay_slips << " slips\n";
+        << " dropped by the kernel (receive queue full), " << bus.interface_drops - logged_interface_drops_
+        << " by the interface (input backlog full), " << bus.replay_slips - logged_slips_ << " replay slips; totals "
+        << bus.kernel_drops << " drops, " << bus.interface_drops << " interface drops, " << bus.replay_slips
+        << " slips\n";
     logged_drops_ = bus.kernel_drops;
+    logged_interface_drops_ = bus.interface_drops;
     logged_slips_ = bus.replay_slips;
     last_loss_line_ns_ = t;
   }
@@ -52,7 +57,7 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
     trace.health("view_faults", faults);
     view_faults_ = faults;
   }
-  if (bus.kernel_drops != old.kernel_drops) drop_at_ns_ = t;
+  if (bus.kernel_drops != old.kernel_drops || bus.interface_drops != old.interface_drops) drop_at_ns_ = t;
   if (bus.replay_slips != old.replay_slips) slip_at_ns_ = t;
   std::uint32_t cf = 0;
   if (bus.state == BusState::ErrorWarning) cf |= protocol::kControllerFaultBusWarning;

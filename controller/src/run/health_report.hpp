@@ -37,7 +37,7 @@ class HealthReport {
   std::string input_;
   BusHealth bus_;
   bool first_ = true;
-  std::uint64_t logged_drops_ = 0, logged_slips_ = 0;
+  std::uint64_t logged_drops_ = 0, logged_interface_drops_ = 0, logged_slips_ = 0;
   std::int64_t last_loss_line_ns_ = 0;
   std::uint32_t view_faults_ = 0;
   std::uint32_t controller_faults_ = 0;

@@ -20,7 +20,8 @@ namespace meter::controller {
 //   c,<t_ns>,<CLOCK_MONOTONIC ns>,              once: maps the link's send stamps onto t_ns
 //   h,<t_ns>,<what>,<value>                     a health counter changed: bus_state (0 error-active,
 //                                               1 warning, 2 passive, 3 bus-off), error_frames,
-//                                               kernel_drops, replay_slips, deferred_polls, view_faults
+//                                               kernel_drops, interface_drops, replay_slips,
+//                                               deferred_polls, view_faults
 // Buffered in memory-sized blocks: the controller's loop must not wait for a disk (or a 9p share).
 class Trace {
  public:

@@ -113,8 +113,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     HealthReport health(input->describe());
     auto report_health = [&](std::int64_t t) {
       health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
-      pub.send_status(model.stats().frames + model.stats().values, health.bus().kernel_drops, health.controller_faults());
-      recording.status(t, model.stats().frames + model.stats().values, health.bus().kernel_drops, health.controller_faults());
+      const std::uint64_t lost = health.bus().kernel_drops + health.bus().interface_drops;
+      pub.send_status(model.stats().frames + model.stats().values, lost, health.controller_faults());
+      recording.status(t, model.stats().frames + model.stats().values, lost, health.controller_faults());
     };
     std::uint64_t traced_bytes = 0;
     // The model ticks every update period of input time; inputs are polled until the next tick.

@@ -27,8 +27,10 @@ struct BusHealth {
   std::uint64_t controller_overflows = 0;  // CAN_ERR_CRTL RX/TX overflow in the CAN controller
   std::uint8_t tx_errors = 0, rx_errors = 0;  // last error counters reported (CAN_ERR_CNT)
   // Input-side losses, filled by the input (not by frames): every frame the bus carried on a mapped
-  // id either reached the model or is counted here.
+  // id either reached the model or is counted here (interface drops count every id's losses, mapped
+  // or not, since the interface drops them before any filter).
   std::uint64_t kernel_drops = 0;   // SO_RXQ_OVFL: the socket's receive queue overflowed
+  std::uint64_t interface_drops = 0;  // the interface's rx_dropped: lost before any socket
   std::uint64_t replay_slips = 0;   // a replay fell more than its lag bound behind the log clock
   std::uint64_t deferred_polls = 0;  // polls that stopped at the per-poll cap with frames still queued
   bool operator==(const BusHealth&) const = default;
@@ -42,7 +44,8 @@ void note_frame(BusHealth& health, const CanFrame& frame);
 // larger error counters.
 void add_health(BusHealth& total, const BusHealth& other);
 
-// "error-passive, 3 error frames (1 bus-off), tx/rx errors 128/0, 0 kernel drops, 0 replay slips"
+// "error-passive, 3 error frames (1 bus-off), tx/rx errors 128/0, 0 kernel drops, 0 interface
+// drops, 0 replay slips"
 std::string describe(const BusHealth& health);
 
 }  // namespace meter::controller

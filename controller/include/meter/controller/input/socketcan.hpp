@@ -9,6 +9,7 @@
 
 #include "meter/controller/input/can_id_filter.hpp"
 #include "meter/controller/input/input.hpp"
+#include "meter/controller/input/interface_drops.hpp"
 
 struct epoll_event;  // <sys/epoll.h>, complete where SocketCanInput is built and polled
 
@@ -21,8 +22,9 @@ class SocketCanError : public std::runtime_error {
 
 // Live CAN bus input through raw CAN sockets: CAN FD frames enabled, kernel receive timestamps
 // (SO_TIMESTAMPNS), kernel id filters (exact ids, J1939 parameter groups under a mask), every error
-// class (CAN_RAW_ERR_FILTER), the kernel's drop counter (SO_RXQ_OVFL), non-blocking reads driven
-// by one epoll. Throws SocketCanError with a clear message when the kernel has no CAN support
+// class (CAN_RAW_ERR_FILTER), the kernel's drop counters (each socket's SO_RXQ_OVFL and the
+// interface's rx_dropped, the frames lost before any socket), non-blocking reads driven by one
+// epoll. Throws SocketCanError with a clear message when the kernel has no CAN support
 // (pointing at the vcan/ VM harness) or the interface does not exist.
 //
 // One receive queue (socket) per id filter, like the receive mailboxes of a CAN controller: a node
@@ -45,7 +47,8 @@ class SocketCanInput : public Input {
   // Readable whenever any receive queue holds a frame (an epoll descriptor), for an outer epoll.
   int fd() const { return epoll_; }
   std::uint64_t dropped() const { return health_.kernel_drops; }  // kernel SO_RXQ_OVFL, all queues
-  // Error frames (bus state), remote frames, kernel drops, polls cut at the per-queue cap.
+  // Error frames (bus state), remote frames, kernel and interface drops (the interface's counter
+  // read at every poll), polls cut at the per-queue cap.
   BusHealth health() const override { return health_; }
   static constexpr int kMaxFramesPerPoll = 256;  // per receive queue
 
@@ -59,6 +62,7 @@ class SocketCanInput : public Input {
   bool drain(ReceiveQueue& queue);  // true when it stopped at the cap with frames left
 
   std::string iface_;
+  InterfaceDrops interface_drops_;
   int epoll_ = -1;
   std::vector<ReceiveQueue> queues_;
   std::vector<epoll_event> ready_;  // epoll_wait's buffer, one slot per queue
