@@ -3,8 +3,8 @@
 //      render differs from the hidden one, so its reach from the projected pivot is measured;
 //   2. the annulus: inside that reach, at radii no other safety region (another needle's sweep, a
 //      lamp, a readout box) reaches at any angle, so only this needle moves there;
-//   3. its colour: the box holding the needle's pixels in the annulus, refused when the dial
-//      without the needle has that colour too;
+//   3. its colour: the box holding the needle's core pixels in the annulus (those as far from the
+//      dial as most of the needle is), refused when the dial without the needle has that colour too;
 //   4. the angle table: the angle read back (integrity_check's needle_angle, the same reading the
 //      checks use) at each sampled time, and the interpolation error at the midpoints.
 #include <algorithm>
@@ -22,11 +22,21 @@ constexpr int kNeedleStep = 64;
 // Channel margin around the colours of the needle's pixels: covers the backends' and MSAA
 // settings' shading differences (measured below 6 steps on the cluster).
 constexpr int kColourMargin = 16;
+// The colour box is learnt from the needle's core: pixels differing from the dial without the
+// needle by at least this share of the needle's own contrast there (the 99th percentile of its
+// pixels' differences). Its antialiased rim, and more so a film-filtered one, blends the needle's
+// colour into the face; a box spanning those blends took in the dial's grey print and the
+// tachometer's red zone at every radius, so the cluster's tachometer went unmonitored (and with
+// the film filter the speedometer too). Measured on the cluster: a share of 0.75 leaves no dial
+// pixel in any needle's box, box or film-filter resolve, and the tables' interpolation error
+// falls from 0.303 to 0.195 deg.
+constexpr double kNeedleCoreShare = 0.75;
 // |angle read - angle expected| on a correct frame. Measured on scenes/cluster and minimal-gauge
 // over both backends at MSAA 1, 2, 4 and 8 and the filter / precision / affine ladder points
-// against tables measured on EGL at MSAA 4 (IntegrityBounds, docs/integrity.md: at most 0.183 deg;
-// the tables' interpolation error at their midpoints 0.303 deg); 1.0 deg holds with a margin of
-// three and still catches a needle 3 deg off.
+// against tables measured on EGL at MSAA 4 (IntegrityBounds, docs/integrity.md: at most 0.494 deg
+// at MSAA 2, whose two samples leave a needle's core lopsided, 0.088 at MSAA 1, 0.077 otherwise;
+// the tables' interpolation error at their midpoints 0.195 deg); 1.0 deg holds with a margin of
+// two and still catches a needle 3 deg off.
 constexpr double kNeedleTolerance = 1.0;
 
 struct Needle {
@@ -148,17 +158,27 @@ bridge::SafetyRegion needle_region(const Scene& scene, const Needle& n, std::pai
   m.animation = b.animation;
   m.pivot_x = n.pivot_x, m.pivot_y = n.pivot_y, m.r_min = r0, m.r_max = r1;
   m.sector_center_deg = sector_center(n), m.sector_half_deg = sector_half(n);
+  // The needle's pixels in the annulus, at every sampled time: their difference from the dial.
+  auto for_needle_pixels = [&](const platform::Image& img, auto&& visit) {
+    for (int y = r.rect.y; y < r.rect.y + r.rect.height; ++y)
+      for (int x = r.rect.x; x < r.rect.x + r.rect.width; ++x) {
+        const double rr = std::hypot(x + 0.5 - n.pivot_x, y + 0.5 - n.pivot_y);
+        const int d = pixel_difference(img, hidden, x, y);
+        if (rr >= r0 && rr <= r1 && d > kNeedleStep) visit(x, y, d);
+      }
+  };
+  std::vector<double> differences;
+  for (const auto& img : imgs) for_needle_pixels(img, [&](int, int, int d) { differences.push_back(d); });
+  const double core = std::max(double(kNeedleStep), kNeedleCoreShare * percentile(differences, 0.99));
   std::array<std::vector<double>, 3> channel;
   int fewest = -1;
   for (const auto& img : imgs) {
     int count = 0;
-    for (int y = r.rect.y; y < r.rect.y + r.rect.height; ++y)
-      for (int x = r.rect.x; x < r.rect.x + r.rect.width; ++x) {
-        const double rr = std::hypot(x + 0.5 - n.pivot_x, y + 0.5 - n.pivot_y);
-        if (rr < r0 || rr > r1 || pixel_difference(img, hidden, x, y) <= kNeedleStep) continue;
-        for (std::size_t c = 0; c < 3; ++c) channel[c].push_back(img.pixel(x, y)[c]);
-        ++count;
-      }
+    for_needle_pixels(img, [&](int x, int y, int d) {
+      if (d < core) return;
+      for (std::size_t c = 0; c < 3; ++c) channel[c].push_back(img.pixel(x, y)[c]);
+      ++count;
+    });
     fewest = fewest < 0 ? count : std::min(fewest, count);
   }
   for (std::size_t c = 0; c < 3; ++c) {
