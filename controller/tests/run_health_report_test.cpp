@@ -50,9 +50,21 @@ TEST(HealthReport, AReplayThatFallsBehindCountsItsSlips) {
   EXPECT_EQ(replay.health().replay_slips, replay.slips());
 }
 
-TEST(HealthReport, ChangesBecomeLogLinesTraceRowsAndTheStatsLine) {
-  const auto trace_path = std::filesystem::temp_directory_path() / "meter_health_report_trace.csv";
+// A HealthReport's stderr and its trace file (removed after the test).
+class HealthReportRun : public ::testing::Test {
+ protected:
+  void TearDown() override { std::filesystem::remove(trace_path); }
+  std::string trace_text() const {
+    std::ifstream in(trace_path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  const std::filesystem::path trace_path =
+      std::filesystem::temp_directory_path() /
+      (std::string("meter_health_report_") + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv");
   std::ostringstream err;
+};
+
+TEST_F(HealthReportRun, ChangesBecomeLogLinesTraceRowsAndTheStatsLine) {
   {
     Trace trace(trace_path.string());
     HealthReport r("SocketCAN vcan0");
@@ -99,17 +111,13 @@ TEST(HealthReport, ChangesBecomeLogLinesTraceRowsAndTheStatsLine) {
   EXPECT_NE(log.find("view reports a fault: dump-failed (STATUS fault flags 0x2)"), std::string::npos) << log;
   EXPECT_NE(log.find("view fault cleared: dump-failed"), std::string::npos) << log;
   EXPECT_NE(log.find("view reports a fault: frame-deadline, dump-failed (STATUS fault flags 0x3)"), std::string::npos) << log;
-  std::ifstream in(trace_path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = trace_text();
   EXPECT_NE(text.find(",kernel_drops,30\n"), std::string::npos) << text;
   EXPECT_NE(text.find(",bus_state,2\n"), std::string::npos) << text;
   EXPECT_NE(text.find(",view_faults,3\n"), std::string::npos) << text;
-  std::filesystem::remove(trace_path);
 }
 
-TEST(HealthReport, InterfaceDropsAreLossesLikeKernelDrops) {
-  const auto trace_path = std::filesystem::temp_directory_path() / "meter_health_report_interface_drops.csv";
-  std::ostringstream err;
+TEST_F(HealthReportRun, InterfaceDropsAreLossesLikeKernelDrops) {
   {
     Trace trace(trace_path.string());
     HealthReport r("SocketCAN vcan0");
@@ -126,10 +134,7 @@ TEST(HealthReport, InterfaceDropsAreLossesLikeKernelDrops) {
                            "backlog full), 0 replay slips; totals 0 drops, 12 interface drops, 0 slips"),
             std::string::npos)
       << err.str();
-  std::ifstream in(trace_path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(text.find(",interface_drops,12\n"), std::string::npos) << text;
-  std::filesystem::remove(trace_path);
+  EXPECT_NE(trace_text().find(",interface_drops,12\n"), std::string::npos) << trace_text();
 }
 
 }  // namespace
