@@ -158,29 +158,32 @@ bridge::SafetyRegion needle_region(const Scene& scene, const Needle& n, std::pai
   m.animation = b.animation;
   m.pivot_x = n.pivot_x, m.pivot_y = n.pivot_y, m.r_min = r0, m.r_max = r1;
   m.sector_center_deg = sector_center(n), m.sector_half_deg = sector_half(n);
-  // The needle's pixels in the annulus, at every sampled time: their difference from the dial.
-  auto for_needle_pixels = [&](const platform::Image& img, auto&& visit) {
+  // The needle's pixels in the annulus at every sampled time, with their difference from the dial,
+  // gathered once; the core among them gives the colour box and the fewest pixels a frame shows.
+  struct NeedlePixel {
+    std::size_t shot;
+    int x, y, difference;
+  };
+  std::vector<NeedlePixel> pixels;
+  std::vector<double> differences;
+  for (std::size_t i = 0; i < imgs.size(); ++i)
     for (int y = r.rect.y; y < r.rect.y + r.rect.height; ++y)
       for (int x = r.rect.x; x < r.rect.x + r.rect.width; ++x) {
         const double rr = std::hypot(x + 0.5 - n.pivot_x, y + 0.5 - n.pivot_y);
-        const int d = pixel_difference(img, hidden, x, y);
-        if (rr >= r0 && rr <= r1 && d > kNeedleStep) visit(x, y, d);
+        const int d = pixel_difference(imgs[i], hidden, x, y);
+        if (rr < r0 || rr > r1 || d <= kNeedleStep) continue;
+        pixels.push_back({i, x, y, d});
+        differences.push_back(d);
       }
-  };
-  std::vector<double> differences;
-  for (const auto& img : imgs) for_needle_pixels(img, [&](int, int, int d) { differences.push_back(d); });
   const double core = std::max(double(kNeedleStep), kNeedleCoreShare * percentile(differences, 0.99));
   std::array<std::vector<double>, 3> channel;
-  int fewest = -1;
-  for (const auto& img : imgs) {
-    int count = 0;
-    for_needle_pixels(img, [&](int x, int y, int d) {
-      if (d < core) return;
-      for (std::size_t c = 0; c < 3; ++c) channel[c].push_back(img.pixel(x, y)[c]);
-      ++count;
-    });
-    fewest = fewest < 0 ? count : std::min(fewest, count);
+  std::vector<int> per_shot(imgs.size(), 0);
+  for (const NeedlePixel& p : pixels) {
+    if (p.difference < core) continue;
+    for (std::size_t c = 0; c < 3; ++c) channel[c].push_back(imgs[p.shot].pixel(p.x, p.y)[c]);
+    ++per_shot[p.shot];
   }
+  const int fewest = per_shot.empty() ? 0 : *std::min_element(per_shot.begin(), per_shot.end());
   for (std::size_t c = 0; c < 3; ++c) {
     m.color_min[c] = std::max(0, int(percentile(channel[c], 0.01)) - kColourMargin);
     m.color_max[c] = std::min(255, int(percentile(channel[c], 0.99)) + kColourMargin);
