@@ -28,7 +28,6 @@ class InterfaceDrops {
   bool available() const { return fd_ >= 0; }
   // Reads the counter again: the interface's drops since construction.
   std::uint64_t read();
-  std::uint64_t last() const { return last_; }
 
  private:
   std::optional<std::uint64_t> read_counter() const;

@@ -48,7 +48,8 @@ class SocketCanInput : public Input {
   int fd() const { return epoll_; }
   std::uint64_t dropped() const { return health_.kernel_drops; }  // kernel SO_RXQ_OVFL, all queues
   // Error frames (bus state), remote frames, kernel and interface drops (the interface's counter
-  // read at every poll), polls cut at the per-queue cap.
+  // read at most every kInterfaceDropsEvery), polls cut at the per-queue cap.
+  static constexpr std::chrono::milliseconds kInterfaceDropsEvery{100};
   BusHealth health() const override { return health_; }
   static constexpr int kMaxFramesPerPoll = 256;  // per receive queue
 
@@ -63,6 +64,7 @@ class SocketCanInput : public Input {
 
   std::string iface_;
   InterfaceDrops interface_drops_;
+  std::chrono::steady_clock::time_point interface_drops_due_{};  // next read of the counter
   int epoll_ = -1;
   std::vector<ReceiveQueue> queues_;
   std::vector<epoll_event> ready_;  // epoll_wait's buffer, one slot per queue
