@@ -15,8 +15,8 @@
 
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/protocol/catalog.hpp"
 #include "meter/platform/render_target.hpp"
+#include "reference_state.hpp"
 
 namespace meter::bench {
 
@@ -38,29 +38,8 @@ std::vector<SceneSpec> all_scenes() {
   return s;
 }
 
-// The state each reference shows. Feature scenes: no signals (animations at config.time).
-// Cluster: Blender's preview is frame 100 (speed needle at 100 km/h, every needle at its frame-100
-// key or its end key), every telltale lit, no text (text is the engine's).
 engine::BindingOutputs reference_state(const engine::Scene& scene, bool cluster) {
-  protocol::SignalTable values;
-  if (cluster) {
-    for (const auto& b : scene.config.bindings) {
-      const auto* info = protocol::find_signal(b.signal);
-      if (!info || info->kind == protocol::SignalKind::Text) continue;
-      const bool lamp = b.kind == engine::BindingKind::Visibility || b.kind == engine::BindingKind::Emissive ||
-                        b.kind == engine::BindingKind::Color;
-      const double lit = b.has_input ? (b.invert ? b.input[0] : b.input[1]) : (b.invert ? b.threshold - 1.0 : b.threshold + 1.0);
-      values.set(info->id, {lamp ? lit : b.input[0], protocol::SignalStatus::Valid, ""});
-    }
-  }
-  engine::BindingEvaluator ev(scene);
-  ev.update(values, true, -1.0);
-  engine::BindingOutputs out = ev.outputs();
-  if (cluster) {
-    out.animation_time.assign(scene.animations.size(), 100.0 / 24.0);
-    out.texts.clear();
-  }
-  return out;
+  return cluster ? testing::cluster_reference_state(scene) : testing::feature_reference_state(scene);
 }
 
 engine::Scene convert(const SceneSpec& s, bool optimize) {

@@ -30,8 +30,7 @@ struct SceneSpec {
 
 // The twelve feature scenes (with the paper's Table 1 value) and the cluster.
 std::vector<SceneSpec> all_scenes();
-// The state each reference shows. Feature scenes: no signals (animations at config.time).
-// Cluster: Blender's preview is frame 100, every telltale lit, no text (text is the engine's).
+// The state each reference shows (tests/support/reference_state.hpp, shared with the fidelity test).
 engine::BindingOutputs reference_state(const engine::Scene& scene, bool cluster);
 // The scene as shipped (concatenation groups included), optimized programs or not.
 engine::Scene convert(const SceneSpec& s, bool optimize);
