@@ -61,8 +61,8 @@ std::vector<Ladder> ladder() {
           // Only scenes with lights that cast shadows measure this point (elsewhere there is no map).
           {"no-shadows", base + ",shadows=off"},
           // The MSAA resolve: the box or EEVEE's film filter (Blackman-Harris). The base is
-          // the scene's own ("resolve" in its config: the film filter for the feature scenes, box for
-          // the cluster), so on each scene one of the two rows is the base again and is left out.
+          // the scene's own ("resolve" in its config: the film filter for every committed scene),
+          // so on each scene one of the two rows is the base again and is left out.
           // Normal-mapped materials shaded per MSAA sample (sample_shading=normal-maps) or per pixel;
           // the base is the scene's own, so on each scene one of the two is the base again and is
           // left out, and scenes without a normal map measure neither.
@@ -70,6 +70,10 @@ std::vector<Ladder> ladder() {
           {"per-pixel-shading", base + ",sample_shading=off"},
           {"box-resolve", base + ",resolve=box"},
           {"film-resolve", base + ",resolve=blackman-harris"},
+          // The samples' storage: 8-bit sRGB (light above white clamped per sample) or half float
+          // (clamped after the filter); the base is the scene's own, as for the resolve.
+          {"float-samples", base + ",sample_format=rgba16f"},
+          {"8-bit-samples", base + ",sample_format=srgb8"},
           // Supersampling on top of the maximum: the frame time is the 2x draw (the downsample, a
           // GPU blit on a target, is done on the CPU here and not timed). Box resolve, as (a).
           {"ss2x", base + ",resolve=box", 2},
@@ -178,6 +182,7 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
                                              [](const auto& e) { return e.program.features.normal_texture; });
         if (q.sample_shading && (!normal_maps || *q.sample_shading == base.config.sample_shading)) continue;  // the base again
         if (q.resolve && steps[i].scale == 1 && *q.resolve == base.config.resolve.filter) continue;  // the scene's own resolve
+        if (q.sample_format && *q.sample_format == base.config.resolve.sample_format) continue;  // the scene's own samples
       } catch (const std::exception& e) {
         skipped.push_back(s.name + " / " + steps[i].name + ": " + e.what());
         std::printf("%-11s %-16s skipped: %s\n", s.name.c_str(), steps[i].name.c_str(), e.what());
@@ -356,6 +361,10 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
        "EEVEE's Blackman-Harris pixel filter over the MSAA samples of each 3 x 3 neighbourhood instead of the box (each pixel's own 4 samples, the same shader pass): edges spread as in the authoring tool's render. Its own cost is within this table's frame-to-frame noise on a shared machine (12 frames per point); measured alone, interleaved with the box, by `meter_platform_bench 30`: +12.5 ms a full 1280x480 frame on llvmpipe (28.3 ms against 15.7) (docs/scene-config.md, \"Resolve\")"},
       {"film filter resolve off (scenes whose default is the film filter)", "box-resolve", false,
        "what dropping the film filter for the box saves and loses on the scenes rendered with it (the time is within the noise here, see the row above)"},
+      {"half-float samples on (scenes whose default is 8-bit)", "float-samples", false,
+       "each MSAA sample stored as RGBA16F, light above white kept until the resolve has filtered it, instead of SRGB8_ALPHA8: twice the sample memory and bandwidth; it buys accuracy only where thin features are brighter than white"},
+      {"half-float samples off (scenes that ask for them)", "8-bit-samples", false,
+       "what 8-bit sRGB samples save and lose where a scene asks for half floats: edges of features brighter than white come out darker than in the authoring tool's float film"},
       {"2x anisotropic texture sampling on (EEVEE's, the default) instead of trilinear", "trilinear", true,
        "textures sampled along the pixel's footprint's long axis as EEVEE samples image textures (Blender's factory 2x); the environment map excluded"},
       {"per-sample shading of normal maps on (scenes with one, where it is off)", "per-sample-shading", false,

@@ -13,6 +13,8 @@
 //   fill MSAA 4 film  as fill MSAA 4, resolved with the film filter (Blackman-Harris 1.5 px, 36
 //                   samples per pixel) instead of the box (the same shader pass with the pixel's
 //                   own 4 samples): the filter's cost is the difference
+//   fill MSAA 4 RGBA16F / film 16F  as fill MSAA 4 / film, the samples in half float (light above
+//                   white kept until the filter has run): the cost of 8-byte samples
 //   text x5         fill floor + five overlay strings and a banner (the HUD cost)
 // Cases are interleaved frame by frame (A B C A B C ...) so machine noise hits all alike.
 // Also prints backend start-up time (create_backend to first usable context).
@@ -97,6 +99,10 @@ void run_backend(mp::BackendKind kind, int frames) {
   mp::RenderTarget t4blit(*backend, {.width = w, .height = h, .samples = 4, .box_resolve_by_blit = true});
   mp::RenderTarget t4film(*backend, {.width = w, .height = h, .samples = 4,
                                      .resolve = {mp::ResolveFilter::Kind::BlackmanHarris, 1.5}});
+  mp::RenderTarget t4half(*backend, {.width = w, .height = h, .samples = 4, .sample_format = mp::SampleFormat::Rgba16f});
+  mp::RenderTarget t4filmhalf(*backend, {.width = w, .height = h, .samples = 4,
+                                         .resolve = {mp::ResolveFilter::Kind::BlackmanHarris, 1.5},
+                                         .sample_format = mp::SampleFormat::Rgba16f});
   FlatPass flat(gl);
   const auto t_text = Clock::now();
   mp::TextRenderer text(*backend, METER_FONT_FILE, 48);
@@ -121,6 +127,8 @@ void run_backend(mp::BackendKind kind, int frames) {
   cases.push_back({"fill MSAA 4", [&] { fill(t4); }, {}});
   cases.push_back({"fill MSAA 4 blit", [&] { fill(t4blit); }, {}});
   cases.push_back({"fill MSAA 4 film", [&] { fill(t4film); }, {}});
+  cases.push_back({"fill MSAA 4 RGBA16F", [&] { fill(t4half); }, {}});
+  cases.push_back({"fill MSAA 4 film 16F", [&] { fill(t4filmhalf); }, {}});
   cases.push_back({"fill linear RGBA8", [&] { fill(tlin); }, {}});
   cases.push_back({"fill MSAA 4 linear", [&] { fill(t4lin); }, {}});
   cases.push_back({"MSAA 4 draw, no read", [&] {

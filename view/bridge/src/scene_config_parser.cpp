@@ -126,8 +126,10 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
 }
 
 ResolveConfig parse_resolve(const Ctx& c, const json& r) {
-  if (!r.is_object()) c.fail("$.resolve", "expected an object {\"filter\": \"box\" | \"blackman-harris\", \"width_px\": 1.5}");
-  check_keys(c, r, "$.resolve", {"filter", "width_px"});
+  if (!r.is_object())
+    c.fail("$.resolve", "expected an object {\"filter\": \"box\" | \"blackman-harris\", \"width_px\": 1.5, "
+                        "\"sample_format\": \"srgb8\" | \"rgba16f\"}");
+  check_keys(c, r, "$.resolve", {"filter", "width_px", "sample_format"});
   ResolveConfig out;
   if (r.contains("filter")) {
     const std::string f = string(c, r["filter"], "$.resolve.filter");
@@ -138,6 +140,12 @@ ResolveConfig parse_resolve(const Ctx& c, const json& r) {
   if (r.contains("width_px")) {
     out.width_px = number(c, r["width_px"], "$.resolve.width_px");
     if (out.width_px < 0.5 || out.width_px > 3.0) c.fail("$.resolve.width_px", "expected 0.5 .. 3 pixels");
+  }
+  if (r.contains("sample_format")) {
+    const std::string f = string(c, r["sample_format"], "$.resolve.sample_format");
+    if (f == "srgb8") out.sample_format = ResolveConfig::SampleFormat::Srgb8;
+    else if (f == "rgba16f") out.sample_format = ResolveConfig::SampleFormat::Rgba16f;
+    else c.fail("$.resolve.sample_format", "unknown sample format \"" + f + "\" (expected srgb8 or rgba16f)");
   }
   return out;
 }

@@ -110,6 +110,20 @@ TEST(SceneConfig, ResolveFilterDefaultsToTheBoxAndIsChecked) {
   EXPECT_NE(error_of(head + R"(, "resolve": "box"})").find("$.resolve: expected an object"), std::string::npos);
 }
 
+TEST(SceneConfig, SampleFormatDefaultsToEightBitAndIsChecked) {
+  const std::string head = R"({"format": "meter-scene-config/1")";
+  EXPECT_EQ(parse_scene_config(head + "}", "t.json").resolve.sample_format, ResolveConfig::SampleFormat::Srgb8);
+  const ResolveConfig half =
+      parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris", "sample_format": "rgba16f"}})", "t.json").resolve;
+  EXPECT_EQ(half.sample_format, ResolveConfig::SampleFormat::Rgba16f);
+  EXPECT_EQ(half.filter, ResolveConfig::Filter::BlackmanHarris);
+  EXPECT_EQ(parse_scene_config(head + R"(, "resolve": {"sample_format": "srgb8"}})", "t.json").resolve, ResolveConfig{});
+  EXPECT_NE(error_of(head + R"(, "resolve": {"sample_format": "rgba32f"}})")
+                .find("t.json: $.resolve.sample_format: unknown sample format \"rgba32f\" (expected srgb8 or rgba16f)"),
+            std::string::npos);
+  EXPECT_NE(error_of(head + R"(, "resolve": {"sample_format": 16}})").find("$.resolve.sample_format"), std::string::npos);
+}
+
 TEST(SceneConfig, SampleShadingDefaultsToOffAndIsChecked) {
   const std::string head = R"({"format": "meter-scene-config/1")";
   EXPECT_EQ(parse_scene_config(head + "}", "t.json").sample_shading, SampleShading::Off);

@@ -86,6 +86,7 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
       platform::RenderTargetOptions rt;
       rt.width = draw_width_, rt.height = draw_height_, rt.samples = target_->samples(), rt.depth = target_->depth();
       rt.resolve = target_->resolve_filter();  // same colour storage: the layer copy is texel for texel
+      rt.sample_format = target_->sample_format();
       rt.box_resolve_by_blit = !target_->resolves_by_shader();
       layer_ = std::make_unique<platform::RenderTarget>(backend_, rt);
     }

@@ -38,6 +38,7 @@ void Renderer::make_targets() {
   rt.samples = quality_.global.msaa;
   rt.depth = platform::DepthFormat::Depth24;
   rt.resolve = scene_resolve_filter(scene_.config);
+  rt.sample_format = scene_sample_format(scene_.config);
   rt.box_resolve_by_blit = options_.box_resolve_by_blit;
   target_ = std::make_unique<platform::RenderTarget>(backend_, rt);
   if (draw_width_ != width_ || draw_height_ != height_) {

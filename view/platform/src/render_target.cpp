@@ -14,11 +14,12 @@
 namespace meter::platform {
 namespace {
 
-std::string describe(int w, int h, int samples, bool srgb, DepthFormat depth) {
+std::string describe(int w, int h, int samples, bool srgb, DepthFormat depth, SampleFormat samples_in) {
   const char* d = depth == DepthFormat::None ? "no depth"
                   : depth == DepthFormat::Depth24 ? "DEPTH_COMPONENT24" : "DEPTH_COMPONENT32F";
-  return std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(samples) +
-         " sample(s), " + (srgb ? "SRGB8_ALPHA8" : "RGBA8") + ", " + d;
+  return std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(samples) + " sample(s)" +
+         (samples > 1 && samples_in == SampleFormat::Rgba16f ? " in RGBA16F" : "") + ", " +
+         (srgb ? "SRGB8_ALPHA8" : "RGBA8") + ", " + d;
 }
 
 std::string status_name(GLenum status) {
@@ -36,6 +37,8 @@ std::string status_name(GLenum status) {
 }
 
 }  // namespace
+
+const char* to_string(SampleFormat f) { return f == SampleFormat::Rgba16f ? "rgba16f" : "srgb8"; }
 
 RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions& options)
     : gl_(&backend.gl()), width_(options.width), height_(options.height), srgb_(options.srgb),
@@ -85,11 +88,23 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
                     "GLES 3.1 or desktop GL 4.5); " + std::string(backend.name()) + " has " + info.version);
     }
   }
+  sample_format_ = options.sample_format;
+  if (sample_format_ == SampleFormat::Rgba16f) {
+    if (samples_ == 1) {
+      if (!warning_.empty()) warning_ += "; ";
+      warning_ += "RenderTarget: RGBA16F samples asked for with 1 sample per pixel: there are no samples to keep";
+      sample_format_ = SampleFormat::Srgb8;
+    } else if (!info.has_multisample_texture) {
+      throw GlError("RenderTarget: RGBA16F samples need multisample textures read per sample (glTexStorage2DMultisample, "
+                    "GLSL ES 3.10 sampler2DMS: GLES 3.1 or desktop GL 4.5); " + std::string(backend.name()) + " has " +
+                    info.version);
+    }
+  }
   // A shader pass resolves wherever the samples can be read one by one, the box as well: llvmpipe
   // runs each glBlitFramebuffer as a rasterizer pass of its own, with a fixed cost (0.05-0.2 ms of
   // CPU, meter_readback_bench), where the shader pass draws every region in one pass, to the same
   // bytes. The box is a blit without multisample textures, or when asked (the benchmarks' baseline).
-  const bool by_shader = samples_ > 1 && (resolve_.kind != ResolveFilter::Kind::Box ||
+  const bool by_shader = samples_ > 1 && (resolve_.kind != ResolveFilter::Kind::Box || sample_format_ == SampleFormat::Rgba16f ||
                                           (info.has_multisample_texture && !options.box_resolve_by_blit));
 
   const GLenum color_format = srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8;
@@ -115,7 +130,7 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
     }
     GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-      throw GlError("RenderTarget (" + describe(width_, height_, 1, srgb_, depth_) +
+      throw GlError("RenderTarget (" + describe(width_, height_, 1, srgb_, depth_, sample_format_) +
                     "): framebuffer incomplete: " + status_name(status));
     }
     if (samples_ > 1) {
@@ -125,7 +140,9 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
         // beside a renderbuffer depth attachment, and the filter's weights assume them.
         gl.GenTextures(1, &msaa_color_tex_);
         gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_);
-        gl.TexStorage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples_, color_format, width_, height_, GL_TRUE);
+        gl.TexStorage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples_,
+                                   sample_format_ == SampleFormat::Rgba16f ? GL_RGBA16F : color_format, width_, height_,
+                                   GL_TRUE);
         gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
         gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
         gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_, 0);
@@ -144,13 +161,13 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
       }
       status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
       if (status != GL_FRAMEBUFFER_COMPLETE) {
-        throw GlError("RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_) +
+        throw GlError("RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) +
                       "): multisample framebuffer incomplete: " + status_name(status));
       }
       if (by_shader) shader_resolve_ = std::make_unique<ShaderResolve>(gl, resolve_, samples_, msaa_fbo_);
     }
     gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
-    check_gl(gl, "RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+    check_gl(gl, "RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
   } catch (...) {
     release();
     throw;
@@ -171,6 +188,7 @@ RenderTarget& RenderTarget::operator=(RenderTarget&& other) noexcept {
     samples_ = other.samples_;
     srgb_ = other.srgb_;
     depth_ = other.depth_;
+    sample_format_ = other.sample_format_;
     fbo_ = std::exchange(other.fbo_, 0);
     color_tex_ = std::exchange(other.color_tex_, 0);
     depth_rb_ = std::exchange(other.depth_rb_, 0);
@@ -242,7 +260,7 @@ void RenderTarget::resolve(std::span<const PixelRegion> regions) {
     }
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
-  check_gl(gl, "RenderTarget::resolve (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  check_gl(gl, "RenderTarget::resolve (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
 }
 
 void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRegion> regions) {
@@ -253,10 +271,10 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
                                 " has no glCopyImageSubData (GLES 3.2, GL 4.3 or EXT/OES_copy_image)");
   }
   if (source.width_ != width_ || source.height_ != height_ || source.samples_ != samples_ ||
-      source.srgb_ != srgb_ || source.depth_ != depth_) {
+      source.srgb_ != srgb_ || source.depth_ != depth_ || source.sample_format_ != sample_format_) {
     throw std::invalid_argument("RenderTarget::copy_from: source " +
-                                describe(source.width_, source.height_, source.samples_, source.srgb_, source.depth_) +
-                                " differs from target " + describe(width_, height_, samples_, srgb_, depth_));
+                                describe(source.width_, source.height_, source.samples_, source.srgb_, source.depth_, source.sample_format_) +
+                                " differs from target " + describe(width_, height_, samples_, srgb_, depth_, sample_format_));
   }
   // Single-sample targets draw into a colour texture; multisample ones into a multisample texture
   // (shader-pass resolve) or a renderbuffer (blit; copies between the two kinds are allowed).
@@ -278,7 +296,7 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
       gl.CopyImageSubData(src_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0, dst_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0,
                           r.width, r.height, 1);
   }
-  check_gl(gl, "RenderTarget::copy_from (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  check_gl(gl, "RenderTarget::copy_from (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
 }
 
 int RenderTarget::resolve_margin_px() const { return shader_resolve_ ? shader_resolve_->reach() : 0; }
@@ -292,7 +310,7 @@ Image RenderTarget::read_resolved() {
   Image image(width_, height_);
   gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
-  check_gl(gl, "RenderTarget::read_resolved (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  check_gl(gl, "RenderTarget::read_resolved (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
   // GL rows are bottom-up; Image rows are top-down.
   const std::size_t row = static_cast<std::size_t>(width_) * 4;
   std::vector<std::uint8_t> tmp(row);
@@ -341,7 +359,7 @@ std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegi
     out[i] = std::move(image);
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
-  check_gl(gl, "RenderTarget::read_regions (" + describe(width_, height_, samples_, srgb_, depth_) + ")");
+  check_gl(gl, "RenderTarget::read_regions (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
   return out;
 }
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -90,5 +91,18 @@ void main() { o_color = v_color; }
   const Gl& gl_;
   GLuint program_ = 0, vao_ = 0, vbo_ = 0;
 };
+
+// The positions the driver rasterizes a target's samples at (origin bottom-left of the pixel).
+inline std::vector<std::array<float, 2>> sample_positions(const Gl& gl, const RenderTarget& target) {
+  gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, target.draw_framebuffer());
+  std::vector<std::array<float, 2>> out;
+  for (int s = 0; s < target.samples(); ++s) {
+    GLfloat xy[2] = {0, 0};
+    gl.GetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(s), xy);
+    out.push_back({xy[0], xy[1]});
+  }
+  check_gl(gl, "GL_SAMPLE_POSITION");
+  return out;
+}
 
 }  // namespace meter::platform::test

@@ -33,19 +33,6 @@ double film_cdf(double t, double r) {
          a3 / (6.0 * pi * a0) * std::sin(3.0 * pi * t / r);
 }
 
-// The positions the driver rasterizes a target's samples at (origin bottom-left).
-std::vector<std::array<float, 2>> sample_positions(const mp::Gl& gl, const mp::RenderTarget& target) {
-  gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, target.draw_framebuffer());
-  std::vector<std::array<float, 2>> out;
-  for (int s = 0; s < target.samples(); ++s) {
-    GLfloat xy[2] = {0, 0};
-    gl.GetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(s), xy);
-    out.push_back({xy[0], xy[1]});
-  }
-  mp::check_gl(gl, "GL_SAMPLE_POSITION");
-  return out;
-}
-
 }  // namespace
 
 TEST(ResolveFilterWeights, KernelIsBlackmanHarrisOfTheRadius) {
@@ -100,7 +87,7 @@ TEST_P(ResolveFilterGl, HalfPlaneEdgeGivesTheFilmFiltersRamp) {
     gl().Clear(GL_COLOR_BUFFER_BIT);
     const float x = float(2.0 * edge / W - 1.0);
     program.draw({-1, -1, 1, 1, 1, 1, x, -1, 1, 1, 1, 1, x, 1, 1, 1, 1, 1, -1, -1, 1, 1, 1, 1, x, 1, 1, 1, 1, 1, -1, 1, 1, 1, 1, 1});
-    return std::pair{target.resolve_and_read(), sample_positions(gl(), target)};
+    return std::pair{target.resolve_and_read(), mp::test::sample_positions(gl(), target)};
   };
   const auto [img, positions] = draw_edge(kFilm);
   ASSERT_EQ(positions.size(), 4u);

@@ -127,6 +127,7 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
   };
 
   if (q.resolve) s.config.resolve.filter = *q.resolve;
+  if (q.sample_format) s.config.resolve.sample_format = *q.sample_format;
   if (q.sample_shading) s.config.sample_shading = *q.sample_shading;
   if (q.environment == false && s.environment.present()) {
     // The texture stays in the list (indices of other textures are unchanged); nothing samples it.
@@ -272,6 +273,10 @@ QualitySettings parse_quality(const std::string& text) {
       if (v == "box") q.resolve = bridge::ResolveConfig::Filter::Box;
       else if (v == "blackman-harris") q.resolve = bridge::ResolveConfig::Filter::BlackmanHarris;
       else throw bad("box or blackman-harris");
+    } else if (k == "sample_format") {
+      if (v == "srgb8") q.sample_format = bridge::ResolveConfig::SampleFormat::Srgb8;
+      else if (v == "rgba16f") q.sample_format = bridge::ResolveConfig::SampleFormat::Rgba16f;
+      else throw bad("srgb8 or rgba16f");
     } else if (k == "sample_shading") {
       if (v == "normal-maps") q.sample_shading = bridge::SampleShading::NormalMaps;
       else if (v == "off") q.sample_shading = bridge::SampleShading::Off;
@@ -282,7 +287,7 @@ QualitySettings parse_quality(const std::string& text) {
       if (v.empty() || *end != '\0' || !(f > 0.0f && f <= 1.0f)) throw bad("a fraction of triangles in (0, 1]");
       q.global.lod = f;
     } else {
-      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, shadows, interpolation, resolve, sample_shading)");
+      throw SceneError("quality \"" + text + "\": unknown key \"" + k + "\" (expected shading, precision, filter, msaa, lod, environment, shadows, interpolation, resolve, sample_format, sample_shading)");
     }
   }
   return q;
@@ -304,6 +309,8 @@ std::string describe_quality(const QualitySettings& q) {
   if (q.shadows) add(std::string("shadows=") + (*q.shadows ? "on" : "off"));
   if (q.affine) add(std::string("interpolation=") + (*q.affine ? "affine" : "perspective"));
   if (q.resolve) add(std::string("resolve=") + (*q.resolve == bridge::ResolveConfig::Filter::Box ? "box" : "blackman-harris"));
+  if (q.sample_format)
+    add(std::string("sample_format=") + (*q.sample_format == bridge::ResolveConfig::SampleFormat::Rgba16f ? "rgba16f" : "srgb8"));
   if (q.sample_shading) add(std::string("sample_shading=") + (*q.sample_shading == bridge::SampleShading::Off ? "off" : "normal-maps"));
   return out.empty() ? "default" : out;
 }

@@ -72,10 +72,17 @@ struct MaterialOverride {
 // samples of each pixel averaged (the default, the fastest). BlackmanHarris: the authoring tool's
 // film filter (Blender: Render > Film > Filter Size, EEVEE's default 1.5 px), edges spread over
 // about three pixels as in its renders.
+// "sample_format": how each MSAA sample stores its colour until the filter has run. Srgb8 (the
+// default): 8-bit sRGB, light above white clamped per sample. Rgba16f: half float, light above
+// white kept until the resolved pixel is clamped, as the authoring tool's float film does; for a
+// scene whose thin features are brighter than white (emissive print lit by spots), whose edges
+// otherwise come out darker than in its renders.
 struct ResolveConfig {
   enum class Filter { Box, BlackmanHarris };
+  enum class SampleFormat { Srgb8, Rgba16f };
   Filter filter = Filter::Box;
   double width_px = 1.5;  // BlackmanHarris radius in pixels of the config's size, 0.5 .. 3
+  SampleFormat sample_format = SampleFormat::Srgb8;
   bool operator==(const ResolveConfig&) const = default;
 };
 

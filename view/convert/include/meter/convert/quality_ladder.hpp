@@ -60,6 +60,7 @@ struct QualitySettings {
   std::optional<bool> shadows;                     // false: no light casts shadows (global)
   std::optional<bool> affine;                      // true: no perspective correction (global)
   std::optional<bridge::ResolveConfig::Filter> resolve;  // the MSAA resolve filter (global)
+  std::optional<bridge::ResolveConfig::SampleFormat> sample_format;  // the MSAA samples' storage (global)
   std::optional<bridge::SampleShading> sample_shading;   // per-sample shading of normal maps (global)
 };
 

@@ -41,6 +41,19 @@ enum class DepthFormat {
   Depth32F,
 };
 
+// How each MSAA sample's colour is stored until the resolve filters it.
+enum class SampleFormat {
+  // GL_SRGB8_ALPHA8 (8 bits, sRGB-encoded): a sample holds at most white, so light above 1.0 is
+  // clamped before it is filtered, and a thin feature brighter than white loses its share at its
+  // edges (a pixel half covered by it resolves to half of white).
+  Srgb8,
+  // GL_RGBA16F (half float, linear): a sample keeps light above 1.0 until the resolve has filtered
+  // it, and the resolved pixel is clamped: the film of a float renderer (Blender EEVEE). Twice the
+  // sample memory (8 bytes a sample instead of 4).
+  Rgba16f,
+};
+const char* to_string(SampleFormat f);
+
 struct RenderTargetOptions {
   int width = 1280;   // cluster default
   int height = 480;
@@ -55,9 +68,14 @@ struct RenderTargetOptions {
   // (std::invalid_argument). Without MSAA (samples 1) there are no samples to filter: the target
   // then resolves nothing, as a box one, and says so in warning().
   ResolveFilter resolve = {};
-  // The box resolve by glBlitFramebuffer of a multisample renderbuffer even where the shader pass
-  // exists: the baseline the benchmarks measure the shader pass against.
+  // The box resolve of Srgb8 samples by glBlitFramebuffer of a multisample renderbuffer even where
+  // the shader pass exists: the baseline the benchmarks measure the shader pass against.
   bool box_resolve_by_blit = false;
+  // The multisample colour storage. Rgba16f is resolved by the shader pass only (a blit cannot
+  // filter float samples into the 8-bit target; box_resolve_by_blit does not apply): it needs
+  // multisample textures (GlError naming them otherwise). Without MSAA there are no samples: the
+  // format is ignored and warning() says so.
+  SampleFormat sample_format = SampleFormat::Srgb8;
 };
 
 class ShaderResolve;
@@ -107,6 +125,8 @@ class RenderTarget {
   int samples() const { return samples_; }  // effective count after clamping
   bool srgb() const { return srgb_; }
   DepthFormat depth() const { return depth_; }
+  // The samples' storage in effect (Srgb8 when samples() == 1, whatever was asked).
+  SampleFormat sample_format() const { return sample_format_; }
   // The resolve in effect (Box when samples() == 1, whatever was asked).
   const ResolveFilter& resolve_filter() const { return resolve_; }
   // Pixels a resolved pixel reads beyond itself (0 for the box resolve): a change drawn in a
@@ -133,6 +153,7 @@ class RenderTarget {
   int samples_ = 1;
   bool srgb_ = true;
   DepthFormat depth_ = DepthFormat::Depth24;
+  SampleFormat sample_format_ = SampleFormat::Srgb8;
   GLuint fbo_ = 0;        // single-sample: colour texture + depth renderbuffer (when samples == 1)
   GLuint color_tex_ = 0;
   GLuint depth_rb_ = 0;
