@@ -1,8 +1,9 @@
-# meter_add_gtest(<target> LABELS <labels...> SOURCES <files...> LIBS <libs...> [TIMEOUT s])
+# meter_add_gtest(<target> LABELS <labels...> SOURCES <files...> LIBS <libs...> [TIMEOUT s]
+#                 [RESOURCE_LOCK name])
 # Builds a GoogleTest executable and registers each test case with CTest under the given labels
 # (unit, integration, vcan, slow) so `ctest -L unit` runs a subset.
 function(meter_add_gtest target)
-  cmake_parse_arguments(T "" "TIMEOUT" "LABELS;SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(T "" "TIMEOUT;RESOURCE_LOCK" "LABELS;SOURCES;LIBS" ${ARGN})
   if(NOT METER_BUILD_TESTS)
     return()
   endif()
@@ -17,6 +18,9 @@ function(meter_add_gtest target)
          "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/cmake/sanitizers/lsan.supp:print_suppressions=0")
   endif()
   list(APPEND _props TIMEOUT ${T_TIMEOUT})
+  if(T_RESOURCE_LOCK)
+    list(APPEND _props RESOURCE_LOCK ${T_RESOURCE_LOCK})
+  endif()
   add_executable(${target} ${T_SOURCES})
   # The test drivers themselves at -O1 in release builds (a third less compile time than -O3);
   # the libraries they test keep the build's own flags.
