@@ -178,12 +178,13 @@ TEST_P(PartialRedraw, ClusterWithTheFilmFilterResolveEqualsFullRedraw) {
 TEST_P(PartialRedraw, WrittenBoxesGrowByTheResolveFiltersReach) {
   // The integrity monitor re-reads a safety region when a written box meets it: under the film
   // filter a box's change reaches resolve_margin_px() beyond it, so the boxes say so.
-  Scene film = cluster();
+  Scene boxed = cluster(), film = cluster();
+  boxed.config.resolve.filter = ResolveConfig::Filter::Box;  // no reach: the plan's own boxes
   film.config.resolve.filter = ResolveConfig::Filter::BlackmanHarris;
   film.config.resolve.width_px = 3.0;  // reach 3 px
   RendererOptions o;
   o.width = 640, o.height = 240;
-  Renderer box(*backend_, cluster(), o), wide(*backend_, film, o);
+  Renderer box(*backend_, boxed, o), wide(*backend_, film, o);
   BindingEvaluator ev(cluster());
   int partial_boxes = 0;
   for (const Step& st : drive()) {
