@@ -29,14 +29,14 @@ constexpr int kColourMargin = 16;
 // tachometer's red zone at every radius, so the cluster's tachometer went unmonitored (and with
 // the film filter the speedometer too). Measured on the cluster: a share of 0.75 leaves no dial
 // pixel in any needle's box, box or film-filter resolve, and the tables' interpolation error
-// falls from 0.303 to 0.195 deg.
+// falls from 0.303 to 0.195 deg (0.263 with the film filter, the cluster's resolve since).
 constexpr double kNeedleCoreShare = 0.75;
 // |angle read - angle expected| on a correct frame. Measured on scenes/cluster and minimal-gauge
 // over both backends at MSAA 1, 2, 4 and 8 and the filter / precision / affine ladder points
-// against tables measured on EGL at MSAA 4 (IntegrityBounds, docs/integrity.md: at most 0.494 deg
-// at MSAA 2, whose two samples leave a needle's core lopsided, 0.088 at MSAA 1, 0.077 otherwise;
-// the tables' interpolation error at their midpoints 0.195 deg); 1.0 deg holds with a margin of
-// two and still catches a needle 3 deg off.
+// against tables measured on EGL at MSAA 4 (IntegrityBounds, docs/integrity.md, the cluster
+// resolved with the film filter: at most 0.408 deg at MSAA 2, whose two samples leave a needle's
+// core lopsided, 0.285 at MSAA 1, 0.083 otherwise; the tables' interpolation error at their
+// midpoints 0.263 deg); 1.0 deg holds with a margin of two and still catches a needle 3 deg off.
 constexpr double kNeedleTolerance = 1.0;
 
 struct Needle {
