@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -169,25 +170,35 @@ constexpr Floor kFloors[] = {
 
 class AgainstBlender : public ::testing::TestWithParam<Floor> {};
 
-TEST_P(AgainstBlender, ObjectPsnrStaysAboveTheMeasuredFloor) {
-  const Floor f = GetParam();
-  SceneFiles s;
+SceneFiles scene_named(const std::string& name) {
   for (const auto& c : all_scenes())
-    if (c.name == f.scene) s = c;
-  ASSERT_FALSE(s.glb.empty()) << f.scene;
-  const engine::Scene scene = convert(s);
+    if (c.name == name) return c;
+  throw std::runtime_error("no scene " + name);
+}
+
+// PSNR over the reference's object pixels (more than 8 levels from its background, as meter-bench
+// fidelity counts them) of `scene` (the files `s`, maybe at another ladder point) drawn on EGL in
+// the state its Blender reference shows, against that reference.
+double object_db_against_blender(const SceneFiles& s, const engine::Scene& scene) {
   const bool cluster = s.name == "cluster";
   const platform::Image img = render(platform::BackendKind::Egl, scene,
                                      cluster ? meter::testing::cluster_reference_state(scene)
                                              : meter::testing::feature_reference_state(scene));
-  const platform::Image ref =
-      platform::read_png(fs::path(s.glb).parent_path() / (cluster ? "preview-blender.png" : "reference.png"));
-  ASSERT_EQ(img.width, ref.width);
-  ASSERT_EQ(img.height, ref.height);
+  const fs::path ref_file = fs::path(s.glb).parent_path() / (cluster ? "preview-blender.png" : "reference.png");
+  const platform::Image ref = platform::read_png(ref_file);
+  if (img.width != ref.width || img.height != ref.height)
+    throw std::runtime_error(ref_file.string() + " is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+                             ", the render " + std::to_string(img.width) + "x" + std::to_string(img.height));
   const auto* bg = ref.pixel(0, 0);
   const platform::Mask mask = platform::object_mask(ref, {bg[0], bg[1], bg[2]}, 8);
-  ASSERT_GT(mask.count(), 0u);
-  const double db = platform::psnr_masked(img, ref, mask);
+  if (mask.count() == 0) throw std::runtime_error(ref_file.string() + " has no object pixels");
+  return platform::psnr_masked(img, ref, mask);
+}
+
+TEST_P(AgainstBlender, ObjectPsnrStaysAboveTheMeasuredFloor) {
+  const Floor f = GetParam();
+  const SceneFiles s = scene_named(f.scene);
+  const double db = object_db_against_blender(s, convert(s));
   std::printf("%-10s object PSNR vs Blender %.2f dB (floor %.1f)\n", f.scene, db, f.object_db);
   EXPECT_GE(db, f.object_db) << f.scene << ": fell below its measured floor (docs/fidelity.md)";
 }
@@ -345,19 +356,13 @@ TEST(QualityLadder, ResolveKeySetsTheFilterAndTheFilmFilterIsCloserToBlender) {
   EXPECT_EQ(convert::describe_quality(convert::parse_quality("resolve=box")), "resolve=box");
   EXPECT_EQ(convert::describe_quality(convert::parse_quality("resolve=blackman-harris")), "resolve=blackman-harris");
   EXPECT_THROW(convert::parse_quality("resolve=gauss"), engine::SceneError);
-  SceneFiles s;
-  for (const auto& c : all_scenes())
-    if (c.name == "emission") s = c;
+  const SceneFiles s = scene_named("emission");
   const engine::Scene film = convert(s);
   ASSERT_EQ(film.config.resolve.filter, engine::ResolveConfig::Filter::BlackmanHarris) << "the scene's config asks for it";
   engine::Scene box = film;
   convert::apply_quality(box, convert::parse_quality("resolve=box"));
   ASSERT_EQ(box.config.resolve.filter, engine::ResolveConfig::Filter::Box);
-  const platform::Image ref = platform::read_png(fs::path(s.glb).parent_path() / "reference.png");
-  const auto* bg = ref.pixel(0, 0);
-  const platform::Mask mask = platform::object_mask(ref, {bg[0], bg[1], bg[2]}, 8);
-  const double film_db = platform::psnr_masked(render(platform::BackendKind::Egl, film, state(film)), ref, mask);
-  const double box_db = platform::psnr_masked(render(platform::BackendKind::Egl, box, state(box)), ref, mask);
+  const double film_db = object_db_against_blender(s, film), box_db = object_db_against_blender(s, box);
   std::printf("emission object PSNR: film filter %.2f dB, box %.2f dB\n", film_db, box_db);
   EXPECT_GT(film_db, box_db + 3.0);
 }
@@ -370,20 +375,13 @@ TEST(QualityLadder, SampleFormatKeySetsTheStorageAndHalfFloatIsCloserToBlenderOn
   EXPECT_EQ(convert::describe_quality(convert::parse_quality("sample_format=srgb8")), "sample_format=srgb8");
   EXPECT_EQ(convert::describe_quality(convert::parse_quality("sample_format=rgba16f")), "sample_format=rgba16f");
   EXPECT_THROW(convert::parse_quality("sample_format=rgba32f"), engine::SceneError);
-  const SceneFiles s = all_scenes().back();
-  ASSERT_EQ(s.name, "cluster");
+  const SceneFiles s = scene_named("cluster");
   const engine::Scene eight = convert(s);
   ASSERT_EQ(eight.config.resolve.sample_format, engine::ResolveConfig::SampleFormat::Srgb8) << "the scene's default";
   engine::Scene half = eight;
   convert::apply_quality(half, convert::parse_quality("sample_format=rgba16f"));
   ASSERT_EQ(half.config.resolve.sample_format, engine::ResolveConfig::SampleFormat::Rgba16f);
-  const platform::Image ref = platform::read_png(fs::path(s.glb).parent_path() / "preview-blender.png");
-  const auto* bg = ref.pixel(0, 0);
-  const platform::Mask mask = platform::object_mask(ref, {bg[0], bg[1], bg[2]}, 8);
-  const double half_db =
-      platform::psnr_masked(render(platform::BackendKind::Egl, half, meter::testing::cluster_reference_state(half)), ref, mask);
-  const double eight_db =
-      platform::psnr_masked(render(platform::BackendKind::Egl, eight, meter::testing::cluster_reference_state(eight)), ref, mask);
+  const double half_db = object_db_against_blender(s, half), eight_db = object_db_against_blender(s, eight);
   std::printf("cluster object PSNR: half-float samples %.2f dB, 8-bit samples %.2f dB\n", half_db, eight_db);
   EXPECT_GT(half_db, eight_db + 2.0);
 }
