@@ -38,8 +38,6 @@ std::string status_name(GLenum status) {
 
 }  // namespace
 
-const char* to_string(SampleFormat f) { return f == SampleFormat::Rgba16f ? "rgba16f" : "srgb8"; }
-
 RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions& options)
     : gl_(&backend.gl()), width_(options.width), height_(options.height), srgb_(options.srgb),
       depth_(options.depth) {
@@ -82,30 +80,32 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
       warning_ += std::string("RenderTarget: the ") + to_string(resolve_.kind) +
                   " resolve filters MSAA samples; with 1 sample per pixel there is nothing to resolve";
       resolve_ = ResolveFilter{};
-    } else if (!info.has_multisample_texture) {
-      throw GlError("RenderTarget: the " + std::string(to_string(resolve_.kind)) + " resolve needs multisample textures " +
-                    "read per sample (glTexStorage2DMultisample, glGetMultisamplefv, GLSL ES 3.10 sampler2DMS: " +
-                    "GLES 3.1 or desktop GL 4.5); " + std::string(backend.name()) + " has " + info.version);
     }
   }
   sample_format_ = options.sample_format;
-  if (sample_format_ == SampleFormat::Rgba16f) {
-    if (samples_ == 1) {
-      if (!warning_.empty()) warning_ += "; ";
-      warning_ += "RenderTarget: RGBA16F samples asked for with 1 sample per pixel: there are no samples to keep";
-      sample_format_ = SampleFormat::Srgb8;
-    } else if (!info.has_multisample_texture) {
-      throw GlError("RenderTarget: RGBA16F samples need multisample textures read per sample (glTexStorage2DMultisample, "
-                    "GLSL ES 3.10 sampler2DMS: GLES 3.1 or desktop GL 4.5); " + std::string(backend.name()) + " has " +
-                    info.version);
-    }
+  if (sample_format_ == SampleFormat::Rgba16f && samples_ == 1) {
+    if (!warning_.empty()) warning_ += "; ";
+    warning_ += "RenderTarget: RGBA16F samples asked for with 1 sample per pixel: there are no samples to keep";
+    sample_format_ = SampleFormat::Srgb8;
+  }
+  // The film filter reads each sample of a neighbourhood, and float samples cannot be blitted into
+  // the 8-bit target: both need the samples read one by one by the shader pass.
+  const bool reads_samples =
+      samples_ > 1 && (resolve_.kind != ResolveFilter::Kind::Box || sample_format_ == SampleFormat::Rgba16f);
+  if (reads_samples && !info.has_multisample_texture) {
+    const std::string what = resolve_.kind != ResolveFilter::Kind::Box
+                                 ? "the " + std::string(to_string(resolve_.kind)) + " resolve needs"
+                                 : std::string("RGBA16F samples need");
+    throw GlError("RenderTarget: " + what + " multisample textures read per sample (glTexStorage2DMultisample, " +
+                  "glGetMultisamplefv, GLSL ES 3.10 sampler2DMS: GLES 3.1 or desktop GL 4.5); " +
+                  std::string(backend.name()) + " has " + info.version);
   }
   // A shader pass resolves wherever the samples can be read one by one, the box as well: llvmpipe
   // runs each glBlitFramebuffer as a rasterizer pass of its own, with a fixed cost (0.05-0.2 ms of
   // CPU, meter_readback_bench), where the shader pass draws every region in one pass, to the same
   // bytes. The box is a blit without multisample textures, or when asked (the benchmarks' baseline).
-  const bool by_shader = samples_ > 1 && (resolve_.kind != ResolveFilter::Kind::Box || sample_format_ == SampleFormat::Rgba16f ||
-                                          (info.has_multisample_texture && !options.box_resolve_by_blit));
+  const bool by_shader =
+      reads_samples || (samples_ > 1 && info.has_multisample_texture && !options.box_resolve_by_blit);
 
   const GLenum color_format = srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8;
   const GLenum depth_format = depth_ == DepthFormat::Depth32F ? GL_DEPTH_COMPONENT32F : GL_DEPTH_COMPONENT24;
@@ -130,7 +130,7 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
     }
     GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-      throw GlError("RenderTarget (" + describe(width_, height_, 1, srgb_, depth_, sample_format_) +
+      throw GlError("RenderTarget (" + describe(width_, height_, 1, srgb_, depth_, SampleFormat::Srgb8) +
                     "): framebuffer incomplete: " + status_name(status));
     }
     if (samples_ > 1) {
@@ -161,13 +161,13 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
       }
       status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
       if (status != GL_FRAMEBUFFER_COMPLETE) {
-        throw GlError("RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) +
+        throw GlError("RenderTarget (" + description() +
                       "): multisample framebuffer incomplete: " + status_name(status));
       }
       if (by_shader) shader_resolve_ = std::make_unique<ShaderResolve>(gl, resolve_, samples_, msaa_fbo_);
     }
     gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
-    check_gl(gl, "RenderTarget (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
+    check_gl(gl, "RenderTarget (" + description() + ")");
   } catch (...) {
     release();
     throw;
@@ -260,7 +260,7 @@ void RenderTarget::resolve(std::span<const PixelRegion> regions) {
     }
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
-  check_gl(gl, "RenderTarget::resolve (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
+  check_gl(gl, "RenderTarget::resolve (" + description() + ")");
 }
 
 void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRegion> regions) {
@@ -273,8 +273,8 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
   if (source.width_ != width_ || source.height_ != height_ || source.samples_ != samples_ ||
       source.srgb_ != srgb_ || source.depth_ != depth_ || source.sample_format_ != sample_format_) {
     throw std::invalid_argument("RenderTarget::copy_from: source " +
-                                describe(source.width_, source.height_, source.samples_, source.srgb_, source.depth_, source.sample_format_) +
-                                " differs from target " + describe(width_, height_, samples_, srgb_, depth_, sample_format_));
+                                source.description() +
+                                " differs from target " + description());
   }
   // Single-sample targets draw into a colour texture; multisample ones into a multisample texture
   // (shader-pass resolve) or a renderbuffer (blit; copies between the two kinds are allowed).
@@ -296,7 +296,11 @@ void RenderTarget::copy_from(const RenderTarget& source, std::span<const PixelRe
       gl.CopyImageSubData(src_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0, dst_depth, GL_RENDERBUFFER, 0, r.x, r.y, 0,
                           r.width, r.height, 1);
   }
-  check_gl(gl, "RenderTarget::copy_from (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
+  check_gl(gl, "RenderTarget::copy_from (" + description() + ")");
+}
+
+std::string RenderTarget::description() const {
+  return describe(width_, height_, samples_, srgb_, depth_, sample_format_);
 }
 
 int RenderTarget::resolve_margin_px() const { return shader_resolve_ ? shader_resolve_->reach() : 0; }
@@ -310,7 +314,7 @@ Image RenderTarget::read_resolved() {
   Image image(width_, height_);
   gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
-  check_gl(gl, "RenderTarget::read_resolved (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
+  check_gl(gl, "RenderTarget::read_resolved (" + description() + ")");
   // GL rows are bottom-up; Image rows are top-down.
   const std::size_t row = static_cast<std::size_t>(width_) * 4;
   std::vector<std::uint8_t> tmp(row);
@@ -359,7 +363,7 @@ std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegi
     out[i] = std::move(image);
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
-  check_gl(gl, "RenderTarget::read_regions (" + describe(width_, height_, samples_, srgb_, depth_, sample_format_) + ")");
+  check_gl(gl, "RenderTarget::read_regions (" + description() + ")");
   return out;
 }
 

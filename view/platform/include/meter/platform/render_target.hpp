@@ -52,7 +52,6 @@ enum class SampleFormat {
   // sample memory (8 bytes a sample instead of 4).
   Rgba16f,
 };
-const char* to_string(SampleFormat f);
 
 struct RenderTargetOptions {
   int width = 1280;   // cluster default
@@ -146,6 +145,8 @@ class RenderTarget {
 
  private:
   void release() noexcept;
+  // Size, samples and formats, for messages ("1280x480, 4 sample(s), SRGB8_ALPHA8, ...").
+  std::string description() const;
 
   const Gl* gl_ = nullptr;
   int width_ = 0;
