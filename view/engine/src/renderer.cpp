@@ -28,7 +28,7 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
   quality_.global.msaa = std::max(1, options.msaa);
   make_targets();
   if (options_.uber_shader) options_.concatenate = false;  // the uber-shader has no vertex-alpha input
-  gpu_ = std::make_unique<GpuScene>(gl_, scene, options_.uber_shader, options_.concatenate);
+  gpu_ = std::make_unique<GpuScene>(gl_, scene, options_.uber_shader, options_.concatenate, options_.programs);
   submission_ = std::make_unique<DrawSubmission>(gl_, scene, *gpu_, evaluator_.light_nodes());
   // The uber-shader baseline has no shadow lookups: it gets no maps either.
   if (!options_.uber_shader) {
@@ -88,6 +88,7 @@ void Renderer::execute(const FramePlan& plan, const FrameState& now) {
       rt.resolve = target_->resolve_filter();  // same colour storage: the layer copy is texel for texel
       rt.sample_format = target_->sample_format();
       rt.box_resolve_by_blit = !target_->resolves_by_shader();
+      rt.programs = options_.programs;
       layer_ = std::make_unique<platform::RenderTarget>(backend_, rt);
     }
     submission_->submit(*layer_, *plan.layer_build, now, stats_);

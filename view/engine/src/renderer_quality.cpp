@@ -40,6 +40,7 @@ void Renderer::make_targets() {
   rt.resolve = scene_resolve_filter(scene_.config);
   rt.sample_format = scene_sample_format(scene_.config);
   rt.box_resolve_by_blit = options_.box_resolve_by_blit;
+  rt.programs = options_.programs;
   target_ = std::make_unique<platform::RenderTarget>(backend_, rt);
   if (draw_width_ != width_ || draw_height_ != height_) {
     platform::RenderTargetOptions out;

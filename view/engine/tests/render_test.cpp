@@ -2,6 +2,7 @@
 // goldens (golden/*.png). Set METER_UPDATE_GOLDEN=1 to rewrite them after an intended change.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -10,6 +11,7 @@
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
+#include "meter/platform/program_cache.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter;
@@ -114,6 +116,37 @@ TEST_P(RenderTest, UnchangedInputsSkipTheFrame) {
   EXPECT_EQ(renderer_->stats().skipped, 1u);
   render(valid({{1, 43.0}}));
   EXPECT_EQ(renderer_->stats().drawn, drawn + 1);
+}
+
+// A renderer made again on the same context with a program cache (meter-preview's reload) links no
+// program the first one linked, and draws the same pixels as a renderer that linked its own.
+TEST_P(RenderTest, ARendererMadeAgainTakesItsProgramsFromTheCache) {
+  const State st = valid({{1, 130.0}, {27, 1.0}});
+  const platform::Image own = render(st);
+  platform::ProgramCache cache(backend_->gl());
+  RendererOptions o;
+  o.msaa = 4;
+  o.programs = &cache;
+  auto draw = [&] {
+    Renderer renderer(*backend_, dial(), o);
+    BindingEvaluator evaluator(dial());
+    evaluator.update(st.values, st.link_up, -1.0);
+    renderer.apply(evaluator.outputs());
+    renderer.render(false, true);
+    return renderer.last_image();
+  };
+  const platform::Image first = draw();
+  const std::size_t linked = cache.compiles();
+  EXPECT_GT(linked, 1u);  // the scene's programs and the resolve's
+  EXPECT_EQ(cache.trim(), linked);  // the renderer gave every program back
+  EXPECT_EQ(cache.size(), 0u);
+  const platform::Image trimmed = draw();
+  EXPECT_EQ(cache.compiles(), 2 * linked);  // linked anew after the trim
+  const platform::Image again = draw();  // after the last renderer, before any trim
+  EXPECT_EQ(cache.compiles(), 2 * linked);
+  EXPECT_TRUE(std::isinf(platform::psnr(first, own)));  // equal bit for bit
+  EXPECT_TRUE(std::isinf(platform::psnr(trimmed, own)));  // equal bit for bit
+  EXPECT_TRUE(std::isinf(platform::psnr(again, own)));  // equal bit for bit
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RenderTest, ::testing::Values(platform::BackendKind::Egl, platform::BackendKind::OSMesa),

@@ -164,7 +164,7 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
         throw GlError("RenderTarget (" + description() +
                       "): multisample framebuffer incomplete: " + status_name(status));
       }
-      if (by_shader) shader_resolve_ = std::make_unique<ShaderResolve>(gl, resolve_, samples_, msaa_fbo_);
+      if (by_shader) shader_resolve_ = std::make_unique<ShaderResolve>(gl, resolve_, samples_, msaa_fbo_, options.programs);
     }
     gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
     check_gl(gl, "RenderTarget (" + description() + ")");

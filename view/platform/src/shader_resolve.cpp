@@ -47,8 +47,8 @@ std::string fragment_source(int reach, int samples, const std::vector<float>& we
 
 }  // namespace
 
-ShaderResolve::ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo)
-    : gl_(gl), samples_(samples), reach_(filter_reach_px(filter)) {
+ShaderResolve::ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo, ProgramCache* programs)
+    : gl_(gl), samples_(samples), reach_(filter_reach_px(filter)), programs_(programs) {
   // The driver's own sample positions (the ones it rasterizes with), of the multisample framebuffer.
   GLint previous_draw = 0;
   gl_.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_draw);
@@ -64,17 +64,29 @@ ShaderResolve::ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samp
   gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_draw));
   check_gl(gl_, "film filter resolve: querying the " + std::to_string(samples_) + " sample positions");
 
-  program_ = compile_program(gl_, kVertex, fragment_source(reach_, samples_, resolve_weights(filter, positions_)),
-                             std::string("film filter resolve (") + to_string(filter.kind) + ", " +
-                                 std::to_string(filter.width_px) + " px, " + std::to_string(samples_) + " samples)");
-  samples_loc_ = gl_.GetUniformLocation(program_, "u_samples");
-  gl_.GenVertexArrays(1, &vao_);
-  check_gl(gl_, "film filter resolve: creating the program");
+  const std::string fragment = fragment_source(reach_, samples_, resolve_weights(filter, positions_));
+  const std::string label = std::string("film filter resolve (") + to_string(filter.kind) + ", " +
+                            std::to_string(filter.width_px) + " px, " + std::to_string(samples_) + " samples)";
+  program_ = programs_ ? programs_->acquire(kVertex, fragment, label) : compile_program(gl_, kVertex, fragment, label);
+  try {
+    samples_loc_ = gl_.GetUniformLocation(program_, "u_samples");
+    gl_.GenVertexArrays(1, &vao_);
+    check_gl(gl_, "film filter resolve: creating the program");
+  } catch (...) {
+    release();  // no destructor runs for a constructor that throws
+    throw;
+  }
 }
 
-ShaderResolve::~ShaderResolve() {
+ShaderResolve::~ShaderResolve() { release(); }
+
+void ShaderResolve::release() {
   if (vao_) gl_.DeleteVertexArrays(1, &vao_);
-  if (program_) gl_.DeleteProgram(program_);
+  if (program_ && programs_)
+    programs_->release(program_);
+  else if (program_)
+    gl_.DeleteProgram(program_);
+  vao_ = program_ = 0;
 }
 
 void ShaderResolve::run(GLuint ms_texture, GLuint dst_fbo, int width, int height, std::span<const PixelRegion> regions) const {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "meter/platform/gl_api.hpp"
+#include "meter/platform/program_cache.hpp"
 #include "meter/platform/render_target.hpp"
 #include "meter/platform/resolve_filter.hpp"
 
@@ -19,8 +20,9 @@ class ShaderResolve {
  public:
   // `msaa_fbo` (complete, its colour attachment a `samples`-sample texture) is bound as the draw
   // framebuffer to ask the driver for its sample positions. Throws GlError when the program does not
-  // compile or a query fails; the caller has checked GlInfo::has_multisample_texture.
-  ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo);
+  // compile or a query fails; the caller has checked GlInfo::has_multisample_texture. The program
+  // comes from `programs` when given (it must outlive this), else it is this pass's own.
+  ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samples, GLuint msaa_fbo, ProgramCache* programs = nullptr);
   ~ShaderResolve();
   ShaderResolve(const ShaderResolve&) = delete;
   ShaderResolve& operator=(const ShaderResolve&) = delete;
@@ -36,9 +38,12 @@ class ShaderResolve {
   const std::vector<std::array<float, 2>>& sample_positions() const { return positions_; }
 
  private:
+  void release();  // gives back the program, deletes the vertex array
+
   const Gl& gl_;
   int samples_ = 0, reach_ = 0;
   std::vector<std::array<float, 2>> positions_;
+  ProgramCache* programs_ = nullptr;
   GLuint program_ = 0, vao_ = 0;  // the weights are the program's constants
   GLint samples_loc_ = -1;
 };

@@ -23,8 +23,9 @@ bool reads_normals(const bridge::Program& p) {
 }
 }  // namespace
 
-GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged)
-    : gl_(gl), scene_(scene) {
+GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged,
+                   platform::ProgramCache* programs)
+    : gl_(gl), program_cache_(programs), scene_(scene) {
   // Programs: the package's generated ones, or (benchmark baseline) the uber-shader alone.
   if (uber_shader) {
     if (!uber_shader->uber) throw SceneError("RendererOptions::uber_shader is not an uber-shader program");
@@ -54,10 +55,15 @@ GpuScene::~GpuScene() {
   if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
   if (!textures_.empty()) gl_.DeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
   if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
-  for (auto& p : programs_)
-    if (p->program) gl_.DeleteProgram(p->program);
-  for (auto& [_, p] : depth_programs_)
-    if (p->program) gl_.DeleteProgram(p->program);
+  for (auto& p : programs_) give_back(p->program);
+  for (auto& [_, p] : depth_programs_) give_back(p->program);
+}
+
+void GpuScene::give_back(GLuint program) {
+  if (program && program_cache_)
+    program_cache_->release(program);
+  else if (program)
+    gl_.DeleteProgram(program);
 }
 
 void GpuScene::add_program(const bridge::Program& p, const std::string& label, bool compile_now) {
@@ -101,8 +107,9 @@ const GpuProgram* GpuScene::depth_program(const GpuProgram* program) const {
 void GpuScene::compile(GpuProgram& program, const std::string& fragment_source) {
   GpuProgram* gp = &program;
   const bridge::Program& p = *gp->info;
-  gp->program = platform::compile_program(gl_, p.vertex_source, fragment_source.empty() ? p.fragment_source : fragment_source,
-                                          gp->label);
+  const std::string& fragment = fragment_source.empty() ? p.fragment_source : fragment_source;
+  gp->program = program_cache_ ? program_cache_->acquire(p.vertex_source, fragment, gp->label)
+                               : platform::compile_program(gl_, p.vertex_source, fragment, gp->label);
   for (const auto& u : p.uniforms) {
     GpuProgram::Uniform gu;
     gu.semantic = u.semantic;

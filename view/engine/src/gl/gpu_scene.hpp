@@ -15,6 +15,7 @@
 #include "meter/engine/evaluation/skinned_normals.hpp"
 #include "meter/engine/scene.hpp"
 #include "meter/platform/gl_api.hpp"
+#include "meter/platform/program_cache.hpp"
 
 namespace meter::engine {
 
@@ -100,7 +101,10 @@ class GpuScene {
  public:
   // `uber_shader`: every draw goes through this one program (benchmark baseline), else the
   // package's generated programs. `merged`: the merged groups get their buffers.
-  GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged);
+  // `programs` (may be null: the scene links its own) lends programs linked for the same sources
+  // by an earlier scene on this context, and must outlive this.
+  GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged,
+           platform::ProgramCache* programs = nullptr);
   ~GpuScene();
   GpuScene(const GpuScene&) = delete;
   GpuScene& operator=(const GpuScene&) = delete;
@@ -127,6 +131,7 @@ class GpuScene {
   void add_program(const bridge::Program& p, const std::string& label, bool compile_now);
   // `fragment_source`: empty for the program's own, else the one to link with its vertex shader.
   void compile(GpuProgram& program, const std::string& fragment_source = {});
+  void give_back(GLuint program);  // to the cache it came from, else deleted
   void upload_textures();
   void build_draws(bool uber);
   void build_groups();
@@ -135,6 +140,7 @@ class GpuScene {
   GpuVertexInput vertex_input(const GpuProgram& program, const Primitive& layout, bool merged, GLuint vbo, GLuint ebo);
 
   const platform::Gl& gl_;
+  platform::ProgramCache* program_cache_ = nullptr;
   const Scene& scene_;
   std::vector<std::unique_ptr<GpuProgram>> programs_;
   std::map<const GpuProgram*, std::unique_ptr<GpuProgram>> depth_programs_;

@@ -72,6 +72,11 @@ struct RendererOptions {
   // morph targets, environment map or vertex alpha, so concatenation is off in this mode and the
   // image is close to, not always equal to, the generated programs'. Must outlive the renderer.
   const bridge::Program* uber_shader = nullptr;
+  // Programs shared with the renderers made before and after this one on the same context: a
+  // renderer made again for an edited scene (meter-preview's reload) links only the programs whose
+  // sources changed, and llvmpipe keeps the machine code it compiled for the others at their first
+  // draw. Null: the renderer links its own. Must outlive the renderer.
+  platform::ProgramCache* programs = nullptr;
 };
 
 struct FrameTiming {

@@ -135,6 +135,7 @@ namespace meter::platform {
   X(GetProgramiv, PFNGLGETPROGRAMIVPROC)                                         \
   X(GetProgramInfoLog, PFNGLGETPROGRAMINFOLOGPROC)                               \
   X(UseProgram, PFNGLUSEPROGRAMPROC)                                             \
+  X(IsProgram, PFNGLISPROGRAMPROC)                                               \
   X(GetAttribLocation, PFNGLGETATTRIBLOCATIONPROC)                               \
   X(GetActiveAttrib, PFNGLGETACTIVEATTRIBPROC)                                   \
   X(GetActiveUniform, PFNGLGETACTIVEUNIFORMPROC)                                 \

@@ -20,6 +20,8 @@
 
 namespace meter::platform {
 
+class ProgramCache;  // program_cache.hpp
+
 // A pixel box in GL window coordinates (origin bottom-left, like glScissor and glBlitFramebuffer).
 struct PixelRegion {
   int x = 0, y = 0, width = 0, height = 0;
@@ -75,6 +77,10 @@ struct RenderTargetOptions {
   // multisample textures (GlError naming them otherwise). Without MSAA there are no samples: the
   // format is ignored and warning() says so.
   SampleFormat sample_format = SampleFormat::Srgb8;
+  // Where the shader-pass resolve gets its program: a cache shared with the targets made before
+  // and after this one on the same context (a preview's reloads) links it once. Null: the target
+  // links its own. Must outlive the target.
+  ProgramCache* programs = nullptr;
 };
 
 class ShaderResolve;
