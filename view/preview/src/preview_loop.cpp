@@ -12,6 +12,7 @@
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
+#include "meter/platform/program_cache.hpp"
 #include "meter/preview/controls_panel.hpp"
 #include "meter/preview/file_watcher.hpp"
 #include "meter/preview/frame_blit.hpp"
@@ -37,11 +38,12 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
 
 // The scene on screen with what draws it; the renderer and the evaluator refer to the scene.
 struct ShownScene {
-  ShownScene(std::shared_ptr<const engine::Scene> s, platform::GpuBackend& gpu, int msaa)
-      : scene(std::move(s)), evaluator(*scene), renderer(gpu, *scene, renderer_options(msaa)) {}
-  static engine::RendererOptions renderer_options(int msaa) {
+  ShownScene(std::shared_ptr<const engine::Scene> s, platform::GpuBackend& gpu, int msaa, platform::ProgramCache& programs)
+      : scene(std::move(s)), evaluator(*scene), renderer(gpu, *scene, renderer_options(msaa, programs)) {}
+  static engine::RendererOptions renderer_options(int msaa, platform::ProgramCache& programs) {
     engine::RendererOptions o;
     o.msaa = msaa;
+    o.programs = &programs;  // a reload links only the programs whose sources changed
     return o;
   }
   std::shared_ptr<const engine::Scene> scene;
@@ -93,6 +95,7 @@ class PreviewLoop {
     window_ = create_glfw_window(window_size_for(reloader_.scene().get(), options_.panel_width),
                                  "meter-preview: " + status_.files);
     blit_ = std::make_unique<FrameBlit>(window_->gpu().gl());
+    programs_ = std::make_unique<platform::ProgramCache>(window_->gpu().gl());
     ui_ = std::make_unique<UiLayer>(*window_);
     if (first_ok) adopt(Clock::now());
     log_ << "meter-preview: " << window_->gpu().renderer_info() << "\n";
@@ -138,6 +141,7 @@ class PreviewLoop {
       if (last_frame || played) break;
     }
     shown_.reset();  // its GL objects go before the window's context
+    programs_.reset();
     ui_.reset();
     blit_.reset();
     window_.reset();
@@ -170,14 +174,17 @@ class PreviewLoop {
   // evaluator and renderer are new. A scene the GL context cannot draw counts as a bad save.
   void adopt(Clock::time_point change) {
     const auto began = Clock::now();
+    compiles_before_ = programs_->compiles();
     try {
-      auto next = std::make_unique<ShownScene>(reloader_.scene(), window_->gpu(), options_.msaa);
+      auto next = std::make_unique<ShownScene>(reloader_.scene(), window_->gpu(), options_.msaa, *programs_);
       build_ms_ = ms_between(began, Clock::now());
       const bool resized = !shown_ || next->renderer.width() != shown_->renderer.width() ||
                            next->renderer.height() != shown_->renderer.height();
       shown_ = std::move(next);
       if (resized) window_->resize(window_size_for(shown_->scene.get(), options_.panel_width));
+      programs_->trim();  // the old scene's programs the new one does not use
     } catch (const std::exception& e) {
+      programs_->trim();
       status_.error = std::string("the scene converted but cannot be drawn: ") + e.what();
       log_ << "meter-preview: " << status_.error << "\n";
       return;
@@ -197,7 +204,8 @@ class PreviewLoop {
     log_ << "meter-preview: scene " << status_.generation << " on screen";
     if (status_.generation > 1) log_ << " " << static_cast<long>(status_.reload_ms) << " ms after the save";
     log_ << " (conversion " << static_cast<long>(status_.convert_ms) << " ms, renderer " << static_cast<long>(build_ms_)
-         << " ms, first frame " << static_cast<long>(first_frame_ms_) << " ms";
+         << " ms, first frame " << static_cast<long>(first_frame_ms_) << " ms, "
+         << programs_->compiles() - compiles_before_ << " of " << programs_->size() << " programs linked";
     // Process CPU time (every thread, the driver's too) from the conversion's start: what the
     // reload costs on a machine with a core to spare, whatever else the machine is running.
     if (status_.generation > 1)
@@ -292,6 +300,7 @@ class PreviewLoop {
   std::unique_ptr<PreviewWindow> window_;
   std::unique_ptr<FrameBlit> blit_;
   std::unique_ptr<UiLayer> ui_;
+  std::unique_ptr<platform::ProgramCache> programs_;  // outlives every shown scene, not the window
   std::unique_ptr<ShownScene> shown_;
   std::vector<SignalControl> controls_;
   PanelStatus status_;
@@ -301,6 +310,7 @@ class PreviewLoop {
   bool ui_changed_ = true;  // the panel shows something new: draw the window
   double build_ms_ = 0.0, first_frame_ms_ = 0.0;  // the new scene's renderer and first frame
   std::clock_t reload_cpu_began_ = 0;
+  std::size_t compiles_before_ = 0;  // the program cache's link count when the shown scene was made
 };
 
 }  // namespace
