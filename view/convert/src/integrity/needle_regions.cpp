@@ -19,24 +19,30 @@ namespace {
 // A needle pixel differs from the dial without it by more than this (a needle is drawn to be seen:
 // the cluster's orange on the dark face differs by > 150); antialiased rims fall either side.
 constexpr int kNeedleStep = 64;
-// Channel margin around the colours of the needle's pixels: covers the backends' and MSAA
-// settings' shading differences (measured below 6 steps on the cluster).
-constexpr int kColourMargin = 16;
+// Channel margin around the colours of the needle's core pixels: covers the backends' and MSAA
+// settings' shading differences (measured below 6 steps on the cluster). 16 took in the edges of
+// the tachometer's red print once its samples kept light above white (half-float samples: the
+// print's edges resolve to 255, 70-85, 50-60, the needle's core reaches 255, 81, 33); 10 leaves no
+// dial pixel in any needle's box at either sample format.
+constexpr int kColourMargin = 10;
 // The colour box is learnt from the needle's core: pixels differing from the dial without the
 // needle by at least this share of the needle's own contrast there (the 99th percentile of its
 // pixels' differences). Its antialiased rim, and more so a film-filtered one, blends the needle's
 // colour into the face; a box spanning those blends took in the dial's grey print and the
 // tachometer's red zone at every radius, so the cluster's tachometer went unmonitored (and with
-// the film filter the speedometer too). Measured on the cluster: a share of 0.75 leaves no dial
-// pixel in any needle's box, box or film-filter resolve, and the tables' interpolation error
-// falls from 0.303 to 0.195 deg (0.263 with the film filter, the cluster's resolve since).
-constexpr double kNeedleCoreShare = 0.75;
+// the film filter the speedometer too). Measured on the cluster: a share of 0.75 left no dial
+// pixel in any needle's box with 8-bit samples (box or film filter), and the tables' interpolation
+// error fell from 0.303 to 0.195 deg (0.263 with the film filter). With half-float samples a
+// needle's edge keeps red at 255 while its green falls, so 0.75 took edge pixels into the core
+// and the box reached the red print; 0.8 (with the margin above) places all four needles at
+// either sample format: interpolation error 0.309 deg with half floats, 0.208 with 8-bit samples.
+constexpr double kNeedleCoreShare = 0.8;
 // |angle read - angle expected| on a correct frame. Measured on scenes/cluster and minimal-gauge
 // over both backends at MSAA 1, 2, 4 and 8 and the filter / precision / affine ladder points
 // against tables measured on EGL at MSAA 4 (IntegrityBounds, docs/integrity.md, the cluster
-// resolved with the film filter: at most 0.408 deg at MSAA 2, whose two samples leave a needle's
-// core lopsided, 0.285 at MSAA 1, 0.083 otherwise; the tables' interpolation error at their
-// midpoints 0.263 deg); 1.0 deg holds with a margin of two and still catches a needle 3 deg off.
+// resolved with the film filter over half-float samples: at most 0.467 deg at MSAA 1, where there
+// are no samples, 0.278 at MSAA 2, 0.148 otherwise; the tables' interpolation error at their
+// midpoints 0.309 deg); 1.0 deg holds with a margin of two and still catches a needle 3 deg off.
 constexpr double kNeedleTolerance = 1.0;
 
 struct Needle {
