@@ -323,7 +323,11 @@ def write_config(path, scene):
         # The MSAA resolve spreads edges as EEVEE's film filter (Render > Film > Filter Size,
         # Blender's default 1.5 px) does in the reference: the thin ticks, numerals and outlines
         # carry almost all the difference to it (docs/fidelity.md).
-        "resolve": {"filter": "blackman-harris", "width_px": round(scene.render.filter_size, 3)},
+        # Its samples keep light above white until the filter has run (EEVEE's film is float): the
+        # emissive, spot-lit print is brighter than white, and 8-bit samples clamped each one, so
+        # a tick half covering a pixel came out half of white where Blender shows it nearly white.
+        "resolve": {"filter": "blackman-harris", "width_px": round(scene.render.filter_size, 3),
+                    "sample_format": "rgba16f"},
         "bindings": bindings,
         "link_loss": {"text_node": "Text_Status", "text": "NO SIGNAL"},
         "groups": groups,
