@@ -53,4 +53,18 @@ std::size_t ProgramCache::trim() {
   return deleted;
 }
 
+GLuint acquire_program(ProgramCache* cache, const Gl& gl, std::string_view vertex_source,
+                       std::string_view fragment_source, std::string_view label) {
+  return cache ? cache->acquire(vertex_source, fragment_source, label)
+               : compile_program(gl, vertex_source, fragment_source, label);
+}
+
+void release_program(ProgramCache* cache, const Gl& gl, GLuint program) {
+  if (program == 0) return;
+  if (cache)
+    cache->release(program);
+  else
+    gl.DeleteProgram(program);
+}
+
 }  // namespace meter::platform

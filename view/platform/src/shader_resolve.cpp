@@ -67,7 +67,7 @@ ShaderResolve::ShaderResolve(const Gl& gl, const ResolveFilter& filter, int samp
   const std::string fragment = fragment_source(reach_, samples_, resolve_weights(filter, positions_));
   const std::string label = std::string("film filter resolve (") + to_string(filter.kind) + ", " +
                             std::to_string(filter.width_px) + " px, " + std::to_string(samples_) + " samples)";
-  program_ = programs_ ? programs_->acquire(kVertex, fragment, label) : compile_program(gl_, kVertex, fragment, label);
+  program_ = acquire_program(programs_, gl_, kVertex, fragment, label);
   try {
     samples_loc_ = gl_.GetUniformLocation(program_, "u_samples");
     gl_.GenVertexArrays(1, &vao_);
@@ -82,10 +82,7 @@ ShaderResolve::~ShaderResolve() { release(); }
 
 void ShaderResolve::release() {
   if (vao_) gl_.DeleteVertexArrays(1, &vao_);
-  if (program_ && programs_)
-    programs_->release(program_);
-  else if (program_)
-    gl_.DeleteProgram(program_);
+  release_program(programs_, gl_, program_);
   vao_ = program_ = 0;
 }
 

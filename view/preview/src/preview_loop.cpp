@@ -175,6 +175,7 @@ class PreviewLoop {
   void adopt(Clock::time_point change) {
     const auto began = Clock::now();
     compiles_before_ = programs_->compiles();
+    bool drawable = true;
     try {
       auto next = std::make_unique<ShownScene>(reloader_.scene(), window_->gpu(), options_.msaa, *programs_);
       build_ms_ = ms_between(began, Clock::now());
@@ -182,10 +183,12 @@ class PreviewLoop {
                            next->renderer.height() != shown_->renderer.height();
       shown_ = std::move(next);
       if (resized) window_->resize(window_size_for(shown_->scene.get(), options_.panel_width));
-      programs_->trim();  // the old scene's programs the new one does not use
     } catch (const std::exception& e) {
-      programs_->trim();
+      drawable = false;
       status_.error = std::string("the scene converted but cannot be drawn: ") + e.what();
+    }
+    programs_->trim();  // the old scene's programs the new one does not use (or the failed one's)
+    if (!drawable) {
       log_ << "meter-preview: " << status_.error << "\n";
       return;
     }

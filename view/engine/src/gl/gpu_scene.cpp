@@ -55,15 +55,8 @@ GpuScene::~GpuScene() {
   if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
   if (!textures_.empty()) gl_.DeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
   if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
-  for (auto& p : programs_) give_back(p->program);
-  for (auto& [_, p] : depth_programs_) give_back(p->program);
-}
-
-void GpuScene::give_back(GLuint program) {
-  if (program && program_cache_)
-    program_cache_->release(program);
-  else if (program)
-    gl_.DeleteProgram(program);
+  for (auto& p : programs_) platform::release_program(program_cache_, gl_, p->program);
+  for (auto& [_, p] : depth_programs_) platform::release_program(program_cache_, gl_, p->program);
 }
 
 void GpuScene::add_program(const bridge::Program& p, const std::string& label, bool compile_now) {
@@ -108,8 +101,7 @@ void GpuScene::compile(GpuProgram& program, const std::string& fragment_source) 
   GpuProgram* gp = &program;
   const bridge::Program& p = *gp->info;
   const std::string& fragment = fragment_source.empty() ? p.fragment_source : fragment_source;
-  gp->program = program_cache_ ? program_cache_->acquire(p.vertex_source, fragment, gp->label)
-                               : platform::compile_program(gl_, p.vertex_source, fragment, gp->label);
+  gp->program = platform::acquire_program(program_cache_, gl_, p.vertex_source, fragment, gp->label);
   for (const auto& u : p.uniforms) {
     GpuProgram::Uniform gu;
     gu.semantic = u.semantic;

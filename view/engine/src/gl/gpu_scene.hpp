@@ -131,7 +131,6 @@ class GpuScene {
   void add_program(const bridge::Program& p, const std::string& label, bool compile_now);
   // `fragment_source`: empty for the program's own, else the one to link with its vertex shader.
   void compile(GpuProgram& program, const std::string& fragment_source = {});
-  void give_back(GLuint program);  // to the cache it came from, else deleted
   void upload_textures();
   void build_draws(bool uber);
   void build_groups();

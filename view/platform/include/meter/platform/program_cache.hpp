@@ -1,9 +1,9 @@
 // Linked GL programs kept by their sources, shared by everything drawn in one context: a renderer
 // made again for an edited scene (the preview's reload) gets the programs an earlier renderer
 // linked for the same sources instead of compiling them anew. On a software rasteriser that is most
-// of a reload: llvmpipe compiles each program's machine code at its first draw (about 1.3 s for the
-// cluster's programs with Mesa's disk cache off, still 70-130 ms with it on), and a kept program
-// keeps that code.
+// of a reload: llvmpipe compiles each program's machine code at its first draw (the cluster's first
+// frame took 1.25-1.65 s with Mesa's disk shader cache off; with it on, looking the programs up and
+// linking them still cost 20-90 ms a reload), and a kept program keeps that code.
 //
 // Every program handed out is counted until released; trim() deletes the ones no one holds. The
 // cache must outlive every holder and be used with its context current.
@@ -49,5 +49,12 @@ class ProgramCache {
   std::unordered_map<GLuint, Entry> programs_;
   std::size_t compiles_ = 0;
 };
+
+// For the owners of a program that may or may not share a cache (`cache` null: the program is the
+// owner's alone): the program linked from the two sources, acquired from the cache or compiled...
+GLuint acquire_program(ProgramCache* cache, const Gl& gl, std::string_view vertex_source,
+                       std::string_view fragment_source, std::string_view label);
+// ...and given back to the cache or deleted (0: nothing).
+void release_program(ProgramCache* cache, const Gl& gl, GLuint program);
 
 }  // namespace meter::platform
