@@ -1,3 +1,30 @@
+# What every test program is compiled and linked with. The precompiled header is only valid for a
+# program compiled exactly like the target that made it, so both get their settings here.
+function(meter_test_program_settings target)
+  # The test drivers themselves at -O1 in optimised builds (a third less compile time than -O3);
+  # the libraries they test keep the build's own flags.
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo>:-O1>)
+  target_link_libraries(${target} PRIVATE GTest::gtest GTest::gtest_main GTest::gmock
+                        meter_build_flags Threads::Threads)
+  target_compile_definitions(${target} PRIVATE
+      METER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+      METER_BINARY_DIR="${PROJECT_BINARY_DIR}"
+      METER_SHARED_DIR="${METER_SHARED_DIR}")
+endfunction()
+
+# GoogleTest and GoogleMock, precompiled once for all test programs (REUSE_FROM): parsing them took
+# about 2.5 s of each test source's compile (one TEST at -O1: 3.3 s, 2026-12-05), and there are 130
+# test sources in the two builds scripts/test makes.
+function(meter_add_test_pch)
+  set(anchor "${PROJECT_BINARY_DIR}/meter_test_pch.cpp")
+  if(NOT EXISTS "${anchor}")
+    file(WRITE "${anchor}" "// The precompiled GoogleTest headers' own translation unit (cmake/MeterTesting.cmake).\n")
+  endif()
+  add_library(meter_test_pch STATIC "${anchor}")
+  meter_test_program_settings(meter_test_pch)
+  target_precompile_headers(meter_test_pch PRIVATE <gtest/gtest.h> <gmock/gmock.h>)
+endfunction()
+
 # meter_add_gtest(<target> LABELS <labels...> SOURCES <files...> LIBS <libs...> [TIMEOUT s]
 #                 [RESOURCE_LOCK name])
 # Builds a GoogleTest executable and registers each test case with CTest under the given labels
@@ -7,12 +34,16 @@ function(meter_add_gtest target)
   if(NOT METER_BUILD_TESTS)
     return()
   endif()
+  if(NOT TARGET meter_test_pch)
+    meter_add_test_pch()
+  endif()
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 120)
   endif()
   set(_props LABELS "${T_LABELS}")
   if(METER_SANITIZE)
-    # ASan+UBSan at -O0 runs our code 3-10x slower; the timeouts are hang guards, not speed goals.
+    # ASan+UBSan (and the fuzz build's coverage counters) run our code 2-5x slower; the timeouts
+    # are hang guards, not speed goals.
     math(EXPR T_TIMEOUT "${T_TIMEOUT} * 4")
     list(APPEND _props ENVIRONMENT
          "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/cmake/sanitizers/lsan.supp:print_suppressions=0")
@@ -22,20 +53,25 @@ function(meter_add_gtest target)
     list(APPEND _props RESOURCE_LOCK ${T_RESOURCE_LOCK})
   endif()
   add_executable(${target} ${T_SOURCES})
-  # The test drivers themselves at -O1 in release builds (a third less compile time than -O3);
-  # the libraries they test keep the build's own flags.
-  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
   if("unit" IN_LIST T_LABELS)
     set_property(GLOBAL APPEND PROPERTY METER_UNIT_TEST_PROGRAMS ${target})
   endif()
-  target_link_libraries(${target} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main GTest::gmock
-                        meter_build_flags Threads::Threads)
-  target_compile_definitions(${target} PRIVATE
-      METER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-      METER_BINARY_DIR="${PROJECT_BINARY_DIR}"
-      METER_SHARED_DIR="${METER_SHARED_DIR}")
+  meter_test_program_settings(${target})
+  target_link_libraries(${target} PRIVATE ${T_LIBS})
+  target_precompile_headers(${target} REUSE_FROM meter_test_pch)
   gtest_discover_tests(${target}
       DISCOVERY_TIMEOUT 60
       PROPERTIES ${_props}
       WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+endfunction()
+
+# meter_hold_vcan(<tests...>)
+# The tests boot the qemu VM or use vcan0: they take the RESOURCE_LOCK meter_vcan (one VM at a time
+# on the 2-core CI machine: two TCG guests would starve each other and the timing checks; on a CAN
+# kernel no two tests share vcan0). Their COST makes ctest -j start them first: one after another
+# they take about 10 minutes, and started in test-number order they came last, alone, while the
+# other core idled (2026-12-05, `ctest -j2` on a fresh build: 1214 s of wall time for 2004 s of tests,
+# the last 380 s the VM tests alone). ctest orders by the COST property until it has measured times.
+function(meter_hold_vcan)
+  set_tests_properties(${ARGN} PROPERTIES RESOURCE_LOCK meter_vcan COST 1000)
 endfunction()
