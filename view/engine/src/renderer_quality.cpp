@@ -2,7 +2,10 @@
 // see renderer.hpp and docs/engine.md, "Quality levels".
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "gl/scene_resolve.hpp"
 #include "gl/text_drawing.hpp"
@@ -135,6 +138,11 @@ FramePlan Renderer::plan_at_quality(bool force, bool read_back, FrameState& now,
       global_changed_ = false;
     }
     now = evaluator_.evaluate(draw_width_, draw_height_, *text_);
+    if (subpixel_offset_ != glm::vec2(0.0f)) {
+      // A clip-space translation by 2 d / size moves every vertex d pixels after the divide by w.
+      const glm::vec3 ndc(2.0f * subpixel_offset_.x / float(draw_width_), 2.0f * subpixel_offset_.y / float(draw_height_), 0.0f);
+      now.view_projection = glm::translate(glm::mat4(1.0f), ndc) * now.view_projection;
+    }
     apply_levels(scene_, units_, quality_, now);
     FramePlan plan = plan_frame(scene_, classes_, now, drawn_, layer_drawn_, plan_settings(force));
     last_load_ = frame_load(scene_, classes_, units_, now, plan, draw_width_, draw_height_, quality_.global.scale);
@@ -145,6 +153,14 @@ FramePlan Renderer::plan_at_quality(bool force, bool read_back, FrameState& now,
     if (!c || checked_choice(units_, *c, quality_.global.msaa) == quality_) return plan;
     set_quality(*c);
   }
+}
+
+void Renderer::set_subpixel_offset(glm::vec2 pixels) {
+  if (!std::isfinite(pixels.x) || !std::isfinite(pixels.y))
+    throw std::invalid_argument("Renderer::set_subpixel_offset: the offset must be finite");
+  if (pixels == subpixel_offset_) return;
+  subpixel_offset_ = pixels;
+  redraw_all_ = true;  // every pixel samples the scene elsewhere
 }
 
 namespace {

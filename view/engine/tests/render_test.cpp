@@ -149,5 +149,44 @@ TEST_P(RenderTest, ARendererMadeAgainTakesItsProgramsFromTheCache) {
   EXPECT_TRUE(std::isinf(platform::psnr(again, own)));  // equal bit for bit
 }
 
+// A sub-pixel offset (a film's jittered pass) moves the whole drawn scene by that many pixels. A
+// whole-pixel offset samples the scene at the same points as before, so the image is the
+// unshifted one moved: (3, 2) px right and up. Rows 5..74 hold the needle's tip and the dial's top
+// edge, away from the speed text, which is placed at whole pixels and does not move.
+TEST_P(RenderTest, ASubpixelOffsetMovesTheDrawnScene) {
+  RendererOptions o;
+  o.msaa = 1;  // each pixel one sample at its centre: a whole-pixel move is exact
+  Renderer renderer(*backend_, dial(), o);
+  BindingEvaluator evaluator(dial());
+  evaluator.update(valid({{1, 130.0}, {27, 1.0}}).values, true, -1.0);
+  renderer.apply(evaluator.outputs());
+  renderer.render(true, true);
+  const platform::Image still = renderer.last_image();
+  EXPECT_THROW(renderer.set_subpixel_offset({std::nanf(""), 0.0f}), std::invalid_argument);
+  renderer.set_subpixel_offset({3.0f, 2.0f});
+  const auto t = renderer.render(false, true);  // a changed offset alone redraws
+  EXPECT_TRUE(t.drawn);
+  const platform::Image& moved = renderer.last_image();
+  // Share of the band's pixels whose moved copy matches within 2 levels, for a shift (dx, dy) in
+  // top-down image rows.
+  auto matching = [&](int dx, int dy) {
+    int same = 0, n = 0;
+    for (int y = 5; y < 75; ++y)
+      for (int x = 5; x < still.width - 5; ++x, ++n) {
+        const auto* a = still.pixel(x, y);
+        const auto* b = moved.pixel(x + dx, y + dy);
+        bool close = true;
+        for (int c = 0; c < 3; ++c) close = close && std::abs(int(a[c]) - int(b[c])) <= 2;
+        same += close;
+      }
+    return double(same) / n;
+  };
+  EXPECT_GE(matching(3, -2), 0.999);  // up 2 px is 2 rows nearer the top
+  EXPECT_LT(matching(0, 0), 0.98);    // it did move: the needle and the dial's rim differ in place
+  renderer.set_subpixel_offset({0.0f, 0.0f});
+  renderer.render(false, true);
+  EXPECT_TRUE(std::isinf(platform::psnr(renderer.last_image(), still)));  // back where it was, bit for bit
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RenderTest, ::testing::Values(platform::BackendKind::Egl, platform::BackendKind::OSMesa),
                          [](const auto& info) { return std::string(platform::to_string(info.param)); });

@@ -207,6 +207,13 @@ class Renderer {
   // LevelChooser). A frame with nothing to redraw asks it too, with an empty load (drawn = false),
   // so a choice made while the display is idle is drawn at once.
   FrameTiming render(bool force, bool read, const LevelChooser& choose);
+  // Moves the drawn image by `pixels` (x right, y up, in the drawn target's pixels) from the next
+  // render() on, by translating the projection after it: the whole scene is sampled that far from
+  // the pixel centres. A film that averages passes at jittered offsets (what EEVEE's temporal
+  // anti-aliasing does, bench/fidelity/film_emulation.cpp) draws each pass through this. Texts are
+  // placed at whole pixels and do not move. A changed offset redraws the next frame in full.
+  void set_subpixel_offset(glm::vec2 pixels);
+  glm::vec2 subpixel_offset() const { return subpixel_offset_; }
   // The planned load of the last frame render() evaluated (drawn or skipped; per unit in output
   // pixels, at scale 1: a caller predicting a scaled frame multiplies by scale^2).
   const governor::FrameLoad& last_load() const { return last_load_; }
@@ -254,6 +261,7 @@ class Renderer {
   std::map<int, std::unique_ptr<TextDrawing>> text_by_height_;
   int text_height_ = 0;
   bool dirty_ = true;
+  glm::vec2 subpixel_offset_{0.0f};  // see set_subpixel_offset()
   platform::Image image_;
   RendererStats stats_;
   // Partial redraw bookkeeping (see RendererOptions::partial_redraw).
