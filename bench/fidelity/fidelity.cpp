@@ -39,31 +39,24 @@ std::string known_cause(const std::string& scene) {
                      "reflected softbox, grid and lid areas match best unshifted (no offset of the reflection). What is left "
                      "is how the same image is resampled: EEVEE reflects a 512 px cube probe rendered from the world's "
                      "equirectangular texture and GGX-prefiltered per mip, the engine samples the equirectangular image's "
-                     "box-filtered mips directly; reproducing the probe is the next step, not built"},
+                     "box-filtered mips directly; reproducing the probe is the next step, not built. The film is not it: the engine drawing EEVEE's 64 jittered "
+                     "passes scores 32.39 dB object (`meter-bench film`, docs/film-sampling.md), 0.7 dB over its resolve"},
       {"bump", "The hammered dimples' rims (normal-map detail) carry the error: the engine's highlights inside the dimples are "
                "smaller and brighter than EEVEE's, and the rims' dark bands sharper. Not aliasing alone: shading every MSAA "
                "sample (GL_SAMPLE_SHADING, tried 2026-12-04 and not kept) bought 0.64 dB over object pixels (33.24 -> 33.88), "
                "and Toksvig-style roughness from the mip's normal length 0.06 dB. What EEVEE does differently with the normal "
                "map (its filtering of the map, its normal-map strength at grazing angles) is not analysed yet"},
-      {"cluster", "Thin, high-contrast detail (ticks, numerals, needle and bezel outlines) carries almost all the error. The "
-                  "resolve was one cause (the film filter since 2026-12-04), the samples' storage the next (half floats "
-                  "since 2026-12-05: the print is emissive and lit by two spots, brighter than white, and 8-bit samples "
-                  "clamped it sample by sample, so a tick half covering a pixel resolved to half of white where Blender's "
-                  "float film shows it nearly white; the thin bright detail had 12 % less light than the reference, now "
-                  "within 1 %; \"What changed these numbers\"). What is left, measured 2026-12-05 on this render against "
-                  "the reference: 80 % of the squared error is where the engine is brighter, on the dark side of bright "
-                  "strokes (a numeral's stroke: Blender 255, 255, 52 across its right edge, the engine 255, 247, 58, the "
-                  "face beside it 55); it is not misregistration (no sub-pixel shift of the whole frame or of any "
-                  "160 x 120 cell improves it) and not the filter's width (a kernel 0.9 times Blender's 1.5 px costs the "
-                  "feature scenes 0.2-1.7 dB object, 1.1 times up to 0.1 dB; the cluster alone gains, 0.44 dB full frame "
-                  "and 0.21 dB object at 0.9 times), so the strokes' own edges differ (EEVEE draws a new jittered sample "
-                  "set in each of its 32 passes where "
-                  "the engine's 4 samples sit at fixed positions, its shading of the print is not analysed). Shadows are "
-                  "not what is missing: the reference was rendered with every light casting until 2026-12-04, and the "
-                  "engine's shadow maps on that scene scored 27.68 dB full frame against 27.91 without (EEVEE's default "
-                  "sun cascades are coarser than the engine's one map); the cluster's lights now cast no shadows "
-                  "(scenes/cluster/build.py says why), which moved it 0.08 dB. Shading every MSAA sample (tried, not "
-                  "kept) bought 0.35 dB object"},
+      {"cluster", "Thin, high-contrast detail (ticks, numerals, needle and bezel outlines) carries almost all the error, and "
+                  "it is how the film samples the 1.5 px Blackman-Harris kernel, measured 2026-12-05 by `meter-bench film` "
+                  "(docs/film-sampling.md): the engine drawing EEVEE's own 32 jittered passes (the Halton points through the "
+                  "kernel's inverse CDF, one sample per pixel each, averaged in float) scores 43.34 dB full frame and 46.79 dB "
+                  "object against this reference, so the engine's shading, geometry and print match Blender's to that; the "
+                  "same 32 points mirrored score 36.79, 256 passes (the kernel itself) 37.95: Blender's image is the kernel "
+                  "estimated from 32 particular points, about 38 dB from the kernel, and the engine's 36 fixed MSAA 4 samples "
+                  "per pixel are another estimate (36.10 dB from the kernel). Drawing EEVEE's passes costs 24 times the "
+                  "product's frame (1.62 s against 66 ms on llvmpipe); no resolve at a frame's cost reproduces those 32 "
+                  "points' noise. Before that, the resolve (the film filter since 2026-12-04) and the samples' storage (half "
+                  "floats since 2026-12-05: the print is brighter than white) were the causes (\"What changed these numbers\")"},
   };
   auto it = causes.find(scene);
   return it == causes.end() ? "not analysed yet" : it->second;

@@ -15,6 +15,13 @@
 //     time = A * object_pixels + B per shading model and LOD on the teapot of `specular` scaled
 //     to several screen sizes. Writes DIR/accuracy.csv, DIR/keio.csv, cost-model.json (--model)
 //     and docs/accuracy-vs-time.md; bench/fidelity/plot.py draws the PNG.
+//
+//   meter-bench film [--backend egl|osmesa] [--out DIR] [--scene NAME...] [--passes N] [--converged N]
+//     The engine's film filter resolve (MSAA 4) against EEVEE's way of sampling the same kernel:
+//     N jittered passes of one sample per pixel (default: as many as the reference's Blender render), drawn by the
+//     engine and averaged in float; the same passes mirrored; many passes (the kernel itself).
+//     Prints a markdown table (draw time, PSNR against Blender and against the engine's resolve)
+//     and writes DIR/film.csv and the images.
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -52,6 +59,14 @@ int main(int argc, char** argv) {
   acc->add_option("--rounds", rounds, "interleaved rounds")->check(CLI::Range(1, 1000));
   acc->add_option("--frames", frames, "frames per ladder point per round")->check(CLI::Range(1, 1000));
   acc->add_option("--scene", only, "only these scenes (repeatable)");
+  int passes = 0, converged = 256;
+  auto* film = app.add_subcommand("film", "film filter resolve vs EEVEE's jittered passes drawn by the engine -> table + CSV");
+  film->add_option("--backend", backend_name, "egl | osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+  film->add_option("--out", out_dir, "output directory (CSV, images); default ./film-out");
+  film->add_option("--scene", only, "only these scenes (repeatable); default: the cluster");
+  film->add_option("--passes", passes, "EEVEE's render samples; default: each reference's own (cluster 32, feature scenes 64)")
+      ->check(CLI::Range(1, 4096));
+  film->add_option("--converged", converged, "passes of the near-exact kernel")->check(CLI::Range(1, 4096));
   CLI11_PARSE(app, argc, argv);
   const auto kind = *platform::parse_backend_kind(backend_name);
   try {
@@ -61,6 +76,9 @@ int main(int argc, char** argv) {
       const fs::path d = !doc.empty() ? fs::path(doc) : quality.empty() ? kRoot / "docs/fidelity.md" : dir / "fidelity.md";
       return run_fidelity(kind, dir, d, quality);
     }
+    if (*film)
+      return run_film(kind, out_dir.empty() ? "film-out" : out_dir, only.empty() ? std::vector<std::string>{"cluster"} : only, passes,
+                      converged);
     return run_accuracy(kind, out_dir.empty() ? "accuracy-out" : out_dir, doc.empty() ? kRoot / "docs/accuracy-vs-time.md" : fs::path(doc),
                         model, rounds, frames, only);
   } catch (const std::exception& e) {
