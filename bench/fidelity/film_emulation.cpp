@@ -16,13 +16,10 @@
 // time several stops darker (the exposure uniform; programs not optimised so that it stays a
 // uniform) for the samples brighter than white, and brought back up in float before the average.
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <iostream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -33,6 +30,7 @@
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/platform/render_target.hpp"
+#include "meter/platform/resolve_filter.hpp"
 
 namespace meter::bench {
 
@@ -48,22 +46,33 @@ double radical_inverse(int i, int base) {
   return r;
 }
 
-// The CDF of the 4-term Blackman-Harris window on [0, 1] (its integral, normalised by a0).
-double blackman_harris_cdf(double t) {
-  constexpr double a0 = 0.35875, a1 = 0.48829, a2 = 0.14128, a3 = 0.01168, pi = 3.14159265358979323846;
-  return (a0 * t - a1 * std::sin(2 * pi * t) / (2 * pi) + a2 * std::sin(4 * pi * t) / (4 * pi) -
-          a3 * std::sin(6 * pi * t) / (6 * pi)) /
-         a0;
-}
-
-double blackman_harris_inverse_cdf(double u) {
-  double lo = 0.0, hi = 1.0;
-  for (int k = 0; k < 60; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    (blackman_harris_cdf(mid) < u ? lo : hi) = mid;
+// Offsets in pixels distributed as the film filter's kernel (platform::blackman_harris, the window
+// the resolve weights with) on [-radius, radius]: its CDF tabulated once, inverted by linear
+// interpolation, as EEVEE inverts its own table.
+class KernelInverseCdf {
+ public:
+  explicit KernelInverseCdf(double radius) : radius_(radius), cdf_(kSteps + 1, 0.0) {
+    for (int k = 1; k <= kSteps; ++k) {  // midpoint rule: the window's integral per step
+      const double x = -radius_ + (k - 0.5) * step();
+      cdf_[std::size_t(k)] = cdf_[std::size_t(k - 1)] + platform::blackman_harris(x, radius_);
+    }
+    for (double& c : cdf_) c /= cdf_.back();
   }
-  return 0.5 * (lo + hi);
-}
+  double operator()(double u) const {
+    const auto it = std::lower_bound(cdf_.begin(), cdf_.end(), u);
+    if (it == cdf_.begin()) return -radius_;
+    if (it == cdf_.end()) return radius_;
+    const auto k = std::size_t(it - cdf_.begin());
+    const double t = (u - cdf_[k - 1]) / (cdf_[k] - cdf_[k - 1]);
+    return -radius_ + (double(k - 1) + t) * step();
+  }
+
+ private:
+  static constexpr int kSteps = 4096;
+  double step() const { return 2.0 * radius_ / kSteps; }
+  double radius_;
+  std::vector<double> cdf_;
+};
 
 // EEVEE's image shift of passes 1 .. n, in pixels (x right, y up), `with_offset`: the image moves
 // by the offset (the way Blender 3.4's renders match, measured: the cluster scores 43.34 dB
@@ -72,12 +81,10 @@ double blackman_harris_inverse_cdf(double u) {
 // predicted. Which step between the table and the projection flips it was not traced further.
 std::vector<glm::vec2> eevee_film_offsets(int passes, double filter_size_px, bool with_offset) {
   std::vector<glm::vec2> out;
+  const KernelInverseCdf offset(filter_size_px);
   const double sign = with_offset ? 1.0 : -1.0;
-  for (int i = 1; i <= passes; ++i) {
-    const double dx = (blackman_harris_inverse_cdf(radical_inverse(i, 2)) - 0.5) * 2.0 * filter_size_px;
-    const double dy = (blackman_harris_inverse_cdf(radical_inverse(i, 3)) - 0.5) * 2.0 * filter_size_px;
-    out.emplace_back(float(sign * dx), float(sign * dy));
-  }
+  for (int i = 1; i <= passes; ++i)
+    out.emplace_back(float(sign * offset(radical_inverse(i, 2))), float(sign * offset(radical_inverse(i, 3))));
   return out;
 }
 

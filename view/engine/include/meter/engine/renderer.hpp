@@ -213,7 +213,6 @@ class Renderer {
   // anti-aliasing does, bench/fidelity/film_emulation.cpp) draws each pass through this. Texts are
   // placed at whole pixels and do not move. A changed offset redraws the next frame in full.
   void set_subpixel_offset(glm::vec2 pixels);
-  glm::vec2 subpixel_offset() const { return subpixel_offset_; }
   // The planned load of the last frame render() evaluated (drawn or skipped; per unit in output
   // pixels, at scale 1: a caller predicting a scaled frame multiplies by scale^2).
   const governor::FrameLoad& last_load() const { return last_load_; }
