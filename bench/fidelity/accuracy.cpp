@@ -63,10 +63,11 @@ std::vector<Ladder> ladder() {
           // The MSAA resolve: the box or EEVEE's film filter (Blackman-Harris). The base is
           // the scene's own ("resolve" in its config: the film filter for every committed scene),
           // so on each scene one of the two rows is the base again and is left out.
-          // Normal-mapped materials shaded per MSAA sample (sample_shading=normal-maps) or per pixel;
-          // the base is the scene's own, so on each scene one of the two is the base again and is
-          // left out, and scenes without a normal map measure neither.
-          {"per-sample-shading", base + ",sample_shading=normal-maps"},
+          // Normal-mapped materials and mirrors shaded per MSAA sample
+          // (sample_shading=normal-maps+mirrors) or per pixel; the base is the scene's own, so on
+          // each scene one of the two is the base again and is left out, and scenes with neither
+          // measure neither.
+          {"per-sample-shading", base + ",sample_shading=normal-maps+mirrors"},
           {"per-pixel-shading", base + ",sample_shading=off"},
           {"box-resolve", base + ",resolve=box"},
           {"film-resolve", base + ",resolve=blackman-harris"},
@@ -180,7 +181,12 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
         if (q.shadows == false && rep.shadow_maps_dropped == 0) continue;  // nothing casts: the base again
         const bool normal_maps = std::any_of(base.programs.begin(), base.programs.end(),
                                              [](const auto& e) { return e.program.features.normal_texture; });
-        if (q.sample_shading && (!normal_maps || *q.sample_shading == base.config.sample_shading)) continue;  // the base again
+        const bool mirrors = base.environment.present() &&
+                             std::any_of(base.materials.begin(), base.materials.end(), [](const auto& m) {
+                               return m.roughness <= bridge::SampleShading::kMirrorRoughness;
+                             });
+        if (q.sample_shading && (!(normal_maps || mirrors) || *q.sample_shading == base.config.sample_shading))
+          continue;  // the base again
         if (q.resolve && steps[i].scale == 1 && *q.resolve == base.config.resolve.filter) continue;  // the scene's own resolve
         if (q.sample_format && *q.sample_format == base.config.resolve.sample_format) continue;  // the scene's own samples
       } catch (const std::exception& e) {

@@ -428,9 +428,10 @@ def main():
         "ambient": ambient,
         # The engine resolves MSAA with the same film filter the reference is rendered with.
         "resolve": {"filter": "blackman-harris", "width_px": FILTER_SIZE_PX},
-        # Normal-mapped materials shaded per MSAA sample: EEVEE's 64 samples per pixel average the
-        # normal map's detail inside a pixel (only the bump scene has one; the others pay nothing).
-        "sample_shading": "normal-maps",
+        # Normal-mapped materials and mirrors shaded per MSAA sample: EEVEE's 64 samples per pixel
+        # average the detail inside a pixel (only the bump scene has a normal map and only the
+        # reflection scene a mirror; the others pay nothing).
+        "sample_shading": ["normal-maps", "mirrors"],
         "bindings": [],
         "groups": [],
     })

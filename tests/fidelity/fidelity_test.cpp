@@ -145,12 +145,13 @@ INSTANTIATE_TEST_SUITE_P(Scenes, PreviewEqualsTarget, ::testing::ValuesIn(all_sc
 // Blender preview, tests/support/reference_state.hpp), drawn the product way, keeps its PSNR
 // over object pixels (the reference's pixels more than 8 levels from its background, as
 // meter-bench fidelity counts them) against the Blender reference above a floor. Floor = the value
-// measured on 2026-12-02 (skinning, bump, shadow: 2026-12-04; cluster: 2026-12-05) (docs/fidelity.md) minus 0.5 dB: EGL and OSMesa give identical frames and
+// measured on 2026-12-02 (skinning, bump, shadow: 2026-12-04; cluster, reflection, envmap2d: 2026-12-05) (docs/fidelity.md) minus 0.5 dB: EGL and OSMesa give identical frames and
 // a Mesa rasteriser change moves a few edge pixels (< 0.1 dB here), while every fix behind these
 // numbers is worth more than 0.7 dB: environment map off (reflection -16 dB, envmap2d -11 dB), the
 // glTF spot curve instead of Blender's (spot -13 dB), diffuse scaled by (1 - F) again (-1.2 to
-// -2.4 dB on the lit dielectrics), environment LOD = roughness instead of sqrt (-1.4 dB), no
-// pixel-footprint LOD on the mirror (-2.4 dB), the box resolve instead of the scenes' film filter
+// -2.4 dB on the lit dielectrics), the image's own box-filtered mips instead of the prefiltered
+// reflection probe (reflection -1.9 dB, envmap2d -0.8 dB), the mirror shaded per pixel instead of
+// per MSAA sample (reflection -4.0 dB), the box resolve instead of the scenes' film filter
 // (-0.8 dB reflection ... -9.9 dB emission), skinned normals carried by the blended joint matrix
 // instead of recomputed from the deformed surface (skinning -11.5 dB), trilinear texture filtering
 // instead of EEVEE's 2x anisotropic (bump -1.6 dB), normal-mapped materials shaded per pixel
@@ -163,7 +164,7 @@ struct Floor {
 void PrintTo(const Floor& f, std::ostream* os) { *os << f.scene; }
 constexpr Floor kFloors[] = {
     {"ambient", 42.9},   {"diffuse", 39.9},  {"specular", 38.7},   {"shininess", 36.7},
-    {"emission", 42.2},  {"bump", 34.9},     {"reflection", 31.1}, {"envmap2d", 42.4},
+    {"emission", 42.2},  {"bump", 34.9},     {"reflection", 37.0}, {"envmap2d", 43.2},
     {"skinning", 44.0},  {"morphing", 40.1}, {"spot", 47.0},       {"omni", 43.7},
     {"shadow", 38.9},    {"cluster", 30.8},
 };
@@ -206,29 +207,32 @@ TEST_P(AgainstBlender, ObjectPsnrStaysAboveTheMeasuredFloor) {
 INSTANTIATE_TEST_SUITE_P(Scenes, AgainstBlender, ::testing::ValuesIn(kFloors),
                          [](const auto& info) { return std::string(info.param.scene); });
 
-// Per-sample shading touches only the draws that call for it: the normal-mapped bump teapot is
-// drawn differently with the scene's "sample_shading" on and off, the diffuse teapot (no normal
-// map) byte for byte the same; on both backends. The quality key reaches the config.
-TEST(Fidelity, SampleShadingChangesOnlyNormalMappedDraws) {
+// Per-sample shading touches only the draws that call for it: the normal-mapped bump teapot and
+// the chrome (roughness 0.05) reflection teapot are drawn differently with the scene's
+// "sample_shading" on and off; the diffuse teapot (no normal map, no environment) and the rough
+// (0.5) envmap2d teapot byte for byte the same; on both backends. The quality key reaches the config.
+TEST(Fidelity, SampleShadingChangesOnlyNormalMappedAndMirrorDraws) {
   EXPECT_EQ(convert::describe_quality(convert::parse_quality("sample_shading=off")), "sample_shading=off");
+  EXPECT_EQ(convert::describe_quality(convert::parse_quality("sample_shading=normal-maps+mirrors")),
+            "sample_shading=normal-maps+mirrors");
   EXPECT_THROW(convert::parse_quality("sample_shading=all"), engine::SceneError);
   for (const auto kind : {platform::BackendKind::Egl, platform::BackendKind::OSMesa}) {
-    for (const char* name : {"bump", "diffuse"}) {
+    for (const std::string name : {"bump", "reflection", "diffuse", "envmap2d"}) {
       SceneFiles s;
       for (const auto& c : all_scenes())
         if (c.name == name) s = c;
       const engine::Scene on = convert(s);
-      ASSERT_EQ(on.config.sample_shading, bridge::SampleShading::NormalMaps) << name;
+      ASSERT_TRUE(on.config.sample_shading.normal_maps && on.config.sample_shading.mirrors) << name;
       engine::Scene off = on;
       convert::apply_quality(off, convert::parse_quality("sample_shading=off"));
-      ASSERT_EQ(off.config.sample_shading, bridge::SampleShading::Off);
+      ASSERT_FALSE(off.config.sample_shading.any());
       const platform::Image a = render(kind, on, state(on)), b = render(kind, off, state(off));
       const double db = platform::psnr(a, b);
-      std::printf("%-8s %-7s per sample vs per pixel: %.2f dB\n", name, kind == platform::BackendKind::Egl ? "egl" : "osmesa", db);
-      if (std::string(name) == "bump") {
-        EXPECT_LT(db, 60.0) << "per-sample shading did not change the normal-mapped draw";
+      std::printf("%-10s %-7s per sample vs per pixel: %.2f dB\n", name.c_str(), kind == platform::BackendKind::Egl ? "egl" : "osmesa", db);
+      if (name == "bump" || name == "reflection") {
+        EXPECT_LT(db, 60.0) << name << ": per-sample shading did not change the draw that calls for it";
       } else {
-        EXPECT_EQ(a.rgba, b.rgba) << "per-sample shading changed a draw without a normal map";
+        EXPECT_EQ(a.rgba, b.rgba) << name << ": per-sample shading changed a draw without a normal map or a mirror";
       }
     }
   }

@@ -150,6 +150,24 @@ ResolveConfig parse_resolve(const Ctx& c, const json& r) {
   return out;
 }
 
+// "off", one kind ("normal-maps", "mirrors"), or an array of kinds.
+SampleShading parse_sample_shading(const Ctx& c, const json& v) {
+  SampleShading out;
+  const auto add = [&](const json& name, const std::string& path) {
+    const std::string k = string(c, name, path);
+    if (k == "normal-maps") out.normal_maps = true;
+    else if (k == "mirrors") out.mirrors = true;
+    else if (k != "off" || v.is_array())
+      c.fail(path, "unknown value \"" + k + "\" (expected off, normal-maps, mirrors or an array of normal-maps and mirrors)");
+  };
+  if (!v.is_array()) {
+    add(v, "$.sample_shading");
+    return out;
+  }
+  for (std::size_t i = 0; i < v.size(); ++i) add(v[i], "$.sample_shading[" + std::to_string(i) + "]");
+  return out;
+}
+
 }  // namespace
 
 SceneConfig parse_scene_config(std::string_view text, const std::string& origin) {
@@ -201,12 +219,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
     }
   }
   if (j.contains("resolve")) out.resolve = parse_resolve(c, j["resolve"]);
-  if (j.contains("sample_shading")) {
-    const std::string v = string(c, j["sample_shading"], "$.sample_shading");
-    if (v == "normal-maps") out.sample_shading = SampleShading::NormalMaps;
-    else if (v == "off") out.sample_shading = SampleShading::Off;
-    else c.fail("$.sample_shading", "unknown value \"" + v + "\" (expected normal-maps or off)");
-  }
+  if (j.contains("sample_shading")) out.sample_shading = parse_sample_shading(c, j["sample_shading"]);
   if (j.contains("link_loss")) {
     const json& l = j["link_loss"];
     if (!l.is_object()) c.fail("$.link_loss", "expected an object");

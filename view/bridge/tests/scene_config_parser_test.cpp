@@ -126,11 +126,20 @@ TEST(SceneConfig, SampleFormatDefaultsToEightBitAndIsChecked) {
 
 TEST(SceneConfig, SampleShadingDefaultsToOffAndIsChecked) {
   const std::string head = R"({"format": "meter-scene-config/1")";
-  EXPECT_EQ(parse_scene_config(head + "}", "t.json").sample_shading, SampleShading::Off);
-  EXPECT_EQ(parse_scene_config(head + R"(, "sample_shading": "off"})", "t.json").sample_shading, SampleShading::Off);
-  EXPECT_EQ(parse_scene_config(head + R"(, "sample_shading": "normal-maps"})", "t.json").sample_shading,
-            SampleShading::NormalMaps);
+  const auto kinds = [&](const std::string& value) {
+    return parse_scene_config(head + R"(, "sample_shading": )" + value + "}", "t.json").sample_shading;
+  };
+  EXPECT_FALSE(parse_scene_config(head + "}", "t.json").sample_shading.any());
+  EXPECT_FALSE(kinds(R"("off")").any());
+  EXPECT_EQ(kinds(R"("normal-maps")"), (SampleShading{.normal_maps = true, .mirrors = false}));
+  EXPECT_EQ(kinds(R"("mirrors")"), (SampleShading{.normal_maps = false, .mirrors = true}));
+  EXPECT_EQ(kinds(R"(["normal-maps", "mirrors"])"), (SampleShading{.normal_maps = true, .mirrors = true}));
+  EXPECT_FALSE(kinds("[]").any());
   EXPECT_NE(error_of(head + R"(, "sample_shading": "all"})").find("t.json: $.sample_shading: unknown value \"all\""),
             std::string::npos);
+  // "off" is the whole value, not a kind in the list.
+  EXPECT_NE(error_of(head + R"(, "sample_shading": ["mirrors", "off"]})").find("$.sample_shading[1]: unknown value \"off\""),
+            std::string::npos);
   EXPECT_NE(error_of(head + R"(, "sample_shading": true})").find("$.sample_shading"), std::string::npos);
+  EXPECT_NE(error_of(head + R"(, "sample_shading": [3]})").find("$.sample_shading[0]"), std::string::npos);
 }

@@ -1,16 +1,18 @@
 // Environment maps: the data converter reads `meter_environment` from the glTF scene extras,
-// refuses a missing or malformed file by name, packs the image, integrates its ambient cube, and
-// gives the environment feature only to the programs that can use it, only in scenes that have
-// one; the package keeps it.
+// refuses a missing or malformed file by name, bakes the image's reflection probe, integrates its
+// ambient cube, and gives the environment feature only to the programs that can use it, only in
+// scenes that have one; the package keeps it.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "meter/shadergen/shadergen.hpp"
 #include "meter/convert/converter.hpp"
+#include "meter/convert/environment_probe.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/engine/package_reader.hpp"
@@ -84,10 +86,20 @@ TEST(Environment, ExtrasArePackedIntegratedAndUsedByLitPerPixelPrograms) {
   const Scene s = convert(dial_with_extras(dir, {{"meter_environment", "sky.png"}, {"meter_environment_strength", 2.0}}));
   ASSERT_TRUE(s.environment.present());
   EXPECT_FLOAT_EQ(s.environment.strength, 2.0f);
-  const Texture& t = s.textures.at(std::size_t(s.environment.texture));
-  EXPECT_EQ(t.width, 16);
-  EXPECT_EQ(t.height, 8);
-  EXPECT_TRUE(t.srgb);  // sampled as linear radiance, like Blender's sRGB image
+  // Baked into EEVEE's 512 px probe (environment_probe_test.cpp checks the bake); the image itself
+  // is not packed.
+  EXPECT_EQ(s.environment.probe.face_size, kEnvironmentProbeFaceSize);
+  EXPECT_EQ(s.environment.probe.levels, 7);
+  for (const Texture& t : s.textures) EXPECT_EQ(t.name.find("environment"), std::string::npos) << t.name;
+  // Level 0: the middle texel of face +Y (index 2) is sky, of face -Y ground.
+  const auto texel = [&](int face) {
+    const std::size_t n = std::size_t(kEnvironmentProbeFaceSize);
+    return &s.environment.probe.rgb[((std::size_t(face) * n + n / 2) * n + n / 2) * 3];
+  };
+  EXPECT_EQ(texel(2)[2], 255);
+  EXPECT_EQ(texel(2)[0], 0);
+  EXPECT_EQ(texel(3)[0], 255);
+  EXPECT_EQ(texel(3)[2], 0);
   // Ambient cube: the hemisphere around +Y sees only sky, around -Y only ground; around a
   // horizontal axis half of each, symmetric, so exactly the mean. Strength 2 scales all.
   const auto& c = s.environment.irradiance;
@@ -115,7 +127,9 @@ TEST(Environment, ExtrasArePackedIntegratedAndUsedByLitPerPixelPrograms) {
   // The package keeps the environment (and round-trips byte for byte).
   const auto bytes = serialize_scene(s);
   const Scene back = deserialize_scene(bytes, "env.msp");
-  EXPECT_EQ(back.environment.texture, s.environment.texture);
+  EXPECT_EQ(back.environment.probe.face_size, s.environment.probe.face_size);
+  EXPECT_EQ(back.environment.probe.levels, s.environment.probe.levels);
+  EXPECT_EQ(back.environment.probe.rgb, s.environment.probe.rgb);
   EXPECT_FLOAT_EQ(back.environment.strength, 2.0f);
   EXPECT_EQ(back.environment.irradiance, s.environment.irradiance);
   EXPECT_EQ(serialize_scene(back), bytes);
@@ -154,16 +168,26 @@ TEST(Environment, BadExtrasAreNamedWithFileAndField) {
   }
 }
 
-// A corrupt package cannot point the environment at a texture it does not have.
-TEST(Environment, PackageRefusesAnEnvironmentIndexOutOfRange) {
+// A corrupt package cannot hand the runtime a probe whose size and texels disagree.
+TEST(Environment, PackageRefusesAProbeOfTheWrongShape) {
   const auto dir = test::scratch_dir("env_corrupt");
-  Scene s = convert(test::write_dial_scene(dir));
-  s.environment.texture = int(s.textures.size()) + 3;
-  const auto bytes = serialize_scene(s);
-  try {
-    deserialize_scene(bytes, "bad.msp");
-    FAIL() << "accepted an out-of-range environment.texture";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("environment.texture"), std::string::npos) << e.what();
-  }
+  const Scene good = convert(test::write_dial_scene(dir));
+  const auto refused = [&](const std::function<void(EnvironmentProbe&)>& damage, const std::string& expected) {
+    Scene s = good;
+    s.environment.probe = {.face_size = 8, .levels = 1, .rgb = std::vector<std::uint8_t>(EnvironmentProbe::byte_size(8, 1), 7)};
+    damage(s.environment.probe);
+    try {
+      deserialize_scene(serialize_scene(s), "bad.msp");
+      ADD_FAILURE() << "accepted a probe that should say: " << expected;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  refused([](EnvironmentProbe& p) { p.face_size = 12; }, "environment.probe: face size 12 with 1 levels");
+  refused([](EnvironmentProbe& p) { p.levels = 2; }, "expected a power of two in 8..4096 and log2(face size) - 2 levels");
+  refused([](EnvironmentProbe& p) { p.rgb.pop_back(); }, "environment.probe: 1151 bytes of texels; expected 1152");
+  // The well-formed 8 px probe itself loads.
+  Scene s = good;
+  s.environment.probe = {.face_size = 8, .levels = 1, .rgb = std::vector<std::uint8_t>(EnvironmentProbe::byte_size(8, 1), 7)};
+  EXPECT_EQ(deserialize_scene(serialize_scene(s), "ok.msp").environment.probe.rgb, s.environment.probe.rgb);
 }

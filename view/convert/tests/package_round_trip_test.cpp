@@ -98,7 +98,10 @@ Scene every_section() {
   s.meshes[0].primitives[0].lods = {LodLevel{0.01f, 0.5f, {0, 1, 2}}};
   s.draw_levels = {DrawLevels{false, {ShadingLevel{bridge::ShadingModel::Unlit, 1, {0.04f, 0.05f, 0.06f}, 12.0f, 0.25f}}, 1}};
   s.draws = {{1, 0, 0, 0}};
-  s.environment.texture = 0;
+  s.environment.probe.face_size = 8;
+  s.environment.probe.levels = 1;
+  s.environment.probe.rgb.resize(bridge::EnvironmentProbe::byte_size(8, 1));
+  for (std::size_t i = 0; i < s.environment.probe.rgb.size(); ++i) s.environment.probe.rgb[i] = std::uint8_t(i * 7);
   s.environment.strength = 0.5f;
   s.environment.irradiance[2] = {0.1f, 0.2f, 0.3f};
   s.config.source_json = R"({"format": "meter-scene-config/1"})";
@@ -160,7 +163,9 @@ TEST(PackageRoundTrip, WriterToReaderKeepsEverySection) {
   EXPECT_EQ(r.programs[0].optimize_report.spirv_instructions_before, 120u);
   EXPECT_EQ(r.programs[0].optimize_report.folded, (std::vector<std::string>{"u_base_color"}));
   EXPECT_EQ(r.draws.size(), 1u);
-  EXPECT_EQ(r.environment.texture, 0);
+  EXPECT_EQ(r.environment.probe.face_size, 8);
+  EXPECT_EQ(r.environment.probe.levels, 1);
+  EXPECT_EQ(r.environment.probe.rgb, s.environment.probe.rgb);
   EXPECT_FLOAT_EQ(r.environment.strength, 0.5f);
   EXPECT_EQ(r.environment.irradiance[2], glm::vec3(0.1f, 0.2f, 0.3f));
   EXPECT_EQ(r.config.source_json, s.config.source_json);

@@ -305,8 +305,6 @@ Program generate(const MaterialFeatures& requested) {
         b.uniform(Stage::Fragment, name, "vec3", UniformSemantic::EnvironmentIrradiance, i);
         args += ", " + name;
       }
-      b.fs_functions += detail::kEquirect;
-      b.fs_functions += detail::kEnvironmentFootprint;
       b.fs_functions += detail::kAmbientCube;
       env_diffuse = "ambient_cube(n" + args + ")";
     }
@@ -339,14 +337,15 @@ Program generate(const MaterialFeatures& requested) {
       b.fs_functions += detail::kEnvBrdfApprox;
       fb += "  vec3 specular_weight = env_brdf_approx(f0, roughness, n_dot_v);\n";
       if (f.environment_map_2d) {
-        // Blurrier mips for rougher surfaces with EEVEE's world-probe mapping (Blender 3.x
-        // probe_evaluate_world_spec: lod = sqrt(roughness) * max lod); measured against plain
-        // roughness * max lod it gains 1.4 dB on the reflection scene (docs/fidelity.md).
+        // EEVEE's world-probe lookup (Blender 3.x probe_evaluate_world_spec): level sqrt(roughness)
+        // times the last level, whose lobes the converter prefiltered (bridge::EnvironmentProbe).
+        // No footprint term: a level's lobe, not its texel size, sets its blur, so a footprint-chosen
+        // level blurs far more than the pixel sees (reflection 19.12 dB object with it, 33.60
+        // without); sharp mirrors are shaded per MSAA sample instead (docs/scene-config.md).
         fb += "  vec3 r = reflect(-v, n);\n";
-        fb += "  float max_lod = log2(float(textureSize(u_environment_texture, 0).x));\n";
-        fb += "  float env_lod = max(sqrt(roughness) * max_lod, environment_footprint_lod(r, max_lod));\n";
-        fb += "  vec3 environment = textureLod(u_environment_texture, equirect_uv(r), env_lod).rgb * "
-              "u_environment_intensity;\n";
+        fb += "  float probe_size = float(textureSize(u_environment_texture, 0).x);\n";
+        fb += "  float env_lod = sqrt(roughness) * (log2(probe_size) - " + std::to_string(bridge::kProbeSmallestFaceLog2) + ".0);\n";
+        fb += "  vec3 environment = textureLod(u_environment_texture, r, env_lod).rgb * u_environment_intensity;\n";
         fb += "  color += (c_diff * " + env_diffuse + " + specular_weight * environment) * ao;\n";
       } else {
         fb += "  color += (c_diff + specular_weight) * u_ambient_light * ao;\n";
@@ -367,11 +366,9 @@ Program generate(const MaterialFeatures& requested) {
       if (f.environment_map_2d) {
         fb += "  color += base_color.rgb * " + env_diffuse + " * ao;\n";
         fb += "  vec3 r = reflect(-v, n);\n";
-        // textureLod at the footprint LOD, not texture(): the equirect seam (u wraps 1 -> 0) would
-        // make the UV-derivative LOD pick the coarsest mip along a one-pixel line.
-        fb += "  float max_lod = log2(float(textureSize(u_environment_texture, 0).x));\n";
-        fb += "  color += u_specular_color * textureLod(u_environment_texture, equirect_uv(r), "
-              "environment_footprint_lod(r, max_lod)).rgb * "
+        // No roughness: a mirror, the probe's sharp level 0 (EEVEE's lookup at roughness 0); the
+        // scene's "sample_shading": "mirrors" averages it inside the pixel.
+        fb += "  color += u_specular_color * textureLod(u_environment_texture, r, 0.0).rgb * "
               "u_environment_intensity * ao;\n";
       } else {
         fb += "  color += base_color.rgb * u_ambient_light * ao;\n";

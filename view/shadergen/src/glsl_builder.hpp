@@ -27,10 +27,13 @@ class GlslBuilder {
   }
 
   // A fragment-stage sampler on the next texture unit. A shadow map is a depth-compare sampler
-  // (highp: depths need full precision) and names its light (`index`).
+  // (highp: depths need full precision) and names its light (`index`); the environment is the
+  // world's reflection probe, a cube map.
   void sampler(const std::string& name, TextureSlot slot, int index = -1) {
-    const bool shadow = slot == TextureSlot::ShadowMap;
-    fs_uniforms_ += std::string(shadow ? "uniform highp sampler2DShadow " : "uniform sampler2D ") + name + ";\n";
+    const char* type = slot == TextureSlot::ShadowMap     ? "uniform highp sampler2DShadow "
+                       : slot == TextureSlot::Environment ? "uniform samplerCube "
+                                                          : "uniform sampler2D ";
+    fs_uniforms_ += type + name + ";\n";
     const int unit = static_cast<int>(program_.samplers.size());
     program_.samplers.push_back({name, slot, unit, index});
   }

@@ -113,31 +113,6 @@ inline constexpr const char* kCotangentFrame = R"(mat3 cotangent_frame(vec3 n, v
 }
 )";
 
-// Blender's equirectangular world mapping. glTF is Y-up, Blender Z-up: Blender (x, y, z) =
-// glTF (x, -z, y). Blender: u = 0.5 - atan(y, x) / 2pi, v = 0.5 + asin(z) / pi (v up); the texture is
-// uploaded top row first (as every glTF image), so t = 1 - v.
-inline constexpr const char* kEquirect = R"(vec2 equirect_uv(vec3 d) {
-  d = normalize(d);
-  // atan(0, 0) is undefined: straight up/down any u is right, pick the seam-free centre.
-  float u = abs(d.x) + abs(d.z) > 1e-6 ? 0.5 + atan(d.z, d.x) / (2.0 * 3.14159265358979) : 0.5;
-  float t = 0.5 - asin(clamp(d.y, -1.0, 1.0)) / 3.14159265358979;
-  return vec2(u, t);
-}
-)";
-
-// The mip level whose texels are as wide as the angle the reflection direction sweeps across this
-// pixel (its screen derivatives; a texel of a 2:1 equirect spans 2pi / width at the equator). A
-// curved mirror turns r fast, so one lookup at the base level aliases the map's edges; EEVEE
-// averages 64 samples per pixel instead. Derivatives, not texture()'s implicit LOD: u jumps at the
-// seam, r does not.
-inline constexpr const char* kEnvironmentFootprint =
-    R"(float environment_footprint_lod(vec3 r, float max_lod) {
-  vec3 dx = dFdx(r), dy = dFdy(r);
-  float angle = sqrt(max(dot(dx, dx), dot(dy, dy)));
-  return log2(max(angle * exp2(max_lod) / 6.28318530718, 1e-6));
-}
-)";
-
 // EEVEE's (Blender 2.8-3.x) world diffuse lighting, the "HL2" ambient cube: six colours, one per
 // signed axis, blended by the squared normal components (they sum to 1). Each colour is the
 // cosine-weighted mean radiance of the map around its axis (the converter integrates it), so a

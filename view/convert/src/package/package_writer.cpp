@@ -200,8 +200,9 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
   for (const auto& d : s.draws) w.i32(d.node), w.i32(d.mesh), w.i32(d.primitive), w.i32(d.program);
   w.u32(static_cast<std::uint32_t>(s.groups.size()));  // since version 2: mesh concatenation groups
   for (const auto& g : s.groups) w.str(g.name), w.vec(g.draws);
-  // since version 3: the world environment (texture index, strength, ambient cube)
-  w.i32(s.environment.texture), w.f32(s.environment.strength);
+  // since version 3: the world environment; since 7 its reflection probe where a texture index was
+  w.i32(s.environment.probe.face_size), w.i32(s.environment.probe.levels), w.vec(s.environment.probe.rgb);
+  w.f32(s.environment.strength);
   for (const auto& e : s.environment.irradiance) w.v3(e);
   w.str(s.config.source_json);
   write_integrity(w, s.integrity);

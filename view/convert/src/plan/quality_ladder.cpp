@@ -130,7 +130,7 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
   if (q.sample_format) s.config.resolve.sample_format = *q.sample_format;
   if (q.sample_shading) s.config.sample_shading = *q.sample_shading;
   if (q.environment == false && s.environment.present()) {
-    // The texture stays in the list (indices of other textures are unchanged); nothing samples it.
+    // The probe and the ambient cube go; the programs stop sampling them (below).
     s.environment = Environment{};
     report.environment_dropped = true;
   }
@@ -278,9 +278,12 @@ QualitySettings parse_quality(const std::string& text) {
       else if (v == "rgba16f") q.sample_format = bridge::ResolveConfig::SampleFormat::Rgba16f;
       else throw bad("srgb8 or rgba16f");
     } else if (k == "sample_shading") {
-      if (v == "normal-maps") q.sample_shading = bridge::SampleShading::NormalMaps;
-      else if (v == "off") q.sample_shading = bridge::SampleShading::Off;
-      else throw bad("normal-maps or off");
+      bridge::SampleShading kinds;
+      if (v == "normal-maps+mirrors") kinds = {.normal_maps = true, .mirrors = true};
+      else if (v == "normal-maps") kinds.normal_maps = true;
+      else if (v == "mirrors") kinds.mirrors = true;
+      else if (v != "off") throw bad("off, normal-maps, mirrors or normal-maps+mirrors");
+      q.sample_shading = kinds;
     } else if (k == "lod") {
       char* end = nullptr;
       const float f = std::strtof(v.c_str(), &end);
@@ -311,7 +314,10 @@ std::string describe_quality(const QualitySettings& q) {
   if (q.resolve) add(std::string("resolve=") + (*q.resolve == bridge::ResolveConfig::Filter::Box ? "box" : "blackman-harris"));
   if (q.sample_format)
     add(std::string("sample_format=") + (*q.sample_format == bridge::ResolveConfig::SampleFormat::Rgba16f ? "rgba16f" : "srgb8"));
-  if (q.sample_shading) add(std::string("sample_shading=") + (*q.sample_shading == bridge::SampleShading::Off ? "off" : "normal-maps"));
+  if (q.sample_shading) {
+    const bridge::SampleShading& k = *q.sample_shading;
+    add(std::string("sample_shading=") + (k.normal_maps && k.mirrors ? "normal-maps+mirrors" : k.normal_maps ? "normal-maps" : k.mirrors ? "mirrors" : "off"));
+  }
   return out.empty() ? "default" : out;
 }
 

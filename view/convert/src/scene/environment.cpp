@@ -1,9 +1,11 @@
-// The world environment: the equirectangular image named in the default scene's extras, packed as
-// a texture, and the ambient cube integrated from it for the programs' diffuse ambient term.
+// The world environment: the equirectangular image named in the default scene's extras, baked into
+// the reflection probe (environment_probe.cpp), and the ambient cube integrated from it for the
+// programs' diffuse ambient term.
 #include <cmath>
 #include <filesystem>
 
 #include "convert_context.hpp"
+#include "meter/convert/environment_probe.hpp"
 #include "meter/platform/render_target.hpp"
 
 namespace meter::convert {
@@ -80,20 +82,11 @@ std::array<glm::vec3, 6> ambient_cube(const platform::Image& im, float strength)
 
 void convert_environment(const ConvertContext& ctx, Scene& s) {
   if (ctx.environment.image.empty()) return;
-    // sRGB like Blender's "sRGB" image colour space (sampling returns linear radiance);
-    // mipmapped because rough surfaces read blurred levels; wraps in longitude, clamps at the poles.
-    Texture env;
-    env.name = "environment:" + ctx.environment.name;
-    env.width = ctx.environment.image.width;
-    env.height = ctx.environment.image.height;
-    env.rgba = ctx.environment.image.rgba;
-    env.srgb = true;
-    env.wrap_s = 0x2901 /*REPEAT*/;
-    env.wrap_t = 0x812F /*CLAMP_TO_EDGE*/;
-    s.environment.texture = static_cast<int>(s.textures.size());
-    s.environment.strength = ctx.environment.strength;
-    s.environment.irradiance = ambient_cube(ctx.environment.image, ctx.environment.strength);
-    s.textures.push_back(std::move(env));
+  // Specular: EEVEE's prefiltered cube probe baked from the image (the image itself is not
+  // packed: nothing at run time reads it). Diffuse: its ambient cube.
+  s.environment.probe = bake_environment_probe(ctx.environment.image, kEnvironmentProbeFaceSize);
+  s.environment.strength = ctx.environment.strength;
+  s.environment.irradiance = ambient_cube(ctx.environment.image, ctx.environment.strength);
 }
 
 }  // namespace meter::convert

@@ -59,10 +59,10 @@ void DrawSubmission::submit(platform::RenderTarget& target, const Pass& pass, co
   if (pass.set != DrawSet::OverStatic) gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl.Enable(GL_DEPTH_TEST);
   gl.DepthFunc(GL_LEQUAL);
-  // Normal-mapped materials shaded once per MSAA sample (the scene's "sample_shading"): their
-  // shading varies inside a pixel, and EEVEE averages many shading samples per pixel.
-  const bool per_sample = scene_.config.sample_shading == bridge::SampleShading::NormalMaps && gl.MinSampleShading &&
-                          target.samples() > 1;
+  // Normal-mapped materials and mirrors shaded once per MSAA sample where the scene's
+  // "sample_shading" asks: their shading varies inside a pixel, and EEVEE averages many shading
+  // samples per pixel.
+  const bool per_sample = scene_.config.sample_shading.any() && gl.MinSampleShading && target.samples() > 1;
   if (per_sample) gl.MinSampleShading(1.0f);
   bool sample_shading_on = false;
   std::vector<float> scratch;
@@ -106,7 +106,12 @@ void DrawSubmission::submit_depth(const std::vector<int>& draws, const FrameStat
 bool DrawSubmission::shades_per_sample(std::size_t index, const FrameState& frame) const {
   const GpuDraw* d = gpu_.draws()[index].get();
   const auto shading = std::min(static_cast<std::size_t>(frame.draws[index].shading), d->shadings.size() - 1);
-  return d->shadings[shading].shape->features.normal_texture;
+  const bridge::MaterialFeatures& f = d->shadings[shading].shape->features;
+  const bridge::SampleShading& kinds = scene_.config.sample_shading;
+  if (kinds.normal_maps && f.normal_texture) return true;
+  const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
+  return kinds.mirrors && f.environment_map_2d &&
+         (f.shading == bridge::ShadingModel::BlinnPhong || mat.roughness <= bridge::SampleShading::kMirrorRoughness);
 }
 
 void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current,
@@ -259,10 +264,10 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
     gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + s.unit));
     if (s.slot == bridge::TextureSlot::ShadowMap) {
       gl.BindTexture(GL_TEXTURE_2D, shadow_maps_ ? shadow_maps_->texture(s.index) : 0);
+    } else if (s.slot == bridge::TextureSlot::Environment) {
+      gl.BindTexture(GL_TEXTURE_CUBE_MAP, gpu_.environment_probe());
     } else {
-      const int tex = s.slot == bridge::TextureSlot::Environment ? scene_.environment.texture
-                                                                     : mat.texture[static_cast<std::size_t>(s.slot)];
-      gl.BindTexture(GL_TEXTURE_2D, gpu_.texture(tex));
+      gl.BindTexture(GL_TEXTURE_2D, gpu_.texture(mat.texture[static_cast<std::size_t>(s.slot)]));
     }
     gl.Uniform1i(s.location, s.unit);
   }

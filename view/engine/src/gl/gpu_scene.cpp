@@ -55,6 +55,7 @@ GpuScene::~GpuScene() {
   if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
   if (!textures_.empty()) gl_.DeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
   if (white_texture_) gl_.DeleteTextures(1, &white_texture_);
+  if (environment_probe_) gl_.DeleteTextures(1, &environment_probe_);
   for (auto& p : programs_) platform::release_program(program_cache_, gl_, p->program);
   for (auto& [_, p] : depth_programs_) platform::release_program(program_cache_, gl_, p->program);
 }
@@ -129,9 +130,7 @@ void GpuScene::compile(GpuProgram& program, const std::string& fragment_source) 
 void GpuScene::upload_textures() {
   for (std::size_t index = 0; index < scene_.textures.size(); ++index) {
     const Texture& t = scene_.textures[index];
-    // The environment is read with textureLod at the reflection footprint's level, EEVEE's world
-    // probe is a prefiltered map: anisotropy there only blurs the mirror (reflection -3.6 dB).
-    const float anisotropy = static_cast<int>(index) == scene_.environment.texture ? 1.0f : t.max_anisotropy;
+    const float anisotropy = t.max_anisotropy;
     GLuint tex = 0;
     gl_.GenTextures(1, &tex);
     gl_.BindTexture(GL_TEXTURE_2D, tex);
@@ -155,6 +154,7 @@ void GpuScene::upload_textures() {
     }
     textures_.push_back(tex);
   }
+  upload_environment_probe();
   {
     const std::uint8_t white[4] = {255, 255, 255, 255};
     gl_.GenTextures(1, &white_texture_);
@@ -163,6 +163,33 @@ void GpuScene::upload_textures() {
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
+}
+
+// The reflection probe as a cube map with its prefiltered levels as the mip chain (read with
+// textureLod at sqrt(roughness) * the last level; never anisotropic: each level is already the lobe).
+void GpuScene::upload_environment_probe() {
+  const bridge::EnvironmentProbe& probe = scene_.environment.probe;
+  if (probe.levels <= 0) return;
+  gl_.GenTextures(1, &environment_probe_);
+  gl_.BindTexture(GL_TEXTURE_CUBE_MAP, environment_probe_);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  const std::uint8_t* texels = probe.rgb.data();
+  for (int level = 0; level < probe.levels; ++level) {
+    const int size = probe.face_size >> level;
+    for (int face = 0; face < 6; ++face) {
+      gl_.TexImage2D(static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), level, GL_SRGB8, size, size, 0, GL_RGB,
+                     GL_UNSIGNED_BYTE, texels);
+      texels += std::size_t(size) * std::size_t(size) * 3u;
+    }
+  }
+  gl_.TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAX_LEVEL, probe.levels - 1);
+  gl_.TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  // GLES 3 filters across cube faces always; desktop GL only when asked (as Blender does).
+  constexpr GLenum kTextureCubeMapSeamless = 0x884F;
+  if (!gl_.info.is_gles) gl_.Enable(kTextureCubeMapSeamless);
 }
 
 GpuVertexInput GpuScene::vertex_input(const GpuProgram& program, const Primitive& layout, bool merged, GLuint vbo, GLuint ebo) {

@@ -126,12 +126,15 @@ class GpuScene {
 
   const std::vector<std::unique_ptr<GpuDraw>>& draws() const { return draws_; }
   GLuint texture(int index) const { return index >= 0 ? textures_[static_cast<std::size_t>(index)] : white_texture_; }
+  // The scene's reflection probe (a cube map), 0 without an environment.
+  GLuint environment_probe() const { return environment_probe_; }
 
  private:
   void add_program(const bridge::Program& p, const std::string& label, bool compile_now);
   // `fragment_source`: empty for the program's own, else the one to link with its vertex shader.
   void compile(GpuProgram& program, const std::string& fragment_source = {});
   void upload_textures();
+  void upload_environment_probe();
   void build_draws(bool uber);
   void build_groups();
   // A VAO binding `program`'s attributes to `layout` in the bound vertex / index buffers;
@@ -148,6 +151,7 @@ class GpuScene {
   std::vector<GpuSkinnedDraw> skinned_;
   std::vector<GLuint> textures_;
   GLuint white_texture_ = 0;
+  GLuint environment_probe_ = 0;
   std::vector<GLuint> buffers_;
 };
 

@@ -462,7 +462,21 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     g.draws = r.vec<int>("group.draws");
     s.groups.push_back(std::move(g));
   }
-  s.environment.texture = r.i32("environment.texture");
+  {
+    EnvironmentProbe& probe = s.environment.probe;
+    probe.face_size = r.i32("environment.probe.face_size");
+    probe.levels = r.i32("environment.probe.levels");
+    probe.rgb = r.vec<std::uint8_t>("environment.probe.rgb");
+    const bool none = probe.face_size == 0 && probe.levels == 0 && probe.rgb.empty();
+    const bool sized = probe.face_size >= 8 && probe.face_size <= 4096 && (probe.face_size & (probe.face_size - 1)) == 0 &&
+                       probe.levels == EnvironmentProbe::levels_for(probe.face_size);
+    if (!none && !sized)
+      r.fail("environment.probe: face size " + std::to_string(probe.face_size) + " with " + std::to_string(probe.levels) +
+             " levels; expected a power of two in 8..4096 and log2(face size) - 2 levels");
+    if (!none && probe.rgb.size() != EnvironmentProbe::byte_size(probe.face_size, probe.levels))
+      r.fail("environment.probe: " + std::to_string(probe.rgb.size()) + " bytes of texels; expected " +
+             std::to_string(EnvironmentProbe::byte_size(probe.face_size, probe.levels)));
+  }
   s.environment.strength = r.f32("environment.strength");
   if (s.environment.strength < 0.0f) r.fail("negative environment.strength");
   for (auto& e : s.environment.irradiance) e = r.v3("environment.irradiance");
@@ -489,7 +503,6 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
   for (const auto& m : s.materials) {
     for (int t : m.texture) check_index(r, t, s.textures.size(), true, "material.texture");
   }
-  check_index(r, s.environment.texture, s.textures.size(), true, "environment.texture");
   for (const auto& k : s.skins) {
     for (int j : k.joints) check_index(r, j, nn, false, "skin.joints");
   }

@@ -18,7 +18,8 @@
 // Section order: source name; nodes; roots; meshes (primitives with layout, vertices, indices,
 // bounds); materials; textures; cameras; lights; skins; animations (samplers, channels); programs
 // (sources, attributes, uniforms, samplers, features, pipeline state, optimizer report); draws;
-// mesh concatenation groups; the world environment (texture index, strength, ambient cube); the
+// mesh concatenation groups; the world environment (reflection probe: i32 face size, i32 levels,
+// the sRGB texels as a byte array; strength, ambient cube); the
 // scene config's JSON text; the integrity table (frame size, safety regions, integrity.hpp); the
 // draw levels (draw_levels.hpp: each primitive's LOD levels in mesh / primitive order, each an f32
 // error, f32 triangle fraction and u32 index array; then the DrawLevels of every draw, or none:
@@ -40,7 +41,8 @@ namespace meter::bridge {
 // 4: the integrity table (safety regions and their signatures) after the scene config text.
 // 5: the draw levels (cheaper LODs and shadings, draw_levels.hpp) after the integrity table.
 // 6: shadows: a light's cast_shadow flag, a program's shadow-light mask, a sampler's light index.
-inline constexpr std::uint32_t kPackageVersion = 6;
+// 7: the environment's reflection probe (face size, levels, texels) where its texture index was.
+inline constexpr std::uint32_t kPackageVersion = 7;
 inline constexpr char kPackageMagic[8] = {'M', 'E', 'T', 'E', 'R', 'S', 'C', 'N'};
 // magic + version + reserved + payload size + payload checksum
 inline constexpr std::size_t kPackageHeaderSize = 8 + 4 + 4 + 8 + 8;

@@ -28,9 +28,15 @@ struct LightCounts {
   bool operator==(const LightCounts&) const = default;
 };
 
+// Environment: the world's reflection probe, a cube map (samplerCube, scene.hpp EnvironmentProbe).
 // ShadowMap: a light's depth map (SamplerInfo::index = the light's place in the light list),
 // sampled with depth comparison (sampler2DShadow).
 enum class TextureSlot { BaseColor, MetallicRoughness, Normal, Emissive, Occlusion, Environment, ShadowMap };
+
+// The reflection probe's smallest level is 2^3 = 8 texels per face (EEVEE's MIN_CUBE_LOD_LEVEL):
+// the converter bakes levels down to it and the programs read level sqrt(roughness) *
+// (log2(face size) - 3), the last one.
+inline constexpr int kProbeSmallestFaceLog2 = 3;
 
 // Limits that keep every generated program inside the GLES 3.0 minimums
 // (16 vertex attributes, 256 vertex uniform vectors, 16 texture units).

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -177,17 +178,43 @@ struct MergedGroup {
   std::vector<int> draws;
 };
 
-// The world's equirectangular environment image (glTF scene extras `meter_environment`, the
-// image Blender's world shader samples; docs/engine.md, "Environment"). Only scenes that name one
-// have it; programs then get the environment_map_2d feature (and only then).
+// EEVEE's world reflection probe (Blender 3.x): a cube map rendered from the world and
+// GGX-prefiltered per mip level. The converter bakes it from the equirectangular image
+// (meter/convert/environment_probe.hpp); the runtime uploads it as a cube map and reads it at
+// level sqrt(roughness) * (levels - 1), as EEVEE's probe_evaluate_world_spec does.
+//   Level L (face face_size >> L) holds the radiance around each texel's direction filtered by a
+// GGX lobe of alpha (L / (levels - 1))^4 (Disney alpha = roughness^2 at that level's lookup): level
+// 0 is the world as seen, the last level is lit by the whole hemisphere. The smallest face is 8
+// texels (kProbeSmallestFaceLog2), so levels = log2(face_size) - 2.
+struct EnvironmentProbe {
+  static constexpr int levels_for(int face_size) {
+    int log2 = 0;
+    while ((1 << (log2 + 1)) <= face_size) ++log2;
+    return log2 - kProbeSmallestFaceLog2 + 1;
+  }
+  int face_size = 0;  // level 0, texels per side (a power of two >= 8); 0 = no probe
+  int levels = 0;     // levels_for(face_size)
+  // sRGB-encoded RGB, 3 bytes per texel: level 0 first; in each level the faces +X, -X, +Y, -Y,
+  // +Z, -Z (glTF axes; GL's cube-face order and texel orientation), each face row by row.
+  std::vector<std::uint8_t> rgb;
+  static std::size_t byte_size(int face_size, int levels) {
+    std::size_t n = 0;
+    for (int l = 0; l < levels; ++l) n += 6u * 3u * std::size_t(face_size >> l) * std::size_t(face_size >> l);
+    return n;
+  }
+};
+
+// The world's environment (glTF scene extras `meter_environment`, the equirectangular image
+// Blender's world shader samples; docs/engine.md, "Environment"). Only scenes that name one have
+// it; programs then get the environment_map_2d feature (and only then).
 struct Environment {
-  int texture = -1;       // index into Scene::textures (sRGB, mipmapped), -1 = no environment
-  float strength = 1.0f;  // Blender's Background strength (`meter_environment_strength`)
+  EnvironmentProbe probe;  // specular: the image baked into EEVEE's prefiltered cube probe
+  float strength = 1.0f;   // Blender's Background strength (`meter_environment_strength`)
   // Diffuse light from the map as EEVEE stores it for the world (an "ambient cube"): the
   // cosine-weighted mean linear radiance (times strength) around +X, -X, +Y, -Y, +Z, -Z (glTF axes),
   // i.e. irradiance / pi. A normal n receives sum(n_i^2 * side(sign n_i, i)).
   std::array<glm::vec3, 6> irradiance{};
-  bool present() const { return texture >= 0; }
+  bool present() const { return probe.levels > 0; }
 };
 
 struct Scene {

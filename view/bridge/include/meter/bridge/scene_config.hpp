@@ -87,11 +87,22 @@ struct ResolveConfig {
 };
 
 // "sample_shading": which materials are shaded once per MSAA sample instead of once per pixel
-// (docs/scene-config.md). Off (the default): every material once per pixel. NormalMaps: those with
-// a normal map, whose shading varies inside a pixel as the authoring tool's many samples per pixel
-// average it; up to 4x their fragment work at MSAA 4 (a full cluster frame +45 % on llvmpipe for
-// +0.03 dB, the bump feature scene +0.65 dB: a scene opts in where the detail shows).
-enum class SampleShading { Off, NormalMaps };
+// (docs/scene-config.md): those whose shading varies inside a pixel, which the authoring tool's
+// many samples per pixel average. Up to 4x their fragment work at MSAA 4, so a scene opts in where
+// the detail shows. None (the default, "off"): every material once per pixel.
+//   normal_maps ("normal-maps"): materials with a normal map (a full cluster frame +45 % on
+//     llvmpipe for +0.03 dB, the bump feature scene +0.65 dB).
+//   mirrors ("mirrors"): materials reflecting the environment sharply (roughness up to
+//     kMirrorRoughness, or Blinn-Phong, which reflects it unblurred).
+struct SampleShading {
+  // sqrt(0.1) * 6 = level 1.9 of EEVEE's 512 px probe: lobes of alpha up to 0.012, sharper than
+  // the world image's own texels, so the reflection changes inside a pixel.
+  static constexpr float kMirrorRoughness = 0.1f;
+  bool normal_maps = false;
+  bool mirrors = false;
+  bool any() const { return normal_maps || mirrors; }
+  bool operator==(const SampleShading&) const = default;
+};
 
 struct SceneConfig {
   std::array<int, 2> size{1280, 480};
@@ -107,7 +118,7 @@ struct SceneConfig {
   std::vector<Script> scripts;  // "scripts" (scene_scripts.hpp, docs/scene-logic.md)
   SceneFeaturesConfig features;  // pages, theme, units, sweep (scene_features.hpp)
   ResolveConfig resolve = {};    // "resolve"
-  SampleShading sample_shading = SampleShading::Off;  // "sample_shading"
+  SampleShading sample_shading;  // "sample_shading"
   std::string source_json;  // the original text, stored in the package
   std::string origin;       // the file (or name) it was parsed from, for later messages
 };

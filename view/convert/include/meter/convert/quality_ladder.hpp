@@ -20,8 +20,9 @@
 //   resolve         box / blackman-harris: the MSAA resolve (the scene config's "resolve" filter;
 //                   its width stays the config's), a RendererOptions-free setting: the Renderer
 //                   reads it from the scene;
-//   sample_shading  normal-maps / off: shade normal-mapped materials once per MSAA sample, or every
-//                   material once per pixel (the scene config's "sample_shading"), read from the
+//   sample_shading  off / normal-maps / mirrors / normal-maps+mirrors: which materials are shaded
+//                   once per MSAA sample (normal-mapped ones, sharp environment reflections), the
+//                   others once per pixel (the scene config's "sample_shading"), read from the
 //                   scene like the resolve.
 //
 // Why after conversion and not inside convert_gltf: the ladder is a runtime choice (the frame-rate
@@ -61,7 +62,7 @@ struct QualitySettings {
   std::optional<bool> affine;                      // true: no perspective correction (global)
   std::optional<bridge::ResolveConfig::Filter> resolve;  // the MSAA resolve filter (global)
   std::optional<bridge::ResolveConfig::SampleFormat> sample_format;  // the MSAA samples' storage (global)
-  std::optional<bridge::SampleShading> sample_shading;   // per-sample shading of normal maps (global)
+  std::optional<bridge::SampleShading> sample_shading;   // per-sample shading of normal maps / mirrors (global)
 };
 
 struct QualityReport {
