@@ -145,6 +145,17 @@ TEST(EnvironmentProbe, LobesWidenLevelByLevel) {
   EXPECT_LT(spread[6], 0.1 * spread[0]);
 }
 
+// A world finer than the probe is read at the probe's resolution, as EEVEE renders it into its
+// cube: a checkerboard of one-pixel cells (256 x 128) in 8 px faces is grey, not aliased.
+TEST(EnvironmentProbe, WorldFinerThanTheProbeIsFilteredNotAliased) {
+  const Image world = image_of(256, 128, [](int x, int y) { return ((x + y) % 2) ? glm::ivec3(255) : glm::ivec3(0); });
+  const EnvironmentProbe p = bake_environment_probe(world, 8);
+  ASSERT_EQ(p.levels, 1);
+  for (int f = 0; f < 6; ++f) EXPECT_LT(face_spread(p, 0, f), 0.02) << "face " << f;
+  // Linear mean of black and white: 0.5, sRGB 188.
+  EXPECT_NEAR(texel(p, 0, 0, 3, 3)[1], 188, 2);
+}
+
 TEST(EnvironmentProbe, RefusesSizesItCannotBake) {
   const Image world = image_of(8, 4, [](int, int) { return glm::ivec3(9); });
   for (int bad : {0, 4, 100, 8192}) {

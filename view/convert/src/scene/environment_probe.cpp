@@ -94,7 +94,7 @@ int sample_count(int level) { return level == 1 ? 32 : level == 2 ? 40 : level =
 
 // The Hammersley samples of one level's lobe, with the image level each is read from: the lobe's
 // share of the sphere per sample, 1 / (n pdf), against an equator texel's solid angle.
-std::vector<LobeSample> lobe_samples(double alpha, int n, double texel_solid_angle, double max_lod) {
+std::vector<LobeSample> lobe_samples(double alpha, int n, double texel_solid_angle, double min_lod, double max_lod) {
   const double a2 = alpha * alpha;
   std::vector<LobeSample> out;
   for (int i = 0; i < n; ++i) {
@@ -103,7 +103,7 @@ std::vector<LobeSample> lobe_samples(double alpha, int n, double texel_solid_ang
     const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
     const double k = cos_t * cos_t * (a2 - 1.0) + 1.0;
     const double pdf = a2 / (kPi * k * k) / 4.0;  // D(h) cos / (4 v.h), with n = v: D / 4
-    const double lod = std::clamp(0.5 * std::log2(1.0 / (n * pdf) / texel_solid_angle), 0.0, max_lod);
+    const double lod = std::clamp(0.5 * std::log2(1.0 / (n * pdf) / texel_solid_angle), min_lod, max_lod);
     out.push_back({cos_t, sin_t, std::cos(phi), std::sin(phi), lod});
   }
   return out;
@@ -158,13 +158,17 @@ bridge::EnvironmentProbe bake_environment_probe(const platform::Image& equirect,
   probe.face_size = face_size;
   probe.levels = bridge::EnvironmentProbe::levels_for(face_size);
   probe.rgb.reserve(bridge::EnvironmentProbe::byte_size(face_size, probe.levels));
+  // The world as EEVEE renders it into the probe: the image read at the mip whose texel matches a
+  // level-0 face texel (the sharpest mip when the face is finer than the image). Level 0 is that;
+  // the lobes read nothing sharper either (EEVEE filters from that render, not from the image).
+  const double base_lod = std::clamp(std::log2(double(equirect.width) / (4.0 * face_size)), 0.0, max_lod);
   for (int level = 0; level < probe.levels; ++level) {
     const int size = face_size >> level;
-    // Level 0 is the world as EEVEE renders it into the probe: the image read at the mip whose
-    // texel matches a face texel (the sharpest level when the face is finer than the image).
-    const double base_lod = std::max(0.0, std::log2(double(equirect.width) / (4.0 * face_size)));
-    const double alpha = std::clamp(std::pow(double(level) / (probe.levels - 1), 4.0), 1e-4, 0.9999);
-    const std::vector<LobeSample> lobe = level == 0 ? std::vector<LobeSample>{} : lobe_samples(alpha, sample_count(level), texel_solid_angle, max_lod);
+    std::vector<LobeSample> lobe;
+    if (level > 0) {
+      const double alpha = std::clamp(std::pow(double(level) / (probe.levels - 1), 4.0), 1e-4, 0.9999);
+      lobe = lobe_samples(alpha, sample_count(level), texel_solid_angle, base_lod, max_lod);
+    }
     for (int face = 0; face < 6; ++face)
       for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
