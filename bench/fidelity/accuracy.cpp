@@ -179,14 +179,14 @@ int run_accuracy(platform::BackendKind kind, const fs::path& out, const fs::path
         const convert::QualityReport rep = convert::apply_quality(scenes[i], q);
         if (q.environment == false && !rep.environment_dropped) continue;  // no map: the base again
         if (q.shadows == false && rep.shadow_maps_dropped == 0) continue;  // nothing casts: the base again
-        const bool normal_maps = std::any_of(base.programs.begin(), base.programs.end(),
-                                             [](const auto& e) { return e.program.features.normal_texture; });
-        const bool mirrors = base.environment.present() &&
-                             std::any_of(base.materials.begin(), base.materials.end(), [](const auto& m) {
-                               return m.roughness <= bridge::SampleShading::kMirrorRoughness;
-                             });
-        if (q.sample_shading && (!(normal_maps || mirrors) || *q.sample_shading == base.config.sample_shading))
-          continue;  // the base again
+        // A draw that either kind would shade per sample (the runtime's own test).
+        const bridge::SampleShading every_kind{.normal_maps = true, .mirrors = true};
+        const bool varies = std::any_of(base.draws.begin(), base.draws.end(), [&](const auto& d) {
+          const auto& prim = base.meshes[std::size_t(d.mesh)].primitives[std::size_t(d.primitive)];
+          return every_kind.shades_per_sample(base.programs[std::size_t(d.program)].program.features,
+                                              base.materials[std::size_t(prim.material)].roughness);
+        });
+        if (q.sample_shading && (!varies || *q.sample_shading == base.config.sample_shading)) continue;  // the base again
         if (q.resolve && steps[i].scale == 1 && *q.resolve == base.config.resolve.filter) continue;  // the scene's own resolve
         if (q.sample_format && *q.sample_format == base.config.resolve.sample_format) continue;  // the scene's own samples
       } catch (const std::exception& e) {

@@ -106,12 +106,8 @@ void DrawSubmission::submit_depth(const std::vector<int>& draws, const FrameStat
 bool DrawSubmission::shades_per_sample(std::size_t index, const FrameState& frame) const {
   const GpuDraw* d = gpu_.draws()[index].get();
   const auto shading = std::min(static_cast<std::size_t>(frame.draws[index].shading), d->shadings.size() - 1);
-  const bridge::MaterialFeatures& f = d->shadings[shading].shape->features;
-  const bridge::SampleShading& kinds = scene_.config.sample_shading;
-  if (kinds.normal_maps && f.normal_texture) return true;
   const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
-  return kinds.mirrors && f.environment_map_2d &&
-         (f.shading == bridge::ShadingModel::BlinnPhong || mat.roughness <= bridge::SampleShading::kMirrorRoughness);
+  return scene_.config.sample_shading.shades_per_sample(d->shadings[shading].shape->features, mat.roughness);
 }
 
 void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current,

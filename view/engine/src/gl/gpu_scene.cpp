@@ -130,7 +130,6 @@ void GpuScene::compile(GpuProgram& program, const std::string& fragment_source) 
 void GpuScene::upload_textures() {
   for (std::size_t index = 0; index < scene_.textures.size(); ++index) {
     const Texture& t = scene_.textures[index];
-    const float anisotropy = t.max_anisotropy;
     GLuint tex = 0;
     gl_.GenTextures(1, &tex);
     gl_.BindTexture(GL_TEXTURE_2D, tex);
@@ -143,14 +142,14 @@ void GpuScene::upload_textures() {
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, t.wrap_s);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, t.wrap_t);
-    if (anisotropy > 1.0f) {
+    if (t.max_anisotropy > 1.0f) {
       // EXT_texture_filter_anisotropic (llvmpipe has it on both backends); without it the query
       // fails and the texture stays trilinear.
       constexpr GLenum kMaxAnisotropy = 0x84FE, kMaxSupported = 0x84FF;
       GLfloat supported = 1.0f;
       gl_.GetFloatv(kMaxSupported, &supported);
       if (gl_.GetError() == GL_NO_ERROR && supported > 1.0f)
-        gl_.TexParameterf(GL_TEXTURE_2D, kMaxAnisotropy, std::min(anisotropy, supported));
+        gl_.TexParameterf(GL_TEXTURE_2D, kMaxAnisotropy, std::min(t.max_anisotropy, supported));
     }
     textures_.push_back(tex);
   }

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "meter/bridge/program.hpp"
 #include "meter/bridge/scene_scripts.hpp"
 #include "meter/bridge/scene_features.hpp"
 
@@ -101,6 +102,12 @@ struct SampleShading {
   bool normal_maps = false;
   bool mirrors = false;
   bool any() const { return normal_maps || mirrors; }
+  // Whether a draw of a program with these features and a material of this roughness factor is
+  // shaded per sample (the runtime's choice, and the benchmarks' test of whether a kind matters).
+  bool shades_per_sample(const MaterialFeatures& f, float roughness) const {
+    if (normal_maps && f.normal_texture) return true;
+    return mirrors && f.environment_map_2d && (f.shading == ShadingModel::BlinnPhong || roughness <= kMirrorRoughness);
+  }
   bool operator==(const SampleShading&) const = default;
 };
 
