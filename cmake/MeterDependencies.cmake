@@ -1,10 +1,10 @@
-# Every dependency is a Debian 12 package (scripts/install-deps installs them all).
+# Every dependency is a Debian 12 package, listed by purpose in scripts/deps/ (scripts/install-deps).
 # Each lookup fails at configure time naming the package to install.
 find_package(PkgConfig REQUIRED)
 
 function(meter_missing what debpkg)
   message(FATAL_ERROR "meter: ${what} not found. Install the Debian package '${debpkg}' "
-                      "(or run scripts/install-deps, which installs everything).")
+                      "(scripts/install-deps build installs what the product needs, scripts/install-deps test the rest).")
 endfunction()
 
 # pkg-config module -> imported target PkgConfig::<target>
