@@ -8,9 +8,9 @@
 #include "meter/controller/run/commands.hpp"
 
 namespace {
-const std::string kShared = METER_SHARED_DIR;
-const std::string kDbc = kShared + "/data/can/ft86_motec/sample_can_spec.dbc";
-const std::string kLog = kShared + "/data/can/ft86_motec/can_sample.log";
+const std::string kSharedDir = METER_SHARED_DIR;
+const std::string kFt86Dbc = kSharedDir + "/data/can/ft86_motec/sample_can_spec.dbc";
+const std::string kFt86Log = kSharedDir + "/data/can/ft86_motec/can_sample.log";
 
 struct Row {
   std::string ts, message, signal;
@@ -34,8 +34,8 @@ std::vector<Row> parse(std::istream& in, int value_column) {
 }  // namespace
 
 TEST(Canmatrix, Ft86DecodeMatchesRowByRow) {
-  std::string cmd = "/usr/bin/python3 " + std::string(METER_SOURCE_DIR) + "/controller/tests/canmatrix_decode.py " + kDbc +
-                    " " + kLog + " 2>/dev/null";
+  std::string cmd = "/usr/bin/python3 " + std::string(METER_SOURCE_DIR) + "/controller/tests/canmatrix_decode.py " + kFt86Dbc +
+                    " " + kFt86Log + " 2>/dev/null";
   FILE* p = ::popen(cmd.c_str(), "r");
   ASSERT_NE(p, nullptr);
   std::string py;
@@ -46,7 +46,7 @@ TEST(Canmatrix, Ft86DecodeMatchesRowByRow) {
   std::istringstream pin(py);
   auto ref = parse(pin, 3);
   std::ostringstream out, err;
-  ASSERT_EQ(meter::controller::decode_command(kDbc, kLog, "", out, err), 0) << err.str();
+  ASSERT_EQ(meter::controller::decode_command(kFt86Dbc, kFt86Log, "", out, err), 0) << err.str();
   std::istringstream min(out.str());
   auto ours = parse(min, 4);
   ASSERT_EQ(ref.size(), 91381u);  // the sum of the counts in expected_canmatrix_stats.csv

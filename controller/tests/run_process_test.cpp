@@ -30,7 +30,7 @@ using meter::controller::testing::watch_until_exit;
 
 namespace {
 const std::string kBin = std::string(METER_BINARY_DIR) + "/bin/meter-controller";
-const std::string kShared = METER_SHARED_DIR;
+const std::string kSharedData = METER_SHARED_DIR;
 const std::string kSrc = METER_SOURCE_DIR;
 
 // Polls the subscriber (calling on_link_up while the link is up) until the controller exits or
@@ -49,8 +49,8 @@ TEST(Process, Ft86ReplayPublishesTheLogValues) {
   auto dir = std::filesystem::temp_directory_path() / ("meter-proc-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string sock = (dir / "link.sock").string();
-  pid_t pid = spawn({kBin, "run", "--dbc", kShared + "/data/can/ft86_motec/sample_can_spec.dbc", "--map",
-                     kSrc + "/controller/vehicles/ft86/ft86.map", "--input", "log:" + kShared + "/data/can/ft86_motec/can_sample.log",
+  pid_t pid = spawn({kBin, "run", "--dbc", kSharedData + "/data/can/ft86_motec/sample_can_spec.dbc", "--map",
+                     kSrc + "/controller/vehicles/ft86/ft86.map", "--input", "log:" + kSharedData + "/data/can/ft86_motec/can_sample.log",
                      "--replay", "scale:30", "--link", "unix:" + sock, "--state-dir", (dir / "state").string(),
                      "--exit-at-end", "--linger", "1.5"},
                     (dir / "stderr.txt").string());

@@ -26,11 +26,11 @@ using meter::testing::read_csv;
 
 namespace {
 
-const std::string kSource = METER_SOURCE_DIR;
+const std::string kSourceDir = METER_SOURCE_DIR;
 const std::string kSoc = meter::testing::kSocName;
 // 72.5 % is a raw step of the DBC signal (0.5 % per bit), so the decoded value is exact.
 constexpr double kSocPercent = 72.5;
-constexpr double kLogSeconds = 8.0;
+constexpr double kCatalogLogSeconds = 8.0;
 
 void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
 
@@ -84,7 +84,7 @@ void write_log(const fs::path& dbc, const fs::path& file) {
   ASSERT_NE(msg, nullptr);
   std::ofstream out(file);
   const std::int64_t t0_ns = 1'700'000'000'000'000'000LL;
-  for (int i = 0; i * 0.1 <= kLogSeconds + 1e-9; ++i) {
+  for (int i = 0; i * 0.1 <= kCatalogLogSeconds + 1e-9; ++i) {
     const std::pair<std::string_view, double> values[] = {{"SOC_Displayed", kSocPercent}};
     out << meter::testing::candump_line(*msg, values, t0_ns + static_cast<std::int64_t>(i) * 100'000'000LL) << "\n";
   }
@@ -126,7 +126,7 @@ Vehicle make_vehicle(const std::string& name) {
 int convert(const std::string& config, const fs::path& out, const std::string& catalog,
             std::string& log) {
   std::vector<std::string> argv = {built_executable("meter-convert"),
-                                   kSource + "/scenes/minimal-gauge/minimal-gauge.glb", "--config", config, "-o",
+                                   kSourceDir + "/scenes/minimal-gauge/minimal-gauge.glb", "--config", config, "-o",
                                    out.string()};
   if (!catalog.empty()) argv.insert(argv.end(), {"--catalog", catalog});
   ChildProcess p(argv, (out.string() + ".log"));
@@ -199,14 +199,14 @@ TEST(EndToEnd, AViewWithAnotherCatalogIsRefusedNamingBothFiles) {
   // The minimal gauge binds Vehicle.Speed only: the view's catalog (the shipped file, given
   // explicitly) loads it; the controller runs the EV catalog.
   std::string log;
-  ASSERT_EQ(convert(kSource + "/scenes/minimal-gauge/minimal-gauge.scene.json", v.dir / "gauge.msp", "", log), 0)
+  ASSERT_EQ(convert(kSourceDir + "/scenes/minimal-gauge/minimal-gauge.scene.json", v.dir / "gauge.msp", "", log), 0)
       << log;
   const fs::path socket = v.dir / "link.sock";
   const std::string link = "unix:" + socket.string();
   ChildProcess controller(controller_args(v, link), (v.dir / "controller.log").string());
   wait_for_socket(socket, controller);
   if (HasFatalFailure()) return;
-  const std::string view_catalog = kSource + "/protocol/catalog/signals.vss.json";
+  const std::string view_catalog = kSourceDir + "/protocol/catalog/signals.vss.json";
   ChildProcess view({built_executable("meter-view"), "--scene", (v.dir / "gauge.msp").string(), "--backend", "egl",
                      "--catalog", view_catalog, "--link", link, "--fps", "10", "--duration", "2", "--out",
                      (v.dir / "frames").string()},
@@ -242,12 +242,12 @@ TEST(EndToEnd, ABadCatalogFileStopsEachProgramWithTheLoadersMessage) {
   const std::string expected = bad.string() + ": /Vehicle/children/Speed: expected a \"meter_id\" field";
   const std::vector<std::vector<std::string>> runs = {
       {built_executable("meter-controller"), "run", "--catalog", bad.string(), "--map",
-       kSource + "/controller/vehicles/demo/demo.map", "--dbc", kSource + "/controller/vehicles/demo/demo.dbc",
-       "--input", "log:" + kSource + "/vcan/logs/demo-drive.log"},
+       kSourceDir + "/controller/vehicles/demo/demo.map", "--dbc", kSourceDir + "/controller/vehicles/demo/demo.dbc",
+       "--input", "log:" + kSourceDir + "/vcan/logs/demo-drive.log"},
       {built_executable("meter-view"), "--scene", (dir / "none.msp").string(), "--catalog", bad.string(), "--set",
        "Vehicle.Speed=1", "--out", dir.string()},
-      {built_executable("meter-convert"), kSource + "/scenes/minimal-gauge/minimal-gauge.glb", "--config",
-       kSource + "/scenes/minimal-gauge/minimal-gauge.scene.json", "--catalog", bad.string(), "-o",
+      {built_executable("meter-convert"), kSourceDir + "/scenes/minimal-gauge/minimal-gauge.glb", "--config",
+       kSourceDir + "/scenes/minimal-gauge/minimal-gauge.scene.json", "--catalog", bad.string(), "-o",
        (dir / "x.msp").string()},
   };
   int n = 0;

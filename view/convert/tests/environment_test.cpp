@@ -48,14 +48,14 @@ void write_two_tone(const fs::path& file) {
   meter::platform::write_png(im, file);
 }
 
-Scene convert(const std::string& gltf) {
+Scene convert_dial(const std::string& gltf) {
   return convert_gltf(gltf, parse_scene_config(test::dial_config_json()), ConvertOptions{false}).scene;
 }
 
 // The diagnostics of a conversion that must fail validation.
 std::vector<Diagnostic> errors_of(const std::string& gltf) {
   try {
-    convert(gltf);
+    convert_dial(gltf);
   } catch (const ConvertError& e) {
     return e.errors;
   }
@@ -72,7 +72,7 @@ bool has_error(const std::vector<Diagnostic>& errs, const std::string& path, con
 }  // namespace
 
 TEST(Environment, SceneWithoutOneGetsNoEnvironmentCode) {
-  const Scene s = convert(test::write_dial_scene(test::scratch_dir("env_none")));
+  const Scene s = convert_dial(test::write_dial_scene(test::scratch_dir("env_none")));
   EXPECT_FALSE(s.environment.present());
   for (const auto& p : s.programs) {
     EXPECT_FALSE(p.program.features.environment_map_2d) << meter::shadergen::program_key(p.program.features);
@@ -83,7 +83,7 @@ TEST(Environment, SceneWithoutOneGetsNoEnvironmentCode) {
 TEST(Environment, ExtrasArePackedIntegratedAndUsedByLitPerPixelPrograms) {
   const auto dir = test::scratch_dir("env_two_tone");
   write_two_tone(fs::path(dir) / "sky.png");
-  const Scene s = convert(dial_with_extras(dir, {{"meter_environment", "sky.png"}, {"meter_environment_strength", 2.0}}));
+  const Scene s = convert_dial(dial_with_extras(dir, {{"meter_environment", "sky.png"}, {"meter_environment_strength", 2.0}}));
   ASSERT_TRUE(s.environment.present());
   EXPECT_FLOAT_EQ(s.environment.strength, 2.0f);
   // Baked into EEVEE's 512 px probe (environment_probe_test.cpp checks the bake); the image itself
@@ -171,7 +171,7 @@ TEST(Environment, BadExtrasAreNamedWithFileAndField) {
 // A corrupt package cannot hand the runtime a probe whose size and texels disagree.
 TEST(Environment, PackageRefusesAProbeOfTheWrongShape) {
   const auto dir = test::scratch_dir("env_corrupt");
-  const Scene good = convert(test::write_dial_scene(dir));
+  const Scene good = convert_dial(test::write_dial_scene(dir));
   const auto refused = [&](const std::function<void(EnvironmentProbe&)>& damage, const std::string& expected) {
     Scene s = good;
     s.environment.probe = {.face_size = 8, .levels = 1, .rgb = std::vector<std::uint8_t>(EnvironmentProbe::byte_size(8, 1), 7)};

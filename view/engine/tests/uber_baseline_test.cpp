@@ -22,8 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const Scene& cluster() { return test::cluster_scene(); }
-
 platform::Image render(platform::GpuBackend& backend, const Scene& scene, bool uber, double speed) {
   RendererOptions o;
   static const shadergen::Program kUber = shadergen::generate_uber();
@@ -42,8 +40,8 @@ platform::Image render(platform::GpuBackend& backend, const Scene& scene, bool u
 
 TEST(UberBaseline, DrawsTheSameClusterAsTheGeneratedPrograms) {
   auto backend = platform::create_backend(platform::BackendKind::Egl);
-  const platform::Image generated = render(*backend, cluster(), false, 87.0);
-  const platform::Image uber = render(*backend, cluster(), true, 87.0);
+  const platform::Image generated = render(*backend, test::cluster_scene(), false, 87.0);
+  const platform::Image uber = render(*backend, test::cluster_scene(), true, 87.0);
   const double db = platform::psnr(generated, uber);
   std::printf("[ uber     ] cluster uber vs generated: %.1f dB\n", db);
   if (db < 60.0) {
@@ -56,5 +54,5 @@ TEST(UberBaseline, DrawsTheSameClusterAsTheGeneratedPrograms) {
   // leaves room for that across drivers; one light mapped to the wrong slot measured 24.4 dB.
   EXPECT_GE(db, 60.0);
   // And the needle moves the same way: a different speed must change the uber image too.
-  EXPECT_LT(platform::psnr(uber, render(*backend, cluster(), true, 200.0)), 40.0);
+  EXPECT_LT(platform::psnr(uber, render(*backend, test::cluster_scene(), true, 200.0)), 40.0);
 }

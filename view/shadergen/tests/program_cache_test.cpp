@@ -13,7 +13,7 @@ namespace {
 
 using test::pbr;
 
-MaterialFeatures lit_pbr() {
+MaterialFeatures textured_lit_pbr() {
   MaterialFeatures f = pbr();
   f.base_color_texture = true;
   f.lights = {1, 1, 0};
@@ -44,13 +44,13 @@ void expect_same_report(const OptimizeReport& a, const OptimizeReport& b) {
 }
 
 TEST(ProgramCache, AHitEqualsAFreshOptimizeByteForByte) {
-  const Program generated = generate(lit_pbr());
+  const Program generated = generate(textured_lit_pbr());
   OptimizeReport fresh_report;
   const Program fresh = optimize(generated, constants(0.4f), &fresh_report);
   ProgramCache cache;
   OptimizeReport first_report, hit_report;
   const Program first = cache.optimize(generated, constants(0.4f), &first_report);
-  const Program hit = cache.optimize(generate(lit_pbr()), constants(0.4f), &hit_report);
+  const Program hit = cache.optimize(generate(textured_lit_pbr()), constants(0.4f), &hit_report);
   EXPECT_EQ(cache.misses(), 1u);
   EXPECT_EQ(cache.hits(), 1u);
   EXPECT_EQ(cache.size(), 1u);
@@ -65,8 +65,8 @@ TEST(ProgramCache, AHitEqualsAFreshOptimizeByteForByte) {
 
 TEST(ProgramCache, AChangedMaterialFeatureMisses) {
   ProgramCache cache;
-  const Program plain = cache.optimize(generate(lit_pbr()), constants(0.4f));
-  MaterialFeatures normal_mapped = lit_pbr();
+  const Program plain = cache.optimize(generate(textured_lit_pbr()), constants(0.4f));
+  MaterialFeatures normal_mapped = textured_lit_pbr();
   normal_mapped.normal_texture = true;
   const Program mapped = cache.optimize(generate(normal_mapped), constants(0.4f));
   EXPECT_EQ(cache.misses(), 2u);
@@ -80,7 +80,7 @@ TEST(ProgramCache, AChangedMaterialFeatureMisses) {
 
 TEST(ProgramCache, AChangedConstantMissesDownToItsBits) {
   ProgramCache cache;
-  const Program generated = generate(lit_pbr());
+  const Program generated = generate(textured_lit_pbr());
   const Program rough = cache.optimize(generated, constants(0.4f));
   const Program smoother = cache.optimize(generated, constants(0.3f));
   EXPECT_EQ(cache.misses(), 2u);
@@ -96,7 +96,7 @@ TEST(ProgramCache, AChangedConstantMissesDownToItsBits) {
 }
 
 TEST(ProgramCache, EveryFieldOfTheGeneratedProgramIsInTheKey) {
-  const Program base = generate(lit_pbr());
+  const Program base = generate(textured_lit_pbr());
   const std::string k = ProgramCache::key(base, {});
   auto differs = [&](auto change) {
     Program p = base;
@@ -124,7 +124,7 @@ TEST(ProgramCache, AFailingOptimizeThrowsEveryTimeAndCachesNothing) {
   ProgramCache cache;
   ConstantValues wrong;
   wrong.set(UniformSemantic::EmissiveFactor, {1.0f, 0.0f});  // a vec3 given two values
-  const Program generated = generate(lit_pbr());
+  const Program generated = generate(textured_lit_pbr());
   EXPECT_THROW(cache.optimize(generated, wrong), std::invalid_argument);
   EXPECT_THROW(cache.optimize(generated, wrong), std::invalid_argument);
   EXPECT_EQ(cache.size(), 0u);
@@ -133,7 +133,7 @@ TEST(ProgramCache, AFailingOptimizeThrowsEveryTimeAndCachesNothing) {
 
 TEST(ProgramCache, TheLeastRecentlyUsedProgramLeavesFirst) {
   ProgramCache cache(2);
-  const Program generated = generate(lit_pbr());
+  const Program generated = generate(textured_lit_pbr());
   cache.optimize(generated, constants(0.1f));
   cache.optimize(generated, constants(0.2f));
   cache.optimize(generated, constants(0.1f));  // hit: 0.1 is now the most recent

@@ -26,7 +26,7 @@ constexpr double kTelltaleTolerance = 12.0;
 // Lit and unlit looks closer than this cannot be told apart with that tolerance and margin.
 constexpr double kMinSeparation = 3.0 * kTelltaleTolerance;
 
-struct Group {
+struct TelltaleGroup {
   std::string signal;
   std::vector<int> bindings;
 };
@@ -50,7 +50,7 @@ double channel_distance(const std::array<double, 3>& a, const std::array<double,
 }
 
 // The group's bindings forced to one state on top of the no-signal outputs.
-engine::BindingOutputs look(const Scene& scene, const engine::BindingOutputs& base, const Group& g, bool shown, bool lit) {
+engine::BindingOutputs look(const Scene& scene, const engine::BindingOutputs& base, const TelltaleGroup& g, bool shown, bool lit) {
   auto o = base;
   for (int i : g.bindings) {
     const auto& b = scene.config.bindings[std::size_t(i)];
@@ -85,7 +85,7 @@ void erode(std::vector<std::uint8_t>& mask, int w, int h) {
 }  // namespace
 
 void measure_telltales(const Scene& scene, SceneShots& shots, IntegrityMeasurement& out) {
-  std::vector<Group> groups;
+  std::vector<TelltaleGroup> groups;
   std::map<std::string, std::size_t> by_signal;
   const auto& bindings = scene.config.bindings;
   for (std::size_t i = 0; i < bindings.size(); ++i) {
@@ -96,7 +96,7 @@ void measure_telltales(const Scene& scene, SceneShots& shots, IntegrityMeasureme
     groups[it->second].bindings.push_back(int(i));
   }
   const int w = shots.width(), h = shots.height();
-  for (const Group& g : groups) {
+  for (const TelltaleGroup& g : groups) {
     bridge::SafetyRegion r;
     r.kind = bridge::SafetyKind::Telltale;
     r.signal = g.signal;

@@ -15,7 +15,7 @@ using namespace fixtures;
 
 // Unit U: 0.01 ms/px + 0.5 ms at full, 0.004 + 0.2 at level 1; V: 0.002 + 0.1. Overhead
 // 1e-4 ms/px + 1 ms; rung 1 (MSAA 1, half scale): pixel factor 0.3, fixed 0.25 ms.
-CostModel sample() {
+CostModel sample_model() {
   CostModel m = model({unit("U", 2, 1, {0.01, 0.004}), unit("V", 1, 1, {0.002})});
   m.units[0].levels[0].cost.b_ms = 0.5;
   m.units[0].levels[1].cost.b_ms = 0.2;
@@ -30,7 +30,7 @@ CostModel sample() {
 }
 
 TEST(CostModel, PredictionAddsOverheadRungAndDrawnUnits) {
-  const CostModel m = sample();
+  const CostModel m = sample_model();
   FrameLoad l = load({1000, 500});  // redrawn 1500 px
   // Full: overhead 0.15 + 1; U 10 + 0.5; V 1 + 0.1 = 12.75 ms.
   EXPECT_NEAR(predict_ms(m, l, {}), 12.75, 1e-9);
@@ -51,7 +51,7 @@ TEST(CostModel, PredictionAddsOverheadRungAndDrawnUnits) {
 }
 
 TEST(CostModel, BadPixelCountsAreReadSafely) {
-  const CostModel m = sample();
+  const CostModel m = sample_model();
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   FrameLoad l = load({nan, -5});
   l.redrawn_pixels = nan;
@@ -63,7 +63,7 @@ TEST(CostModel, BadPixelCountsAreReadSafely) {
 }
 
 TEST(CostModel, AChoiceOrLoadThatDoesNotFitIsAnErrorNamingIt) {
-  const CostModel m = sample();
+  const CostModel m = sample_model();
   const FrameLoad l = load({1, 2});
   auto message = [&](const QualityChoice& c, const FrameLoad& fl) {
     try {
