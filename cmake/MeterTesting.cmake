@@ -33,11 +33,13 @@ function(meter_add_test_pch)
 endfunction()
 
 # meter_add_gtest(<target> LABELS <labels...> SOURCES <files...> LIBS <libs...> [TIMEOUT s]
-#                 [RESOURCE_LOCK name])
+#                 [RESOURCE_LOCK name] [COST n])
 # Builds a GoogleTest executable and registers each test case with CTest under the given labels
-# (unit, integration, vcan, slow) so `ctest -L unit` runs a subset.
+# (unit, integration, vcan, slow) so `ctest -L unit` runs a subset. COST starts a long program's
+# tests early under ctest -j in a fresh tree, before ctest has measured any time (it orders by the
+# times it measured once it has them).
 function(meter_add_gtest target)
-  cmake_parse_arguments(T "" "TIMEOUT;RESOURCE_LOCK" "LABELS;SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(T "" "TIMEOUT;RESOURCE_LOCK;COST" "LABELS;SOURCES;LIBS" ${ARGN})
   if(NOT METER_BUILD_TESTS)
     return()
   endif()
@@ -58,6 +60,9 @@ function(meter_add_gtest target)
   list(APPEND _props TIMEOUT ${T_TIMEOUT})
   if(T_RESOURCE_LOCK)
     list(APPEND _props RESOURCE_LOCK ${T_RESOURCE_LOCK})
+  endif()
+  if(T_COST)
+    list(APPEND _props COST ${T_COST})
   endif()
   add_executable(${target} ${T_SOURCES})
   if("unit" IN_LIST T_LABELS)
