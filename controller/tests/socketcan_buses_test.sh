@@ -5,11 +5,20 @@
 # unmapped and unknown ids, a remote frame and error frames (warning, passive, bus-off, restart),
 # then a full-rate flood on a mapped id: every frame delivered or counted as a kernel drop (a socket's
 # receive queue full) or an interface drop (vcan0's input backlog full, before any socket).
-# usage: socketcan_buses_test.sh SOURCE_DIR BINARY_DIR   (METER_FLOOD_S: flood seconds, default 60)
+# usage: socketcan_buses_test.sh SOURCE_DIR BINARY_DIR [STEP]   (METER_FLOOD_S: flood seconds,
+# default 60; STEP: as in socketcan_vcan_test.sh)
 set -euo pipefail
-src=$1 bin=$2
+src=$1 bin=$2 step=${3:-all}
 flood_s=${METER_FLOOD_S:-60}
 out=$bin/controller/tests/vcan-buses-out
+if [[ $step == guest ]]; then   # where it writes, then the command
+  echo "$out"
+  echo "env METER_BIN=$bin/bin/meter-controller METER_SRC=$src OUT=$out FLOOD_S=$flood_s /bin/bash $src/controller/tests/socketcan_buses_guest.sh"
+  exit 0
+fi
+[[ $step == shared && -f $out/shared-boot ]] && step=judge
+[[ $step == shared ]] && step=all
+if [[ $step == prepare || $step == all ]]; then
 rm -rf "$out" && mkdir -p "$out"
 
 # The log, 3 s at 20 ms steps. Speeds and rpm are exact in the DBC's scales (0.01 km/h, 0.125 rpm).
@@ -45,10 +54,15 @@ for i, e in errors.items():
 lines.sort(key=lambda l: float(l[1:l.index(")")]))
 open(sys.argv[1], "w").write("\n".join(lines) + "\n")
 PY
-
-"$src/vcan/with-vcan" --share-out "$out" --timeout $((flood_s + 120)) \
-  --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" --env "FLOOD_S=$flood_s" \
-  -- /bin/bash "$src/controller/tests/socketcan_buses_guest.sh"
+fi
+[[ $step == prepare ]] && exit 0
+if [[ $step == all ]]; then
+  "$src/vcan/with-vcan" --share-out "$out" --timeout $((flood_s + 120)) \
+    --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" --env "FLOOD_S=$flood_s" \
+    -- /bin/bash "$src/controller/tests/socketcan_buses_guest.sh"
+else
+  echo "judging the run of the shared boot (controller.vcan_drives) in $out"
+fi
 
 fail() { echo "FAIL: $*"; for f in ctlA.err ctlA.out ctlB.err ctlB.out canplayer.err flood.txt latency.txt rss.txt; do echo "--- $f"; cat "$out/$f" 2>/dev/null; done; exit 1; }
 # ---- A ----
