@@ -16,7 +16,10 @@ start() {  # start NAME [extra args]: a controller on vcan0, stdout/stderr to $O
   "$METER_BIN" run -v --dbc "$dbc" --map "$map" --input can:vcan0 --link tcp:127.0.0.1:0 "$@" \
     >"$OUT/$name.out" 2>"$OUT/$name.err" &
   pid=$!
-  sleep 1
+  # Until its CAN socket is open (the -v line "... -> tcp:..." comes after it): a fixed sleep raced
+  # with its start-up on the guest's instruction clock, where waits for the host's 9p share take no
+  # guest time. run-in-vm's timeout bounds the wait.
+  until grep -q " -> " "$OUT/$name.err" 2>/dev/null; do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
   kill -0 $pid 2>/dev/null || { echo "controller $name exited at start" >&2; cat "$OUT/$name.err" >&2; exit 1; }
 }
 stop() {

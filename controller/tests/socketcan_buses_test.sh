@@ -5,11 +5,20 @@
 # unmapped and unknown ids, a remote frame and error frames (warning, passive, bus-off, restart),
 # then a full-rate flood on a mapped id: every frame delivered or counted as a kernel drop (a socket's
 # receive queue full) or an interface drop (vcan0's input backlog full, before any socket).
-# usage: socketcan_buses_test.sh SOURCE_DIR BINARY_DIR   (METER_FLOOD_S: flood seconds, default 60)
+# usage: socketcan_buses_test.sh SOURCE_DIR BINARY_DIR [STEP]   (METER_FLOOD_S: flood seconds,
+# default 60; STEP: as in socketcan_vcan_test.sh)
 set -euo pipefail
-src=$1 bin=$2
+src=$1 bin=$2 step=${3:-all}
 flood_s=${METER_FLOOD_S:-60}
 out=$bin/controller/tests/vcan-buses-out
+if [[ $step == guest ]]; then   # where it writes, then the command
+  echo "$out"
+  echo "env METER_BIN=$bin/bin/meter-controller METER_SRC=$src OUT=$out FLOOD_S=$flood_s /bin/bash $src/controller/tests/socketcan_buses_guest.sh"
+  exit 0
+fi
+[[ $step == shared && -f $out/shared-boot ]] && step=judge
+[[ $step == shared ]] && step=all
+if [[ $step == prepare || $step == all ]]; then
 rm -rf "$out" && mkdir -p "$out"
 
 # The log, 3 s at 20 ms steps. Speeds and rpm are exact in the DBC's scales (0.01 km/h, 0.125 rpm).
@@ -45,10 +54,15 @@ for i, e in errors.items():
 lines.sort(key=lambda l: float(l[1:l.index(")")]))
 open(sys.argv[1], "w").write("\n".join(lines) + "\n")
 PY
-
-"$src/vcan/with-vcan" --share-out "$out" --timeout $((flood_s + 120)) \
-  --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" --env "FLOOD_S=$flood_s" \
-  -- /bin/bash "$src/controller/tests/socketcan_buses_guest.sh"
+fi
+[[ $step == prepare ]] && exit 0
+if [[ $step == all ]]; then
+  "$src/vcan/with-vcan" --guest-clock instructions --cpus 1 --share-out "$out" --timeout $((flood_s + 120)) \
+    --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" --env "FLOOD_S=$flood_s" \
+    -- /bin/bash "$src/controller/tests/socketcan_buses_guest.sh"
+else
+  echo "judging the run of the shared boot (controller.vcan_drives) in $out"
+fi
 
 fail() { echo "FAIL: $*"; for f in ctlA.err ctlA.out ctlB.err ctlB.out canplayer.err flood.txt latency.txt rss.txt; do echo "--- $f"; cat "$out/$f" 2>/dev/null; done; exit 1; }
 # ---- A ----
@@ -90,8 +104,10 @@ fi
 read -r _ n _ p50 _ p99 _ max <"$out/latency.txt"
 echo "flood latency (kernel stamp -> decoded): n $n p50 ${p50} us p99 ${p99} us max ${max} us"
 # Bounded: a frame waits for the frames queued before it, at most a full receive queue (the
-# default 208 kB rmem; the drops show it fills), plus one 10 ms model tick; the rest of 250 ms is
-# for a TCG vCPU descheduled on the loaded 2-core host (measured p99 70-83 ms, max 466 ms).
+# default 208 kB rmem; the drops show it fills), plus one 10 ms model tick, with cangen sharing the
+# guest's one CPU. In the VM the stamps are on the guest's instruction-counted clock, so a busy host
+# taking the guest's CPU away does not count (on the host's clock it did: p99 70-163 ms, max 2.9 s);
+# measured so: p99 44 ms, max 60 ms.
 awk -v p="$p99" 'BEGIN{exit !(p < 250000)}' || fail "B: p99 latency ${p99} us >= 250 ms"
 early=$(awk '$1 == "early" {print $2}' "$out/rss.txt") late=$(awk '$1 == "late" {print $2}' "$out/rss.txt")
 echo "flood RSS: ${early} kB after 5 s, ${late} kB at the end"

@@ -1,17 +1,34 @@
 #!/usr/bin/env bash
 # vcan test: meter-controller on a real SocketCAN vcan0 (directly, or in the qemu VM through
 # vcan/with-vcan) receives the first 2500 demo-drive frames replayed by canplayer and decodes them.
-# usage: socketcan_vcan_test.sh SOURCE_DIR BINARY_DIR
+# usage: socketcan_vcan_test.sh SOURCE_DIR BINARY_DIR [STEP]
+#   STEP all (default): prepare, boot, judge; prepare | guest (the command to run where vcan0 is) |
+#   judge: the steps alone, for the shared boot of vcan_session_test.sh; shared: judge the shared
+#   boot's run when it made one, else all.
 set -euo pipefail
-src=$1 bin=$2
+src=$1 bin=$2 step=${3:-all}
 out=$bin/controller/tests/vcan-out
-rm -rf "$out" && mkdir -p "$out"
-# 12.1 s of the drive: the first 2500 frames of its vehicle buses (the head unit's cluster settings,
-# id 0x611, are a stream of their own and left out so the slice keeps its length in time)
-awk '!/ 611#/ && n++ < 2500' "$src/vcan/logs/demo-drive.log" > "$out/head.log"
-"$src/vcan/with-vcan" --share-out "$out" --timeout 110 \
-  --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" \
-  -- /bin/sh "$src/controller/tests/socketcan_guest.sh"
+if [[ $step == guest ]]; then   # where it writes, then the command
+  echo "$out"
+  echo "env METER_BIN=$bin/bin/meter-controller METER_SRC=$src OUT=$out /bin/sh $src/controller/tests/socketcan_guest.sh"
+  exit 0
+fi
+[[ $step == shared && -f $out/shared-boot ]] && step=judge
+[[ $step == shared ]] && step=all
+if [[ $step == prepare || $step == all ]]; then
+  rm -rf "$out" && mkdir -p "$out"
+  # 12.1 s of the drive: the first 2500 frames of its vehicle buses (the head unit's cluster
+  # settings, id 0x611, are a stream of their own and left out so the slice keeps its length in time)
+  awk '!/ 611#/ && n++ < 2500' "$src/vcan/logs/demo-drive.log" > "$out/head.log"
+fi
+[[ $step == prepare ]] && exit 0
+if [[ $step == all ]]; then
+  "$src/vcan/with-vcan" --guest-clock instructions --cpus 1 --share-out "$out" --timeout 110 \
+    --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" \
+    -- /bin/sh "$src/controller/tests/socketcan_guest.sh"
+else
+  echo "judging the run of the shared boot (controller.vcan_drives) in $out"
+fi
 fail() { echo "FAIL: $*"; echo "--- ctl.err"; cat "$out/ctl.err"; echo "--- ctl.out"; cat "$out/ctl.out"; exit 1; }
 grep -q "exit=0" "$out/ctl.err" || fail "controller did not exit cleanly on SIGTERM"
 grep -q "SocketCAN vcan0" "$out/ctl.err" || fail "controller did not open SocketCAN"

@@ -3,24 +3,38 @@
 # gear on vcan1, everything else on vcan0), one meter-controller reading both (--input body=can:vcan0
 # --input chassis=can:vcan1, a DBC each, INPUT.Message.Signal sources), and a protocol subscriber
 # (link_probe) judging what went over the link: values from each bus must arrive.
-# usage: two_bus_vcan_test.sh SOURCE_DIR BINARY_DIR
+# usage: two_bus_vcan_test.sh SOURCE_DIR BINARY_DIR [STEP]   (STEP: as in socketcan_vcan_test.sh)
 set -euo pipefail
-src=$1 bin=$2
+src=$1 bin=$2 step=${3:-all}
 out=$bin/controller/tests/vcan-two-bus-out
-rm -rf "$out" && mkdir -p "$out"
-# 12.1 s of the demo drive; ESP_WheelSpeeds (1A0) and TCM_Gear (3E9) go to the chassis bus (can1).
-awk '!/ 611#/ && n++ < 2500' "$src/vcan/logs/demo-drive.log" |  # no head-unit settings (0x611): 12.1 s
-  awk '{ if ($3 ~ /^(1A0|3E9)#/) $2 = "can1"; else $2 = "can0"; print }' > "$out/split.log"
-# demo.map with every source naming its bus: the same DBC on both inputs makes unqualified
-# sources ambiguous, so the test also proves the qualified form is what resolves.
-awk '/^source = / { n = split(substr($0, 10), s, /, */); line = "source = ";
-                    for (i = 1; i <= n; ++i) { bus = (s[i] ~ /^(ESP_WheelSpeeds|TCM_Gear)\./) ? "chassis." : "body.";
-                                               line = line (i > 1 ? ", " : "") bus s[i] }
-                    print line; next } { print }' "$src/controller/vehicles/demo/demo.map" > "$out/two-bus.map"
-grep -q "^source = chassis.ESP_WheelSpeeds.VehicleSpeed" "$out/two-bus.map" || { echo "FAIL: map rewrite"; exit 1; }
-"$src/vcan/with-vcan" --vcan vcan0 --vcan vcan1 --share-out "$out" --timeout 110 \
-  --env "METER_BIN=$bin/bin" --env "METER_SRC=$src" --env "OUT=$out" \
-  -- /bin/sh "$src/controller/tests/two_bus_guest.sh"
+if [[ $step == guest ]]; then   # where it writes, then the command
+  echo "$out"
+  echo "env METER_BIN=$bin/bin METER_SRC=$src OUT=$out /bin/sh $src/controller/tests/two_bus_guest.sh"
+  exit 0
+fi
+[[ $step == shared && -f $out/shared-boot ]] && step=judge
+[[ $step == shared ]] && step=all
+if [[ $step == prepare || $step == all ]]; then
+  rm -rf "$out" && mkdir -p "$out"
+  # 12.1 s of the demo drive; ESP_WheelSpeeds (1A0) and TCM_Gear (3E9) go to the chassis bus (can1).
+  awk '!/ 611#/ && n++ < 2500' "$src/vcan/logs/demo-drive.log" |  # no head-unit settings (0x611): 12.1 s
+    awk '{ if ($3 ~ /^(1A0|3E9)#/) $2 = "can1"; else $2 = "can0"; print }' > "$out/split.log"
+  # demo.map with every source naming its bus: the same DBC on both inputs makes unqualified
+  # sources ambiguous, so the test also proves the qualified form is what resolves.
+  awk '/^source = / { n = split(substr($0, 10), s, /, */); line = "source = ";
+                      for (i = 1; i <= n; ++i) { bus = (s[i] ~ /^(ESP_WheelSpeeds|TCM_Gear)\./) ? "chassis." : "body.";
+                                                 line = line (i > 1 ? ", " : "") bus s[i] }
+                      print line; next } { print }' "$src/controller/vehicles/demo/demo.map" > "$out/two-bus.map"
+  grep -q "^source = chassis.ESP_WheelSpeeds.VehicleSpeed" "$out/two-bus.map" || { echo "FAIL: map rewrite"; exit 1; }
+fi
+[[ $step == prepare ]] && exit 0
+if [[ $step == all ]]; then
+  "$src/vcan/with-vcan" --guest-clock instructions --cpus 1 --vcan vcan0 --vcan vcan1 --share-out "$out" --timeout 110 \
+    --env "METER_BIN=$bin/bin" --env "METER_SRC=$src" --env "OUT=$out" \
+    -- /bin/sh "$src/controller/tests/two_bus_guest.sh"
+else
+  echo "judging the run of the shared boot (controller.vcan_drives) in $out"
+fi
 fail() { echo "FAIL: $*"; for f in ctl.err ctl.out probe.out; do echo "--- $f"; cat "$out/$f"; done; exit 1; }
 grep -q "exit=0" "$out/ctl.err" || fail "controller did not exit cleanly on SIGTERM"
 grep -q "body: SocketCAN vcan0 + chassis: SocketCAN vcan1" "$out/ctl.err" || fail "controller did not open both buses"

@@ -372,14 +372,30 @@ def live_frame(viewdir, row):
 class Run:
     # 150 s for the whole VM run: boot (12 s quiet, 60 s seen under heavy load), the longest
     # replay (40 s) and the waits around it.
-    def __init__(self, name, phases, log, dbc, mapping, timeout=150, view_args=()):
+    DEFAULT_TIMEOUT = 150
+
+    def __init__(self, name, phases, log, dbc, mapping, timeout=DEFAULT_TIMEOUT, view_args=(), session=None):
         self.name, self.phases, self.log, self.dbc, self.mapping = name, phases, log, dbc, mapping
         self.view_args = list(view_args)   # more meter-view options (--pipeline for the latency runs)
         self.timeout = timeout
         self.out = v.fresh_dir(name)
-        self.port, self.go_port = v.free_port(), v.free_port()
+        # In a shared boot (tests/vcan/e2e_session.py) the drive uses the VM's forwarded ports.
+        self.session = session
+        self.port, self.go_port = (session.port, session.go_port) if session else (v.free_port(), v.free_port())
         self.views = []         # (outdir, Popen, host monotonic start)
         self.t_go = None        # host monotonic time of the go
+
+    def views_state(self):
+        return [(d, t) for d, _, t in self.views]
+
+    @classmethod
+    def load(cls, name, state):
+        """A finished drive, for judging only (e2e_session.shared_or_drive): no process of it runs."""
+        run = cls.__new__(cls)
+        run.name, run.log, run.session, run.t_go = name, state["log"], None, state["t_go"]
+        run.out = os.path.join(v.BINARY_DIR, "tests", "vcan", "out", name)
+        run.views = [(d, None, t) for d, t in state["views"]]
+        return run
 
     def start_view(self, tag):
         outdir = os.path.join(self.out, tag)
@@ -466,16 +482,21 @@ class Run:
                     ifaces = sorted({line.split()[1] for line in f if line.strip()})
                 with open(win + ".ifaces", "w") as f:
                     f.write("".join(i + "\n" for i in ifaces))
-        self.vm = v.with_vcan([GUEST, self.out, BIN, str(self.port), str(self.go_port),
-                               self.dbc, self.mapping, self.log] + self.phases,
+        args = [self.out, BIN, str(self.port), str(self.go_port), self.dbc, self.mapping, self.log] + self.phases
+        if self.session:
+            self.vm = self.session.submit(args)
+            return
+        self.vm = v.with_vcan([GUEST] + args,
                               self.out, timeout=self.timeout, cpus=E2E_CPUS,
                               hostfwd=[f"{self.port}:{self.port}", f"{self.go_port}:{self.go_port}"])
 
     def finish(self):
-        rc = self.vm.wait(timeout=self.timeout + 30)
-        for _, p, _ in self.views:
-            if p.poll() is None:
-                p.send_signal(signal.SIGTERM)
+        try:
+            rc = self.vm.wait(timeout=self.timeout + 30)
+        finally:
+            for _, p, _ in self.views:
+                if p.poll() is None:
+                    p.send_signal(signal.SIGTERM)
         view_rcs = [p.wait(timeout=20) for _, p, _ in self.views]
         result = "no result.txt"
         if os.path.exists(os.path.join(self.out, "result.txt")):

@@ -16,5 +16,15 @@ print(f"echo server listening on {port}", flush=True)
 conn, _ = srv.accept()
 line = conn.makefile().readline().strip()   # "exit N"
 conn.sendall(f"{iface} {line}\n".encode())
+# The guest powers off as soon as this exits: wait until the client has read the reply and closed,
+# or the reply may still be in the guest's TCP stack or qemu's forwarder when the VM stops (seen on
+# a loaded host: the exit code arrived, the reply did not).
+conn.shutdown(socket.SHUT_WR)
+conn.settimeout(20)
+try:
+    while conn.recv(4096):
+        pass
+except OSError:
+    pass
 conn.close()
 sys.exit(int(line.split()[1]))

@@ -30,6 +30,15 @@ if [[ -n ${METER_E2E_NETSTAT:-} ]]; then
 fi
 # $EPOCHREALTIME, not date: every exec costs tens of ms in a TCG guest.
 event() { echo "$EPOCHREALTIME $*" >>"$out/events.log"; }
+# Whatever way the scenario ends, nothing of it keeps running: in a shared boot the next drive
+# starts its own controller on the same port and replays on the same vcan0.
+leftovers() {
+  [[ -n $ctrl ]] && kill -KILL "$ctrl" 2>/dev/null
+  for p in "${bg[@]}"; do kill -KILL "$p" 2>/dev/null; done
+  [[ -n ${netstat:-} ]] && kill "$netstat" 2>/dev/null
+  return 0
+}
+trap leftovers EXIT
 fail() { event "FAIL $*"; echo "guest_scenario: $*" >&2; echo "fail $*" >"$out/result.txt"; exit 1; }
 
 start_controller() {

@@ -12,6 +12,7 @@ import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
 import e2e  # noqa: E402
+import e2e_session  # noqa: E402
 import vcanlib as v  # noqa: E402
 
 # Pixel proof tolerance: a live frame and the offline render of the values its frames.csv row
@@ -96,12 +97,17 @@ class Ft86OverVcan(E2eBase):
     """ft86 log window with an acceleration from ~20 to ~120 km/h and rpm swings."""
     START, DUR = 30.0, 25.0
 
+    @classmethod
+    def drive(cls, session=None):
+        run = e2e.Run("e2e_ft86", ["go", f"replay:{cls.START}:{cls.DUR}", "sleep:1"],
+                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
+        run.start()
+        return run, run.finish()
+
     def test_values_match_canmatrix(self):
-        run = e2e.Run("e2e_ft86", ["go", f"replay:{self.START}:{self.DUR}", "sleep:1"],
-                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start()
-        rcs = run.finish()
+        run, rcs = e2e_session.shared_or_drive("e2e_ft86", self.drive)
         self.check_run(run, rcs)
+        viewdir = run.views[0][0]
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
         envs = e2e.ft86_envelopes(v.parse_candump(v.FT86_LOG))
         # Judge from 1.5 s after the replay starts (the needles' settle time) to its end.
@@ -148,12 +154,18 @@ class DemoOverVcan(E2eBase):
                 e2e.RPM: e2e.Envelope([ref[("ECM_EngineStatus", "EngineSpeed")]], t0,
                                       lambda x: x, lambda x: x, tol=60.0)}
 
+    @classmethod
+    def drive(cls, session=None):
+        run = e2e.Run("e2e_demo", ["go", f"replay:{cls.START}:{cls.DUR}", "sleep:1"],
+                      e2e.DEMO_LOG, e2e.DEMO_DBC, e2e.DEMO_MAP, session=session)
+        run.start()
+        return run, run.finish()
+
     def test_demo_drive(self):
         envs = self.reference()
-        run = e2e.Run("e2e_demo", ["go", f"replay:{self.START}:{self.DUR}", "sleep:1"],
-                      e2e.DEMO_LOG, e2e.DEMO_DBC, e2e.DEMO_MAP)
-        viewdir, _ = run.start()
-        self.check_run(run, run.finish())
+        run, rcs = e2e_session.shared_or_drive("e2e_demo", self.drive)
+        self.check_run(run, rcs)
+        viewdir = run.views[0][0]
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
         self.check_tracking(run, rows, envs, 0, self.START, self.START + 3.0, self.START + self.DUR)
         # The pixel proofs compare frames with renders of their rows: not during the start-up sweep
@@ -212,12 +224,18 @@ class Faults(E2eBase):
     def envs(self):
         return e2e.ft86_envelopes(v.parse_candump(v.FT86_LOG))
 
-    def test_controller_killed_and_restarted(self):
+    @classmethod
+    def drive_controller_restart(cls, session=None):
         run = e2e.Run("e2e_controller_restart",
-                      ["go", f"replay-bg:{self.START}:20", "sleep:6", "kill-controller", "sleep:2",
-                       "start-controller"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start()
-        self.check_run(run, run.finish())
+                      ["go", f"replay-bg:{cls.START}:20", "sleep:6", "kill-controller", "sleep:2",
+                       "start-controller"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
+        run.start()
+        return run, run.finish()
+
+    def test_controller_killed_and_restarted(self):
+        run, rcs = e2e_session.shared_or_drive("e2e_controller_restart", self.drive_controller_restart)
+        self.check_run(run, rcs)
+        viewdir = run.views[0][0]
         ev = guest_events(run)
         t_kill = run.view_time(0, ev["phase kill-controller"][0])
         t_back = run.view_time(0, ev["phase start-controller"][0])
@@ -239,9 +257,10 @@ class Faults(E2eBase):
         # Judge the log time from the restart (+3 s) to the end of the replay.
         self.check_tracking(run, after, self.envs(), 0, self.START, self.START, self.START + 20)
 
-    def test_view_killed_and_restarted(self):
-        run = e2e.Run("e2e_view_restart", ["go", f"replay:{self.START}:18", "sleep:1"],
-                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
+    @classmethod
+    def drive_view_restart(cls, session=None):
+        run = e2e.Run("e2e_view_restart", ["go", f"replay:{cls.START}:18", "sleep:1"],
+                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
         run.start_vm()
         run.wait_ready()
         _, view1 = run.start_view("view1")
@@ -251,8 +270,12 @@ class Faults(E2eBase):
         view1.send_signal(signal.SIGKILL)
         view1.wait()
         time.sleep(2)
-        view2dir, _ = run.start_view("view2")
-        rc, view_rcs, result = run.finish()
+        run.start_view("view2")
+        return run, run.finish()
+
+    def test_view_killed_and_restarted(self):
+        run, (rc, view_rcs, result) = e2e_session.shared_or_drive("e2e_view_restart", self.drive_view_restart)
+        view2dir = run.views[1][0]
         # The controller is unaffected: the guest checks it stayed alive and stopped cleanly.
         self.assertEqual(result, "ok", f"guest scenario: {result}")
         self.assertEqual(rc, 0)
@@ -265,11 +288,17 @@ class Faults(E2eBase):
         # The new view's whole life during the replay (judged_rows skips its settle time).
         self.check_tracking(run, rows, self.envs(), 1, self.START, self.START, self.START + 18)
 
+    @classmethod
+    def drive_bus_silence(cls, session=None):
+        run = e2e.Run("e2e_bus_silence", ["go", f"replay:{cls.START}:8", "sleep:5"],
+                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
+        run.start()
+        return run, run.finish()
+
     def test_bus_silence(self):
-        run = e2e.Run("e2e_bus_silence", ["go", f"replay:{self.START}:8", "sleep:5"],
-                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start()
-        self.check_run(run, run.finish())
+        run, rcs = e2e_session.shared_or_drive("e2e_bus_silence", self.drive_bus_silence)
+        self.check_run(run, rcs)
+        viewdir = run.views[0][0]
         ev = guest_events(run)
         t_quiet = run.view_time(0, ev["phase sleep:5"][0])
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
@@ -290,11 +319,17 @@ class Faults(E2eBase):
             for s in (e2e.SPEED, e2e.RPM):
                 self.assertEqual(r.status.get(s), "timedout", f"frame {r.frame}: {s} not timed out")
 
+    @classmethod
+    def drive_flood(cls, session=None):
+        run = e2e.Run("e2e_flood", ["go", f"replay-bg:{cls.START}:16", "sleep:3", "rss:before",
+                                    "flood:8", "rss:after"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
+        run.start()
+        return run, run.finish()
+
     def test_cangen_flood(self):
-        run = e2e.Run("e2e_flood", ["go", f"replay-bg:{self.START}:16", "sleep:3", "rss:before",
-                                    "flood:8", "rss:after"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP)
-        viewdir, _ = run.start()
-        self.check_run(run, run.finish())
+        run, rcs = e2e_session.shared_or_drive("e2e_flood", self.drive_flood)
+        self.check_run(run, rcs)
+        viewdir = run.views[0][0]
         rss = run.rss()
         print(f"e2e_flood: controller RSS before {rss['before']} kB, after 8 s of flood {rss['after']} kB")
         # Memory flat: no queue grows with the flood (2 MB covers allocator noise).
@@ -326,8 +361,11 @@ class Faults(E2eBase):
         backlog = rx_dropped["end"] - rx_dropped["start"]
         # The controller reads the same counter itself (from its start, before the guest's first
         # reading, to its stop after the last, with no traffic outside them): the same count.
+        # Its final stats line: the periodic "frames lost" lines before it carry the running total
+        # (seen: the first said 0, the drops came later in the flood, the stats line said 243).
         with open(os.path.join(run.out, "controller.log")) as f:
-            m = re.search(r", (\d+) interface drops", f.read())
+            m = re.search(r", (\d+) interface drops", next((line for line in reversed(f.readlines())
+                                                              if " kernel drops" in line), ""))
         self.assertIsNotNone(m, "the controller's stats line lacks its interface drops")
         self.assertEqual(int(m.group(1)), backlog, "interface drops: the controller's count vs vcan0's rx_dropped")
         print(f"e2e_flood: {sent} frames on mapped ids ({flood_only} of the flood): {len(got)} decoded, "
@@ -350,6 +388,12 @@ class Faults(E2eBase):
         # Keeping up: the gauges keep tracking the log during the flood.
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
         self.check_tracking(run, rows, self.envs(), 0, self.START, self.START + 3.5, self.START + 11)
+
+
+# The drives of the shared boot (tests/vcan/e2e_session.py), in its order: (folder, drive).
+DRIVES = [("e2e_ft86", Ft86OverVcan.drive), ("e2e_controller_restart", Faults.drive_controller_restart),
+          ("e2e_view_restart", Faults.drive_view_restart), ("e2e_bus_silence", Faults.drive_bus_silence),
+          ("e2e_flood", Faults.drive_flood), ("e2e_demo", DemoOverVcan.drive)]
 
 
 if __name__ == "__main__":

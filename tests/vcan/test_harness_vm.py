@@ -16,41 +16,91 @@ sys.path.insert(0, os.path.dirname(__file__))
 import vcanlib as v  # noqa: E402
 
 
+def on_vm_path():
+    return os.environ.get("METER_VCAN_MODE_FORCE") != "direct" and \
+        subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "setup-vcan"), "probe"]).returncode != 0
+
+
 class HarnessVm(unittest.TestCase):
-    def test_hostfwd_and_exit_code(self):
-        out = v.fresh_dir("harness_hostfwd")
-        port = v.free_port()
+    """Two of the cases need a whole boot each: the forwarded port with the exit code, and the
+    host's /tmp. On the VM path (this kernel has no CAN, so with-vcan boots the VM too) both run in
+    one boot, the /tmp checks first, and each case judges its own part of it; on a CAN kernel
+    with-vcan runs directly and the /tmp case boots run-in-vm of its own."""
+    shared = None     # the combined boot's results, on the VM path
+
+    @staticmethod
+    def hostfwd_guest(out, port):
         # Inside the guest the kernel has CAN, so with-vcan's *direct* path runs there first: it
         # must create vcan1, run the command with METER_VCAN_MODE=direct, and delete vcan1 after.
         direct = os.path.join(out, "direct.txt")
-        guest = (f"{v.WITH_VCAN} --vcan vcan1 -- bash -c 'echo mode=$METER_VCAN_MODE; "
-                 f"ip -details link show vcan1 | grep -c \" vcan \"' > {direct} 2>&1; "
-                 f"echo rc=$? >> {direct}; ip link show vcan1 >/dev/null 2>&1; echo after=$? >> {direct}; "
-                 f"exec /usr/bin/python3 {os.path.join(v.SOURCE_DIR, 'tests', 'vcan', 'guest_echo_server.py')} "
-                 f"{port} vcan0")
-        p = v.with_vcan(["bash", "-c", guest], out, timeout=90, hostfwd=[f"{port}:{port}"])
-        reply = None
+        return (f"{v.WITH_VCAN} --vcan vcan1 -- bash -c 'echo mode=$METER_VCAN_MODE; "
+                f"ip -details link show vcan1 | grep -c \" vcan \"' > {direct} 2>&1; "
+                f"echo rc=$? >> {direct}; ip link show vcan1 >/dev/null 2>&1; echo after=$? >> {direct}; "
+                f"exec /usr/bin/python3 {os.path.join(v.SOURCE_DIR, 'tests', 'vcan', 'guest_echo_server.py')} "
+                f"{port} vcan0")
+
+    @staticmethod
+    def host_tmp_guest(out, host):
+        # A checkout (and ../shared beside it) may live under /tmp: the guest must run what is
+        # there, while its own writes to /tmp never reach the host.
+        script = os.path.join(host, "hello.sh")
+        with open(script, "w") as f:
+            f.write("#!/bin/sh\necho \"hello from the host's /tmp\"\n")
+        os.chmod(script, 0o755)
+        return (f"{script} > {out}/seen.txt 2>&1; "
+                f"echo guest > {host}/written-by-guest && echo written > {out}/wrote.txt; "
+                f"cat {host}/written-by-guest >> {out}/wrote.txt; "
+                f"touch /tmp/meter-guest-scratch && echo scratch-ok >> {out}/wrote.txt")
+
+    @staticmethod
+    def talk(p, port):
+        """Sends "exit 7" to the guest's echo server through the forwarded port; its reply."""
         deadline = time.monotonic() + 80
         # qemu accepts on the host side at once and drops the connection while nothing listens in
         # the guest, so connect-and-retry until the guest server answers.
-        while reply is None and time.monotonic() < deadline and p.poll() is None:
+        while time.monotonic() < deadline and p.poll() is None:
             try:
                 with socket.create_connection(("127.0.0.1", port), timeout=2) as s:
                     s.sendall(b"exit 7\n")
                     data = s.makefile().readline()
                     if data:
-                        reply = data.strip()
+                        return data.strip()
             except OSError:
                 pass
-            if reply is None:
-                time.sleep(0.3)
-        rc = p.wait(timeout=60)
+            time.sleep(0.3)
+        return None
+
+    @classmethod
+    def setUpClass(cls):
+        if not on_vm_path():
+            return
+        out = v.fresh_dir("harness_vm_shared")
+        host = tempfile.mkdtemp(prefix="meter-vm-host-tmp-", dir="/tmp")
+        port = v.free_port()
+        guest = cls.host_tmp_guest(out, host) + "; " + cls.hostfwd_guest(out, port)
+        p = v.with_vcan(["bash", "-c", guest], out, timeout=110, hostfwd=[f"{port}:{port}"])
+        reply = cls.talk(p, port)
+        cls.shared = {"out": out, "host": host, "reply": reply, "rc": p.wait(timeout=60)}
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.shared:
+            shutil.rmtree(cls.shared["host"], ignore_errors=True)
+
+    def test_hostfwd_and_exit_code(self):
+        if self.shared:
+            out, reply, rc = self.shared["out"], self.shared["reply"], self.shared["rc"]
+        else:
+            out = v.fresh_dir("harness_hostfwd")
+            port = v.free_port()
+            p = v.with_vcan(["bash", "-c", self.hostfwd_guest(out, port)], out, timeout=90, hostfwd=[f"{port}:{port}"])
+            reply = self.talk(p, port)
+            rc = p.wait(timeout=60)
         self.assertEqual(reply, "vcan0 exit 7", "no answer through the forwarded port")
         self.assertEqual(rc, 7, "the guest command's exit code did not reach the host")
-        with open(direct) as f:
+        with open(os.path.join(out, "direct.txt")) as f:
             lines = f.read().split()
-        if os.environ.get("METER_VCAN_MODE_FORCE") != "direct" and \
-                subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "setup-vcan"), "probe"]).returncode != 0:
+        if on_vm_path():
             # with-vcan's direct path inside the guest: vcan1 created (a vcan device), mode reported,
             # exit 0, and vcan1 gone afterwards (ip link show fails).
             self.assertIn("mode=direct", lines, f"direct.txt: {lines}")
@@ -69,31 +119,29 @@ class HarnessVm(unittest.TestCase):
         self.assertIn("---- end of guest console ----", p.stderr)
 
     def test_host_tmp_readable_but_guest_writes_stay_in_the_guest(self):
-        # A checkout (and ../shared beside it) may live under /tmp: the guest must run what is
-        # there, while its own writes to /tmp never reach the host.
+        if self.shared:
+            out, host = self.shared["out"], self.shared["host"]
+            self.check_host_tmp(out, host)
+            return
         out = v.fresh_dir("harness_host_tmp")
         host = tempfile.mkdtemp(prefix="meter-vm-host-tmp-", dir="/tmp")
         try:
-            script = os.path.join(host, "hello.sh")
-            with open(script, "w") as f:
-                f.write("#!/bin/sh\necho \"hello from the host's /tmp\"\n")
-            os.chmod(script, 0o755)
-            guest = (f"{script} > {out}/seen.txt 2>&1; "
-                     f"echo guest > {host}/written-by-guest && echo written > {out}/wrote.txt; "
-                     f"cat {host}/written-by-guest >> {out}/wrote.txt; "
-                     f"touch /tmp/meter-guest-scratch && echo scratch-ok >> {out}/wrote.txt")
             p = subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "vm", "run-in-vm"), "--share-out", out,
-                                "--", "bash", "-c", guest], capture_output=True, text=True, timeout=110)
+                                "--", "bash", "-c", self.host_tmp_guest(out, host)],
+                               capture_output=True, text=True, timeout=110)
             self.assertEqual(p.returncode, 0, p.stderr)
-            with open(os.path.join(out, "seen.txt")) as f:
-                self.assertEqual(f.read().strip(), "hello from the host's /tmp")
-            with open(os.path.join(out, "wrote.txt")) as f:
-                self.assertEqual(f.read().split(), ["written", "guest", "scratch-ok"])
-            self.assertFalse(os.path.exists(os.path.join(host, "written-by-guest")),
-                             "a write to /tmp in the guest reached the host")
-            self.assertFalse(os.path.exists("/tmp/meter-guest-scratch"))
+            self.check_host_tmp(out, host)
         finally:
             shutil.rmtree(host, ignore_errors=True)
+
+    def check_host_tmp(self, out, host):
+        with open(os.path.join(out, "seen.txt")) as f:
+            self.assertEqual(f.read().strip(), "hello from the host's /tmp")
+        with open(os.path.join(out, "wrote.txt")) as f:
+            self.assertEqual(f.read().split(), ["written", "guest", "scratch-ok"])
+        self.assertFalse(os.path.exists(os.path.join(host, "written-by-guest")),
+                         "a write to /tmp in the guest reached the host")
+        self.assertFalse(os.path.exists("/tmp/meter-guest-scratch"))
 
 
 class HarnessFromClone(unittest.TestCase):
@@ -118,7 +166,10 @@ class HarnessFromClone(unittest.TestCase):
                      f"exec /bin/sh {clone}/controller/tests/socketcan_guest.sh")
             env = dict(os.environ, METER_VM_CACHE=os.environ.get("METER_VM_CACHE", os.path.join(
                 v.SOURCE_DIR, "build", "vcan-vm-cache")))
-            p = subprocess.run([os.path.join(clone, "vcan", "with-vcan"), "--share-out", out, "--timeout", "110",
+            # The guest's instruction-counted clock, as the controller's own vcan tests use for this
+            # guest script (nothing on the host meets it in real time).
+            p = subprocess.run([os.path.join(clone, "vcan", "with-vcan"), "--guest-clock", "instructions", "--cpus", "1",
+                                "--share-out", out, "--timeout", "110",
                                 "--env", f"METER_BIN={clone}/build/bin/meter-controller", "--env",
                                 f"METER_SRC={clone}", "--env", f"OUT={out}", "--", "bash", "-c", guest],
                                capture_output=True, text=True, timeout=170, env=env, cwd=clone)

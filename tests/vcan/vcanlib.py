@@ -54,10 +54,14 @@ def fresh_dir(name):
     return d
 
 
-def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, boot_timeout=75, **popen):
+def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, boot_timeout=75, guest_clock=None,
+              **popen):
     """Starts `vcan/with-vcan` running args; returns the Popen. The timing file in share_out
-    receives the VM's boot/command times (vm path only)."""
+    receives the VM's boot/command times (vm path only). guest_clock="instructions": the guest's
+    clock counts its own instructions (vm path only; see vcan/vm/run-in-vm --help)."""
     cmd = [WITH_VCAN, "--share-out", share_out, "--timeout", str(timeout)]
+    if guest_clock and os.environ.get("METER_VCAN_MODE_FORCE", "auto") != "direct":
+        cmd += ["--guest-clock", guest_clock]
     for h in hostfwd:
         cmd += ["--hostfwd", h]
     for e in env:
