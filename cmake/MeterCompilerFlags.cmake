@@ -41,9 +41,10 @@ endif()
 
 # ccache when it is installed (scripts install none: every build time the docs quote is measured
 # with empty caches). The precompiled GoogleTest header needs ccache's pch sloppiness to be cached.
+# (Set through the environment: Debian 12's ccache, 4.7.5, takes no settings on its command line.)
 find_program(METER_CCACHE ccache)
 if(METER_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
-  set(_launcher ${METER_CCACHE} sloppiness=pch_defines,time_macros,include_file_mtime,include_file_ctime)
+  set(_launcher env CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime ${METER_CCACHE})
   set(CMAKE_C_COMPILER_LAUNCHER ${_launcher})
   set(CMAKE_CXX_COMPILER_LAUNCHER ${_launcher})
 endif()
