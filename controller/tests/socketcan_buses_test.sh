@@ -11,13 +11,9 @@ set -euo pipefail
 src=$1 bin=$2 step=${3:-all}
 flood_s=${METER_FLOOD_S:-60}
 out=$bin/controller/tests/vcan-buses-out
-if [[ $step == guest ]]; then   # where it writes, then the command
-  echo "$out"
-  echo "env METER_BIN=$bin/bin/meter-controller METER_SRC=$src OUT=$out FLOOD_S=$flood_s /bin/bash $src/controller/tests/socketcan_buses_guest.sh"
-  exit 0
-fi
-[[ $step == shared && -f $out/shared-boot ]] && step=judge
-[[ $step == shared ]] && step=all
+# shellcheck source=controller/tests/vcan_test_steps.sh
+source "$src/controller/tests/vcan_test_steps.sh"
+vcan_test_step "$step" "$out" "env METER_BIN=$bin/bin/meter-controller METER_SRC=$src OUT=$out FLOOD_S=$flood_s /bin/bash $src/controller/tests/socketcan_buses_guest.sh"
 if [[ $step == prepare || $step == all ]]; then
 rm -rf "$out" && mkdir -p "$out"
 

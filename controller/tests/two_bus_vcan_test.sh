@@ -7,13 +7,9 @@
 set -euo pipefail
 src=$1 bin=$2 step=${3:-all}
 out=$bin/controller/tests/vcan-two-bus-out
-if [[ $step == guest ]]; then   # where it writes, then the command
-  echo "$out"
-  echo "env METER_BIN=$bin/bin METER_SRC=$src OUT=$out /bin/sh $src/controller/tests/two_bus_guest.sh"
-  exit 0
-fi
-[[ $step == shared && -f $out/shared-boot ]] && step=judge
-[[ $step == shared ]] && step=all
+# shellcheck source=controller/tests/vcan_test_steps.sh
+source "$src/controller/tests/vcan_test_steps.sh"
+vcan_test_step "$step" "$out" "env METER_BIN=$bin/bin METER_SRC=$src OUT=$out /bin/sh $src/controller/tests/two_bus_guest.sh"
 if [[ $step == prepare || $step == all ]]; then
   rm -rf "$out" && mkdir -p "$out"
   # 12.1 s of the demo drive; ESP_WheelSpeeds (1A0) and TCM_Gear (3E9) go to the chassis bus (can1).
