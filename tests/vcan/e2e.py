@@ -385,6 +385,11 @@ class Run:
         self.views = []         # (outdir, Popen, host monotonic start)
         self.t_go = None        # host monotonic time of the go
 
+    def drive(self):
+        """Starts the drive (VM or shared boot, then the view) and waits for its end: (run, rcs)."""
+        self.start()
+        return self, self.finish()
+
     def views_state(self):
         return [(d, t) for d, _, t in self.views]
 
@@ -393,7 +398,7 @@ class Run:
         """A finished drive, for judging only (e2e_session.shared_or_drive): no process of it runs."""
         run = cls.__new__(cls)
         run.name, run.log, run.session, run.t_go = name, state["log"], None, state["t_go"]
-        run.out = os.path.join(v.BINARY_DIR, "tests", "vcan", "out", name)
+        run.out = v.out_dir(name)
         run.views = [(d, None, t) for d, t in state["views"]]
         return run
 

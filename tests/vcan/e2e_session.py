@@ -8,6 +8,7 @@ not finish, drives in a VM of its own: the verdict is the same either way.
 Usage (the fixture): e2e_session.py"""
 import json
 import os
+import pathlib
 import subprocess
 import sys
 import time
@@ -18,7 +19,7 @@ import vcanlib as v  # noqa: E402
 
 GUEST_SESSION = os.path.join(v.SOURCE_DIR, "tests", "vcan", "guest_session.sh")
 STATE = "drive-state.json"      # in a drive's folder: what its test needs to judge it
-ROOT = os.path.join(v.BINARY_DIR, "tests", "vcan", "out")
+ROOT = v.out_dir("")
 
 
 class Drive:
@@ -80,7 +81,7 @@ def save(run, rcs):
 
 def shared_or_drive(name, drive):
     """(run, rcs) of drive `name`: the shared boot's when the fixture made it, else driven now."""
-    state = os.path.join(ROOT, name, STATE)
+    state = os.path.join(v.out_dir(name), STATE)
     if os.environ.get("METER_E2E_SESSION") == "1" and os.path.exists(state):
         with open(state) as f:
             s = json.load(f)
@@ -96,7 +97,7 @@ def main():
     import test_latency
     drives = test_e2e.DRIVES + test_latency.DRIVES
     for name, _ in drives:      # no test may judge a drive of an earlier session
-        subprocess.run(["rm", "-f", os.path.join(ROOT, name, STATE)], check=True)
+        pathlib.Path(v.out_dir(name), STATE).unlink(missing_ok=True)
     t0 = time.monotonic()
     # The whole session's bound: boot plus every drive's own bound.
     session = Session(timeout=90 + sum(e2e.Run.DEFAULT_TIMEOUT for _ in drives))

@@ -47,6 +47,12 @@ class E2eBase(unittest.TestCase):
         for r in view_rcs:
             self.assertIn(r, (0, -signal.SIGTERM, 128 + signal.SIGTERM), "meter-view crashed")
 
+    def judged_drive(self, name, drive):
+        """(run, its first view's folder) of drive `name`, shared or driven now, its exit checked."""
+        run, rcs = e2e_session.shared_or_drive(name, drive)
+        self.check_run(run, rcs)
+        return run, run.views[0][0]
+
     def check_tracking(self, run, rows, envs, view_idx, start_s, t_from, t_to, min_share=0.4):
         """Over the log time [t_from, t_to) the view lived through: at least half the nominal frame
         count dumped, at least min_share of them drawing live valid values (link losses under TCG
@@ -99,15 +105,11 @@ class Ft86OverVcan(E2eBase):
 
     @classmethod
     def drive(cls, session=None):
-        run = e2e.Run("e2e_ft86", ["go", f"replay:{cls.START}:{cls.DUR}", "sleep:1"],
-                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
-        run.start()
-        return run, run.finish()
+        return e2e.Run("e2e_ft86", ["go", f"replay:{cls.START}:{cls.DUR}", "sleep:1"],
+                       v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session).drive()
 
     def test_values_match_canmatrix(self):
-        run, rcs = e2e_session.shared_or_drive("e2e_ft86", self.drive)
-        self.check_run(run, rcs)
-        viewdir = run.views[0][0]
+        run, viewdir = self.judged_drive("e2e_ft86", self.drive)
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
         envs = e2e.ft86_envelopes(v.parse_candump(v.FT86_LOG))
         # Judge from 1.5 s after the replay starts (the needles' settle time) to its end.
@@ -156,16 +158,12 @@ class DemoOverVcan(E2eBase):
 
     @classmethod
     def drive(cls, session=None):
-        run = e2e.Run("e2e_demo", ["go", f"replay:{cls.START}:{cls.DUR}", "sleep:1"],
-                      e2e.DEMO_LOG, e2e.DEMO_DBC, e2e.DEMO_MAP, session=session)
-        run.start()
-        return run, run.finish()
+        return e2e.Run("e2e_demo", ["go", f"replay:{cls.START}:{cls.DUR}", "sleep:1"],
+                       e2e.DEMO_LOG, e2e.DEMO_DBC, e2e.DEMO_MAP, session=session).drive()
 
     def test_demo_drive(self):
         envs = self.reference()
-        run, rcs = e2e_session.shared_or_drive("e2e_demo", self.drive)
-        self.check_run(run, rcs)
-        viewdir = run.views[0][0]
+        run, viewdir = self.judged_drive("e2e_demo", self.drive)
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
         self.check_tracking(run, rows, envs, 0, self.START, self.START + 3.0, self.START + self.DUR)
         # The pixel proofs compare frames with renders of their rows: not during the start-up sweep
@@ -226,16 +224,12 @@ class Faults(E2eBase):
 
     @classmethod
     def drive_controller_restart(cls, session=None):
-        run = e2e.Run("e2e_controller_restart",
-                      ["go", f"replay-bg:{cls.START}:20", "sleep:6", "kill-controller", "sleep:2",
-                       "start-controller"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
-        run.start()
-        return run, run.finish()
+        return e2e.Run("e2e_controller_restart",
+                       ["go", f"replay-bg:{cls.START}:20", "sleep:6", "kill-controller", "sleep:2",
+                        "start-controller"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session).drive()
 
     def test_controller_killed_and_restarted(self):
-        run, rcs = e2e_session.shared_or_drive("e2e_controller_restart", self.drive_controller_restart)
-        self.check_run(run, rcs)
-        viewdir = run.views[0][0]
+        run, viewdir = self.judged_drive("e2e_controller_restart", self.drive_controller_restart)
         ev = guest_events(run)
         t_kill = run.view_time(0, ev["phase kill-controller"][0])
         t_back = run.view_time(0, ev["phase start-controller"][0])
@@ -290,15 +284,11 @@ class Faults(E2eBase):
 
     @classmethod
     def drive_bus_silence(cls, session=None):
-        run = e2e.Run("e2e_bus_silence", ["go", f"replay:{cls.START}:8", "sleep:5"],
-                      v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
-        run.start()
-        return run, run.finish()
+        return e2e.Run("e2e_bus_silence", ["go", f"replay:{cls.START}:8", "sleep:5"],
+                       v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session).drive()
 
     def test_bus_silence(self):
-        run, rcs = e2e_session.shared_or_drive("e2e_bus_silence", self.drive_bus_silence)
-        self.check_run(run, rcs)
-        viewdir = run.views[0][0]
+        run, viewdir = self.judged_drive("e2e_bus_silence", self.drive_bus_silence)
         ev = guest_events(run)
         t_quiet = run.view_time(0, ev["phase sleep:5"][0])
         rows = e2e.read_frames_csv(os.path.join(viewdir, "frames.csv"))
@@ -321,15 +311,12 @@ class Faults(E2eBase):
 
     @classmethod
     def drive_flood(cls, session=None):
-        run = e2e.Run("e2e_flood", ["go", f"replay-bg:{cls.START}:16", "sleep:3", "rss:before",
-                                    "flood:8", "rss:after"], v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session)
-        run.start()
-        return run, run.finish()
+        return e2e.Run("e2e_flood", ["go", f"replay-bg:{cls.START}:16", "sleep:3", "rss:before",
+                                     "flood:8", "rss:after"],
+                       v.FT86_LOG, v.FT86_DBC, e2e.FT86_MAP, session=session).drive()
 
     def test_cangen_flood(self):
-        run, rcs = e2e_session.shared_or_drive("e2e_flood", self.drive_flood)
-        self.check_run(run, rcs)
-        viewdir = run.views[0][0]
+        run, viewdir = self.judged_drive("e2e_flood", self.drive_flood)
         rss = run.rss()
         print(f"e2e_flood: controller RSS before {rss['before']} kB, after 8 s of flood {rss['after']} kB")
         # Memory flat: no queue grows with the flood (2 MB covers allocator noise).

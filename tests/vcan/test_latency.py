@@ -46,8 +46,7 @@ def drive(session=None):
     run.log, gears = ls.make_stimulus(run.out, 30.0, SECONDS, STEP_S, gear_only=True)
     with open(os.path.join(run.out, "gears.json"), "w") as f:
         json.dump(gears, f)
-    run.start()
-    return run, run.finish()
+    return run.drive()
 
 
 # The drive of the shared boot (tests/vcan/e2e_session.py). Its view runs the default pipeline: a

@@ -46,9 +46,14 @@ def parse_candump(path, limit=None):
     return frames
 
 
+def out_dir(name):
+    """A test's output folder under the build tree (the VM can write there through --share-out)."""
+    return os.path.join(BINARY_DIR, "tests", "vcan", "out", name)
+
+
 def fresh_dir(name):
-    """An output folder under the build tree (the VM can write there through --share-out)."""
-    d = os.path.join(BINARY_DIR, "tests", "vcan", "out", name)
+    """out_dir(name), emptied."""
+    d = out_dir(name)
     subprocess.run(["rm", "-rf", d], check=True)
     os.makedirs(d)
     return d
