@@ -53,7 +53,7 @@ PY
 fi
 [[ $step == prepare ]] && exit 0
 if [[ $step == all ]]; then
-  "$src/vcan/with-vcan" --guest-clock instructions --cpus 1 --share-out "$out" --timeout $((flood_s + 120)) \
+  "$src/vcan/with-vcan" --guest-clock instructions --share-out "$out" --timeout $((flood_s + 120)) \
     --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" --env "FLOOD_S=$flood_s" \
     -- /bin/bash "$src/controller/tests/socketcan_buses_guest.sh"
 else

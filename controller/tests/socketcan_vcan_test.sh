@@ -19,7 +19,7 @@ if [[ $step == prepare || $step == all ]]; then
 fi
 [[ $step == prepare ]] && exit 0
 if [[ $step == all ]]; then
-  "$src/vcan/with-vcan" --guest-clock instructions --cpus 1 --share-out "$out" --timeout 110 \
+  "$src/vcan/with-vcan" --guest-clock instructions --share-out "$out" --timeout 110 \
     --env "METER_BIN=$bin/bin/meter-controller" --env "METER_SRC=$src" --env "OUT=$out" \
     -- /bin/sh "$src/controller/tests/socketcan_guest.sh"
 else

@@ -25,7 +25,7 @@ if [[ $step == prepare || $step == all ]]; then
 fi
 [[ $step == prepare ]] && exit 0
 if [[ $step == all ]]; then
-  "$src/vcan/with-vcan" --guest-clock instructions --cpus 1 --vcan vcan0 --vcan vcan1 --share-out "$out" --timeout 110 \
+  "$src/vcan/with-vcan" --guest-clock instructions --vcan vcan0 --vcan vcan1 --share-out "$out" --timeout 110 \
     --env "METER_BIN=$bin/bin" --env "METER_SRC=$src" --env "OUT=$out" \
     -- /bin/sh "$src/controller/tests/two_bus_guest.sh"
 else

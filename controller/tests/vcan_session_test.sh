@@ -22,7 +22,7 @@ rc=0
 # tests meet nothing on the host in real time, and what they time (the flood's kernel stamp ->
 # decoded latency, the signals' timeouts after the replay) is then the guest's own work, not the
 # time a busy host took the guest's CPU away.
-"$src/vcan/with-vcan" --guest-clock instructions --cpus 1 --vcan vcan0 --vcan vcan1 --share-out "$bin/controller/tests" \
+"$src/vcan/with-vcan" --guest-clock instructions --vcan vcan0 --vcan vcan1 --share-out "$bin/controller/tests" \
   --timeout "$timeout" \
   -- /bin/bash -c "$guest" || rc=$?
 echo "vcan_session: guest parts run, exit $rc (each test judges its own part)"

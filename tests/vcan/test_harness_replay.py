@@ -36,7 +36,7 @@ class HarnessReplay(unittest.TestCase):
         rc, wall = v.run_with_vcan(
             [os.path.join(v.SOURCE_DIR, "tests", "vcan", "guest_replay_capture.sh"),
              "vcan0", os.path.join(out, "input.log"), capture], out, timeout=100,
-            guest_clock="instructions", cpus=1)
+            guest_clock="instructions")
         self.assertEqual(rc, 0, "the replay/capture run failed (see the output above)")
 
         got = [fr for fr in v.parse_candump(capture) if fr.can_id.upper() not in SENTINELS]

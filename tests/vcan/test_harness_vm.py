@@ -3,6 +3,7 @@
 code propagated, bounded boot with the guest console printed on failure, the host's /tmp
 visible to the guest (a checkout may live there) without the guest writing to it, and the harness
 run from a git clone under /tmp with its build folder and ../shared."""
+import functools
 import os
 import shutil
 import socket
@@ -16,7 +17,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 import vcanlib as v  # noqa: E402
 
 
+@functools.lru_cache(maxsize=None)
 def on_vm_path():
+    """with-vcan boots the VM here (this kernel has no CAN); asked of setup-vcan once."""
     return os.environ.get("METER_VCAN_MODE_FORCE") != "direct" and \
         subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "setup-vcan"), "probe"]).returncode != 0
 
@@ -168,7 +171,7 @@ class HarnessFromClone(unittest.TestCase):
                 v.SOURCE_DIR, "build", "vcan-vm-cache")))
             # The guest's instruction-counted clock, as the controller's own vcan tests use for this
             # guest script (nothing on the host meets it in real time).
-            p = subprocess.run([os.path.join(clone, "vcan", "with-vcan"), "--guest-clock", "instructions", "--cpus", "1",
+            p = subprocess.run([os.path.join(clone, "vcan", "with-vcan"), "--guest-clock", "instructions",
                                 "--share-out", out, "--timeout", "110",
                                 "--env", f"METER_BIN={clone}/build/bin/meter-controller", "--env",
                                 f"METER_SRC={clone}", "--env", f"OUT={out}", "--", "bash", "-c", guest],
