@@ -6,6 +6,7 @@
 #   B  cangen floods a mapped id (Body, 0x123) at full rate for $FLOOD_S seconds.
 # Everything observed goes to $OUT: ctlA.*, ctlB.*, flood.txt, rss.txt, latency.txt.
 set -u
+. "$METER_SRC/controller/tests/guest_controller_ready.sh"
 dbc=$METER_SRC/controller/tests/data/socketcan_buses.dbc
 map=$METER_SRC/controller/tests/data/socketcan_buses.map
 # CAN FD needs MTU 72; vcan takes a new MTU only while down.
@@ -16,10 +17,7 @@ start() {  # start NAME [extra args]: a controller on vcan0, stdout/stderr to $O
   "$METER_BIN" run -v --dbc "$dbc" --map "$map" --input can:vcan0 --link tcp:127.0.0.1:0 "$@" \
     >"$OUT/$name.out" 2>"$OUT/$name.err" &
   pid=$!
-  # Until its CAN socket is open (the -v line "... -> tcp:..." comes after it): a fixed sleep raced
-  # with its start-up on the guest's instruction clock, where waits for the host's 9p share take no
-  # guest time. run-in-vm's timeout bounds the wait.
-  until grep -q " -> " "$OUT/$name.err" 2>/dev/null; do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+  controller_ready "$OUT/$name.err" "$pid"
   kill -0 $pid 2>/dev/null || { echo "controller $name exited at start" >&2; cat "$OUT/$name.err" >&2; exit 1; }
 }
 stop() {

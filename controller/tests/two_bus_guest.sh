@@ -3,16 +3,13 @@
 # both buses, link_probe subscribes over TCP, canplayer replays $OUT/split.log (can0 -> vcan0,
 # can1 -> vcan1), then the controller is stopped with SIGTERM.
 set -u
+. "$METER_SRC/controller/tests/guest_controller_ready.sh"
 dbc="$METER_SRC/controller/vehicles/demo/demo.dbc"
 "$METER_BIN/meter-controller" run -v --input body=can:vcan0 --input chassis=can:vcan1 \
   --dbc "body=$dbc" --dbc "chassis=$dbc" --map "$OUT/two-bus.map" --link tcp:127.0.0.1:7411 \
   > "$OUT/ctl.out" 2> "$OUT/ctl.err" &
 pid=$!
-# Until the controller has its CAN socket open (its -v line "... -> tcp:..." comes after it): a fixed
-# sleep raced with its start-up on the guest's instruction clock, where the guest's waits for the
-# host's 9p share take no guest time, and the replay began before the controller listened (2255 of
-# 2500 frames received). run-in-vm's timeout bounds the wait.
-until grep -q " -> " "$OUT/ctl.err" 2>/dev/null; do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+controller_ready "$OUT/ctl.err" "$pid"
 "$METER_BIN/link_probe" tcp:127.0.0.1:7411 16 > "$OUT/probe.out" 2> "$OUT/probe.err" &
 probe=$!
 sleep 0.5
