@@ -13,18 +13,23 @@ srv.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
 srv.bind(("0.0.0.0", port))
 srv.listen(1)
 print(f"echo server listening on {port}", flush=True)
-conn, _ = srv.accept()
-line = conn.makefile().readline().strip()   # "exit N"
-conn.sendall(f"{iface} {line}\n".encode())
-# The guest powers off as soon as this exits: wait until the client has read the reply and closed,
-# or the reply may still be in the guest's TCP stack or qemu's forwarder when the VM stops (seen on
-# a loaded host: the exit code arrived, the reply did not).
-conn.shutdown(socket.SHUT_WR)
-conn.settimeout(20)
-try:
-    while conn.recv(4096):
-        pass
-except OSError:
-    pass
-conn.close()
-sys.exit(int(line.split()[1]))
+# The client acknowledges the reply ("ack") before it closes. A reply lost on its way out of the
+# guest (qemu's user-mode forwarder, seen on a loaded host) gets no ack: the server then takes the
+# client's next connection and answers again, so the test judges the forwarded port, not one lucky
+# packet.
+while True:
+    conn, _ = srv.accept()
+    reader = conn.makefile()
+    line = reader.readline().strip()   # "exit N"
+    if not line.startswith("exit "):
+        conn.close()
+        continue
+    conn.sendall(f"{iface} {line}\n".encode())
+    conn.settimeout(20)
+    try:
+        acked = reader.readline().strip() == "ack"
+    except OSError:
+        acked = False
+    conn.close()
+    if acked:
+        sys.exit(int(line.split()[1]))

@@ -67,6 +67,7 @@ class HarnessVm(unittest.TestCase):
                     s.sendall(b"exit 7\n")
                     data = s.makefile().readline()
                     if data:
+                        s.sendall(b"ack\n")   # the server exits only on this (guest_echo_server.py)
                         return data.strip()
             except OSError:
                 pass
