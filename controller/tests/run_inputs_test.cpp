@@ -13,10 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/candump_log.hpp"
 #include "meter/controller/input/log_replay.hpp"
+#include "meter/controller/input/merge_logs.hpp"
 #include "meter/controller/run/commands.hpp"
-#include "meter/controller/run/inputs.hpp"
+#include "meter/controller/run/input_schemes.hpp"
+#include "meter/controller/run/input_set.hpp"
+#include "meter/controller/run/input_specs.hpp"
 #include "model_fixture.hpp"
 
 using namespace meter::controller;
@@ -68,7 +72,27 @@ TEST(RunInputs, SingleInputFormsAreUnchanged) {
   auto named = parse_input_specs({"body=can:vcan0"}, {"v.dbc"});
   EXPECT_EQ(named[0].name, "body");
   EXPECT_EQ(named[0].dbc, "v.dbc");
-  EXPECT_EQ(named[0].kind, InputKind::SocketCan);
+  EXPECT_EQ(named[0].kind, InputKind::CanBus);
+}
+
+TEST(RunInputs, TheSchemeIsParsedOnceAndAnUnknownOneListsEveryKnownForm) {
+  auto specs = parse_input_specs({"a=log:/x/drive.log", "b=modbus-tcp:h:1502", "c=can:vcan1"}, {"a=v.dbc", "c=w.dbc"});
+  EXPECT_EQ(specs[0].scheme->scheme, "log");
+  EXPECT_EQ(specs[0].address, "/x/drive.log");
+  EXPECT_EQ(specs[1].scheme->scheme, "modbus-tcp");
+  EXPECT_EQ(specs[1].address, "h:1502");
+  EXPECT_EQ(specs[2].address, "vcan1");
+  const std::string unknown = error_of({"serial:/dev/ttyS0"}, {});
+  EXPECT_TRUE(contains(unknown, "unknown scheme 'serial'")) << unknown;
+  for (const InputScheme& s : input_schemes()) EXPECT_TRUE(contains(unknown, std::string(s.form))) << s.form;
+  EXPECT_TRUE(contains(error_of({"vcan0"}, {}), "(no scheme before a ':')"));
+  EXPECT_TRUE(contains(error_of({"can:"}, {}), "--input can:: expected can:IFACE, with something after 'can:'"));
+  EXPECT_TRUE(contains(error_of({"modbus-tcp:"}, {}), "expected modbus-tcp:HOST:PORT"));
+  // A log is loaded (and merged with the other logs); every other kind is opened live.
+  for (const InputScheme& s : input_schemes()) {
+    EXPECT_EQ(s.load != nullptr, s.kind == InputKind::Log) << s.scheme;
+    EXPECT_EQ(s.open != nullptr, s.kind != InputKind::Log) << s.scheme;
+  }
 }
 
 TEST(RunInputs, SeveralInputsPairWithTheirDbcs) {
@@ -131,8 +155,8 @@ TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
   // tagged with its index and stamped on the first one's clock. The second is one frame shorter,
   // so it has ended before the first (the time base) ends the set.
   std::vector<InputSet::Member> members;
-  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1, -1});
-  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 3)), ReplayOptions{}), "b", 1, -1});
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1});
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 3)), ReplayOptions{}), "b", 1});
   InputSet set(std::move(members));
   EXPECT_EQ(set.describe().rfind("a: candump log (4 frames", 0), 0u) << set.describe();
   // Each poll's wall time and how many frames had arrived when it returned: the second input's

@@ -13,10 +13,10 @@
 
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/input/input.hpp"
-#include "meter/controller/input/socketcan.hpp"
+#include "meter/controller/input/can_id_filter.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/model/model.hpp"
-#include "meter/controller/run/inputs.hpp"
+#include "meter/controller/run/input_specs.hpp"
 
 namespace meter::controller {
 
