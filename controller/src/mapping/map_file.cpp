@@ -208,31 +208,28 @@ bool set_value_key(OutputMapping& o, const std::string& key, std::string_view va
 
 // When a source counts as lost and what is shown then. False: not one of these keys.
 bool set_timeout_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
-  const auto w = words(value);
+  if (key == "first_timeout") {
+    o.first_timeout_s = c.seconds(value, key);
+    return true;
+  }
   if (key == "timeout") {
-    if (trim(value) == "auto") {
-      o.timeout_auto = true;
-      o.timeout_s.reset();
-    } else if (trim(value) == "none") {
-      o.timeout_auto = false;
-      o.timeout_s.reset();
-    } else {
-      o.timeout_auto = false;
+    const std::string_view v = trim(value);
+    o.timeout_auto = v == "auto";
+    o.timeout_s.reset();
+    if (v != "auto" && v != "none") {
       o.timeout_s = c.seconds(value, key);
       if (*o.timeout_s <= 0) c.fail("timeout: expected a duration > 0, 'auto' or 'none'");
     }
-  } else if (key == "first_timeout") {
-    o.first_timeout_s = c.seconds(value, key);
-  } else if (key == "on_timeout") {
-    if (w.size() == 1 && w[0] == "hold") o.on_timeout = TimeoutAction::Hold;
-    else if (w.size() == 1 && w[0] == "invalid") o.on_timeout = TimeoutAction::Invalid;
-    else if (w.size() == 2 && w[0] == "substitute") {
-      o.on_timeout = TimeoutAction::Substitute;
-      o.substitute = c.number(w[1], key);
-    } else c.fail("on_timeout: expected hold, invalid or 'substitute <value>'");
-  } else {
-    return false;
+    return true;
   }
+  if (key != "on_timeout") return false;
+  const auto w = words(value);
+  if (w.size() == 1 && w[0] == "hold") o.on_timeout = TimeoutAction::Hold;
+  else if (w.size() == 1 && w[0] == "invalid") o.on_timeout = TimeoutAction::Invalid;
+  else if (w.size() == 2 && w[0] == "substitute") {
+    o.on_timeout = TimeoutAction::Substitute;
+    o.substitute = c.number(w[1], key);
+  } else c.fail("on_timeout: expected hold, invalid or 'substitute <value>'");
   return true;
 }
 
