@@ -4,7 +4,11 @@
 #include <optional>
 
 #include "meter/controller/input/log_format.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/check_dbc_command.hpp"
+#include "meter/controller/run/decode_command.hpp"
+#include "meter/controller/run/dump_dbc_command.hpp"
+#include "meter/controller/run/odometer_reset_command.hpp"
+#include "meter/controller/run/run_command.hpp"
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/protocol/catalog.hpp"
 

@@ -17,7 +17,7 @@
 #include "meter/controller/input/candump_log.hpp"
 #include "meter/controller/input/log_replay.hpp"
 #include "meter/controller/input/merge_logs.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/run_command.hpp"
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/input_set.hpp"
 #include "meter/controller/run/input_specs.hpp"

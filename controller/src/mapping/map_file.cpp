@@ -1,6 +1,6 @@
 // Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus] and
 // [modbus.register NAME]. Every error names file:line and what was expected.
-#include "meter/controller/mapping/mapping.hpp"
+#include "meter/controller/mapping/map_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +9,8 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+
+#include "meter/controller/mapping/mapping.hpp"
 
 namespace meter::controller {
 namespace {

@@ -10,7 +10,7 @@
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/mapping/sources.hpp"
 #include "meter/controller/model/model.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/decode_command.hpp"
 
 namespace meter::controller {
 

@@ -16,7 +16,7 @@
 #include "meter/controller/input/socketcan.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/model/model.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/run_command.hpp"
 #include "meter/controller/run/input_set.hpp"
 #include "meter/controller/run/input_specs.hpp"
 #include "meter/protocol/link.hpp"
