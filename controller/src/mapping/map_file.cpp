@@ -437,12 +437,6 @@ void check_mapping(const Mapping& m, Ctx& c) {
 
 }  // namespace
 
-const OutputMapping* Mapping::find(protocol::SignalId id) const {
-  for (auto& o : outputs)
-    if (o.id == id) return &o;
-  return nullptr;
-}
-
 Mapping parse_mapping(std::string_view text, const std::string& file) {
   Mapping m;
   m.file = file;
