@@ -1,6 +1,7 @@
 // Several inputs in one controller: pairing --input with --dbc, candump logs merged onto one
 // timeline, the input set's one clock, and the run loop fed by two logs with a DBC each.
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,12 +16,13 @@
 
 #include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/clocks.hpp"
 #include "meter/controller/input/log_replay.hpp"
 #include "meter/controller/input/merge_logs.hpp"
-#include "meter/controller/run/run_command.hpp"
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/input_set.hpp"
 #include "meter/controller/run/input_specs.hpp"
+#include "meter/controller/run/run_command.hpp"
 #include "model_fixture.hpp"
 
 using namespace meter::controller;
@@ -57,7 +59,51 @@ struct Received : InputSink {
   void on_value(std::string_view, double, bool, std::int64_t) override {}
 };
 
+// A live input without a bus: a frame waits whenever its pipe holds a byte, and the pipe is what
+// it says to wait on (as SocketCAN's receive queues are).
+class PipeInput : public Input {
+ public:
+  PipeInput() { EXPECT_EQ(::pipe2(fds_, O_CLOEXEC | O_NONBLOCK), 0); }
+  ~PipeInput() override {
+    ::close(fds_[0]);
+    ::close(fds_[1]);
+  }
+  void send() { EXPECT_EQ(::write(fds_[1], "x", 1), 1); }
+  std::optional<int> wait_fd() const override { return fds_[0]; }
+  bool poll(InputSink& sink, std::chrono::milliseconds) override {
+    char byte;
+    while (::read(fds_[0], &byte, 1) == 1) sink.on_frame(CanFrame{});
+    return true;
+  }
+  std::int64_t now_ns() const override { return monotonic_ns(); }
+  std::string describe() const override { return "pipe"; }
+
+ private:
+  int fds_[2] = {-1, -1};
+};
+
 }  // namespace
+
+TEST(RunInputs, TheInputSetWaitsOnWhatEachInputSaysToWaitOn) {
+  // A log (nothing to wait on) first, the pipe second: the set sleeps until the pipe has a frame,
+  // not to the end of its timeout.
+  std::vector<InputSet::Member> members;
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "log", -1});
+  auto pipe = std::make_unique<PipeInput>();
+  PipeInput* live = pipe.get();
+  members.push_back({std::move(pipe), "pipe", 1});
+  InputSet set(std::move(members));
+  EXPECT_EQ(set.wait_fd(), std::nullopt);  // the set paces itself: it waits inside poll()
+  Received rx;
+  set.poll(rx, std::chrono::milliseconds(0));  // starts the replay; the first log frame is due now
+  rx.frames.clear();
+  live->send();
+  const auto begin = std::chrono::steady_clock::now();
+  set.poll(rx, std::chrono::milliseconds(5000));
+  EXPECT_LT(std::chrono::steady_clock::now() - begin, std::chrono::milliseconds(2500));
+  // The pipe's frame, tagged with its input index (a slow machine may see a log frame fall due too).
+  EXPECT_EQ(std::count_if(rx.frames.begin(), rx.frames.end(), [](const CanFrame& f) { return f.input == 1; }), 1);
+}
 
 TEST(RunInputs, SingleInputFormsAreUnchanged) {
   auto one = parse_input_specs({"log:drive.log"}, {"v.dbc"});
