@@ -7,9 +7,9 @@
 #include "meter/controller/run/check_dbc_command.hpp"
 #include "meter/controller/run/decode_command.hpp"
 #include "meter/controller/run/dump_dbc_command.hpp"
+#include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/odometer_reset_command.hpp"
 #include "meter/controller/run/run_command.hpp"
-#include "meter/controller/run/input_schemes.hpp"
 #include "meter/protocol/catalog.hpp"
 
 int main(int argc, char** argv) {

@@ -8,8 +8,9 @@
 namespace meter::controller {
 
 struct RunOptions {
-  // One entry per input: [NAME=]log:FILE | can:IFACE | modbus-tcp:HOST:PORT | modbus-rtu:DEV:BAUD[:8N1];
-  // with several, each has a NAME the mapping's INPUT.Message.Signal sources can use.
+  // One entry per input: [NAME=]SCHEME:ADDRESS, a scheme of run/input_schemes.hpp (log:FILE |
+  // can:IFACE | modbus-tcp:HOST:PORT | modbus-rtu:DEV:BAUD[:8N1]); with several, each has a NAME the
+  // mapping's INPUT.Message.Signal sources can use.
   std::vector<std::string> inputs;
   // [NAME=]FILE, one per CAN input (none for a Modbus-only mapping); see parse_input_specs().
   std::vector<std::string> dbcs;
