@@ -3,7 +3,13 @@
 #include <iostream>
 #include <optional>
 
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/input/log_format.hpp"
+#include "meter/controller/run/check_dbc_command.hpp"
+#include "meter/controller/run/decode_command.hpp"
+#include "meter/controller/run/dump_dbc_command.hpp"
+#include "meter/controller/run/input_schemes.hpp"
+#include "meter/controller/run/odometer_reset_command.hpp"
+#include "meter/controller/run/run_command.hpp"
 #include "meter/protocol/catalog.hpp"
 
 int main(int argc, char** argv) {
@@ -18,10 +24,10 @@ int main(int argc, char** argv) {
                 "DBC file describing the bus (not needed for a Modbus-only mapping); with several inputs "
                 "NAME=FILE for the input of that name, once per CAN input");
   r->add_option("--map", run.map, "Mapping file: bus signals -> catalog signals (docs/mapping.md)")->required()->check(CLI::ExistingFile);
-  r->add_option("--input", run.inputs,
-                "Input: log:FILE (candump -L), can:IFACE (SocketCAN, e.g. can:vcan0), modbus-tcp:HOST:PORT, "
-                "modbus-rtu:DEVICE:BAUD[:8N1]. Repeatable: several inputs are NAME=INPUT each (e.g. "
-                "--input body=can:vcan0 --input chassis=can:vcan1), read on one clock (docs/controller.md)")
+  const std::string input_help = "Input: " + input_forms_described() +
+                                 ". Repeatable: several inputs are NAME=INPUT each (e.g. --input body=can:vcan0 "
+                                 "--input chassis=can:vcan1), read on one clock (docs/controller.md)";
+  r->add_option("--input", run.inputs, input_help)
       ->required()
       ->take_all();
   r->add_option("--replay", run.replay,
@@ -53,9 +59,10 @@ int main(int argc, char** argv) {
                 "Write a Chrome trace-event JSON (receive, decode, publish on CLOCK_MONOTONIC; opens in Perfetto UI)");
 
   std::string dbc, log, map;
-  auto* d = app.add_subcommand("decode", "Decode a candump -L log with a DBC to CSV: timestamp,message,signal,raw,physical,unit,status.");
+  auto* d = app.add_subcommand("decode", "Decode a recorded CAN log (" + log_format_names() +
+                                             ") with a DBC to CSV: timestamp,message,signal,raw,physical,unit,status.");
   d->add_option("--dbc", dbc, "DBC file")->required()->check(CLI::ExistingFile);
-  d->add_option("LOG", log, "candump -L log file")->required()->check(CLI::ExistingFile);
+  d->add_option("LOG", log, "Recorded CAN log (" + log_format_names() + "; the format is told by the first lines, else by the extension)")->required()->check(CLI::ExistingFile);
   d->add_option("--map", map, "Only the signals this mapping uses")->check(CLI::ExistingFile);
   bool decode_strict = false;
   d->add_flag("--strict", decode_strict, strict_help);

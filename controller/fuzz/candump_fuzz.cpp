@@ -10,6 +10,7 @@
 
 #include "fixed_vehicle.hpp"
 #include "meter/controller/dbc/codec.hpp"
+#include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/candump_log.hpp"
 #include "meter/controller/model/model.hpp"
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/decode_command.hpp"
 
 namespace {
 const std::string kSharedDir = METER_SHARED_DIR;

@@ -9,7 +9,7 @@
 
 #include "meter/controller/dbc/codec.hpp"
 #include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/candump_line.hpp"
 
 using namespace meter::controller;
 

@@ -10,7 +10,8 @@
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/model/model.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/check_dbc_command.hpp"
+#include "meter/controller/run/decode_command.hpp"
 
 using namespace meter::controller;
 

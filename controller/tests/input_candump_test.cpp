@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/candump_line.hpp"
 
 using namespace meter::controller;
 

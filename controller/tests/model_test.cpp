@@ -132,3 +132,25 @@ TEST(Model, ChangedListsOnlyOutputsWhoseValueOrStatusMoved) {
   EXPECT_EQ(m.outputs()[m.changed()[0]].id, sig::kCurrentGear);
   EXPECT_DOUBLE_EQ(m.outputs()[m.changed()[0]].value, 4.0);
 }
+
+TEST(Model, ChangedMeansWhatTheLinkCarriesSoMinusZeroAfterZeroIsAChange) {
+  // The link carries each value's 64 bits and the view's table compares bits, so a tick that turns
+  // 0.0 into -0.0 (here through a value map, which keeps the sign of zero) changes what a readout
+  // prints ("-0"): the model must report it, or the view keeps the old value while the controller
+  // holds the new one.
+  Database db = parse_dbc(kDbc, "t.dbc");
+  Model m(&db, parse_mapping("[Vehicle.Powertrain.Transmission.CurrentGear]\nsource = Speed.Gear\nmap = 5:-0\n"
+                             "timeout = none\n"));
+  m.start(0);
+  m.on_frame(frame(256, 5 * ms, {0, 0, 0, 0, 0, 0, 0, 0}));  // gear 0
+  m.update(10 * ms);
+  ASSERT_EQ(m.output(sig::kCurrentGear)->status, SignalStatus::Valid);
+  ASSERT_FALSE(std::signbit(m.output(sig::kCurrentGear)->value));
+  m.on_frame(frame(256, 15 * ms, {0, 0, 0, 0, 5, 0, 0, 0}));  // gear 5 -> -0
+  m.update(20 * ms);
+  ASSERT_TRUE(std::signbit(m.output(sig::kCurrentGear)->value));
+  ASSERT_EQ(m.changed().size(), 1u);
+  EXPECT_EQ(m.outputs()[m.changed()[0]].id, sig::kCurrentGear);
+  m.update(30 * ms);
+  EXPECT_TRUE(m.changed().empty());  // the same bits again: no change
+}

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <string>
 
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/candump_line.hpp"
 #include "meter/protocol/link.hpp"
 #include "model_fixture.hpp"
 #include "process_util.hpp"

@@ -1,6 +1,7 @@
 // Several inputs in one controller: pairing --input with --dbc, candump logs merged onto one
 // timeline, the input set's one clock, and the run loop fed by two logs with a DBC each.
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,10 +14,15 @@
 #include <string>
 #include <vector>
 
+#include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/clocks.hpp"
 #include "meter/controller/input/log_replay.hpp"
-#include "meter/controller/run/commands.hpp"
-#include "meter/controller/run/inputs.hpp"
+#include "meter/controller/input/merge_logs.hpp"
+#include "meter/controller/run/input_schemes.hpp"
+#include "meter/controller/run/input_set.hpp"
+#include "meter/controller/run/input_specs.hpp"
+#include "meter/controller/run/run_command.hpp"
 #include "model_fixture.hpp"
 
 using namespace meter::controller;
@@ -53,7 +59,51 @@ struct Received : InputSink {
   void on_value(std::string_view, double, bool, std::int64_t) override {}
 };
 
+// A live input without a bus: a frame waits whenever its pipe holds a byte, and the pipe is what
+// it says to wait on (as SocketCAN's receive queues are).
+class PipeInput : public Input {
+ public:
+  PipeInput() { EXPECT_EQ(::pipe2(fds_, O_CLOEXEC | O_NONBLOCK), 0); }
+  ~PipeInput() override {
+    ::close(fds_[0]);
+    ::close(fds_[1]);
+  }
+  void send() { EXPECT_EQ(::write(fds_[1], "x", 1), 1); }
+  std::optional<int> wait_fd() const override { return fds_[0]; }
+  bool poll(InputSink& sink, std::chrono::milliseconds) override {
+    char byte;
+    while (::read(fds_[0], &byte, 1) == 1) sink.on_frame(CanFrame{});
+    return true;
+  }
+  std::int64_t now_ns() const override { return monotonic_ns(); }
+  std::string describe() const override { return "pipe"; }
+
+ private:
+  int fds_[2] = {-1, -1};
+};
+
 }  // namespace
+
+TEST(RunInputs, TheInputSetWaitsOnWhatEachInputSaysToWaitOn) {
+  // A log (nothing to wait on) first, the pipe second: the set sleeps until the pipe has a frame,
+  // not to the end of its timeout.
+  std::vector<InputSet::Member> members;
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "log", -1});
+  auto pipe = std::make_unique<PipeInput>();
+  PipeInput* live = pipe.get();
+  members.push_back({std::move(pipe), "pipe", 1});
+  InputSet set(std::move(members));
+  EXPECT_EQ(set.wait_fd(), std::nullopt);  // the set paces itself: it waits inside poll()
+  Received rx;
+  set.poll(rx, std::chrono::milliseconds(0));  // starts the replay; the first log frame is due now
+  rx.frames.clear();
+  live->send();
+  const auto begin = std::chrono::steady_clock::now();
+  set.poll(rx, std::chrono::milliseconds(5000));
+  EXPECT_LT(std::chrono::steady_clock::now() - begin, std::chrono::milliseconds(2500));
+  // The pipe's frame, tagged with its input index (a slow machine may see a log frame fall due too).
+  EXPECT_EQ(std::count_if(rx.frames.begin(), rx.frames.end(), [](const CanFrame& f) { return f.input == 1; }), 1);
+}
 
 TEST(RunInputs, SingleInputFormsAreUnchanged) {
   auto one = parse_input_specs({"log:drive.log"}, {"v.dbc"});
@@ -68,7 +118,27 @@ TEST(RunInputs, SingleInputFormsAreUnchanged) {
   auto named = parse_input_specs({"body=can:vcan0"}, {"v.dbc"});
   EXPECT_EQ(named[0].name, "body");
   EXPECT_EQ(named[0].dbc, "v.dbc");
-  EXPECT_EQ(named[0].kind, InputKind::SocketCan);
+  EXPECT_EQ(named[0].kind, InputKind::CanBus);
+}
+
+TEST(RunInputs, TheSchemeIsParsedOnceAndAnUnknownOneListsEveryKnownForm) {
+  auto specs = parse_input_specs({"a=log:/x/drive.log", "b=modbus-tcp:h:1502", "c=can:vcan1"}, {"a=v.dbc", "c=w.dbc"});
+  EXPECT_EQ(specs[0].scheme->scheme, "log");
+  EXPECT_EQ(specs[0].address, "/x/drive.log");
+  EXPECT_EQ(specs[1].scheme->scheme, "modbus-tcp");
+  EXPECT_EQ(specs[1].address, "h:1502");
+  EXPECT_EQ(specs[2].address, "vcan1");
+  const std::string unknown = error_of({"serial:/dev/ttyS0"}, {});
+  EXPECT_TRUE(contains(unknown, "unknown scheme 'serial'")) << unknown;
+  for (const InputScheme& s : input_schemes()) EXPECT_TRUE(contains(unknown, std::string(s.form))) << s.form;
+  EXPECT_TRUE(contains(error_of({"vcan0"}, {}), "(no scheme before a ':')"));
+  EXPECT_TRUE(contains(error_of({"can:"}, {}), "--input can:: expected can:IFACE, with something after 'can:'"));
+  EXPECT_TRUE(contains(error_of({"modbus-tcp:"}, {}), "expected modbus-tcp:HOST:PORT"));
+  // A log is loaded (and merged with the other logs); every other kind is opened live.
+  for (const InputScheme& s : input_schemes()) {
+    EXPECT_EQ(s.load != nullptr, s.kind == InputKind::Log) << s.scheme;
+    EXPECT_EQ(s.open != nullptr, s.kind != InputKind::Log) << s.scheme;
+  }
 }
 
 TEST(RunInputs, SeveralInputsPairWithTheirDbcs) {
@@ -131,8 +201,8 @@ TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
   // tagged with its index and stamped on the first one's clock. The second is one frame shorter,
   // so it has ended before the first (the time base) ends the set.
   std::vector<InputSet::Member> members;
-  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1, -1});
-  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 3)), ReplayOptions{}), "b", 1, -1});
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1});
+  members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 3)), ReplayOptions{}), "b", 1});
   InputSet set(std::move(members));
   EXPECT_EQ(set.describe().rfind("a: candump log (4 frames", 0), 0u) << set.describe();
   // Each poll's wall time and how many frames had arrived when it returned: the second input's

@@ -11,7 +11,7 @@
 
 #include "meter/controller/dbc/codec.hpp"
 #include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/candump_line.hpp"
 
 namespace meter::testing {
 

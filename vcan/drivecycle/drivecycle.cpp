@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/candump_line.hpp"
 
 namespace meter::drivecycle {
 namespace {

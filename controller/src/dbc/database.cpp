@@ -1,4 +1,5 @@
-// Database lookups: signals by name, messages by id (exact, then J1939 PGN) and by name.
+// Database lookups: signals by name, messages by id (exact, then J1939 PGN) and by name; the
+// names of the warning kinds.
 #include "bit_layout.hpp"
 #include "meter/controller/dbc/database.hpp"
 
@@ -62,6 +63,22 @@ const DbcMessage* Database::find(std::string_view name) const {
   for (const auto& m : messages)
     if (m.name == name) return &m;
   return nullptr;
+}
+
+const char* to_string(DbcWarningKind k) {
+  switch (k) {
+    case DbcWarningKind::MissingSemicolon: return "missing-semicolon";
+    case DbcWarningKind::UnnamedComment: return "unnamed-comment";
+    case DbcWarningKind::UnknownReference: return "unknown-reference";
+    case DbcWarningKind::StandardIdAbove7FF: return "standard-id-above-7ff";
+    case DbcWarningKind::Duplicate: return "duplicate";
+    case DbcWarningKind::UnknownAttributeType: return "unknown-attribute-type";
+    case DbcWarningKind::SignalOutsideMessage: return "signal-outside-message";
+    case DbcWarningKind::SkippedStatement: return "skipped-statement";
+    case DbcWarningKind::ReservedIdBits: return "reserved-id-bits";
+    case DbcWarningKind::NotUtf8: return "not-utf8";
+  }
+  return "?";
 }
 
 }  // namespace meter::controller

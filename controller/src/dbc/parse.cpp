@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "meter/controller/dbc/parse.hpp"
 #include "parser.hpp"
 #include "text_encoding.hpp"
 
@@ -122,22 +123,6 @@ void DbcParser::skip_broken(const std::string& kw, int kw_line, const DbcError& 
 }  // namespace meter::controller::dbc_parse
 
 namespace meter::controller {
-
-const char* to_string(DbcWarningKind k) {
-  switch (k) {
-    case DbcWarningKind::MissingSemicolon: return "missing-semicolon";
-    case DbcWarningKind::UnnamedComment: return "unnamed-comment";
-    case DbcWarningKind::UnknownReference: return "unknown-reference";
-    case DbcWarningKind::StandardIdAbove7FF: return "standard-id-above-7ff";
-    case DbcWarningKind::Duplicate: return "duplicate";
-    case DbcWarningKind::UnknownAttributeType: return "unknown-attribute-type";
-    case DbcWarningKind::SignalOutsideMessage: return "signal-outside-message";
-    case DbcWarningKind::SkippedStatement: return "skipped-statement";
-    case DbcWarningKind::ReservedIdBits: return "reserved-id-bits";
-    case DbcWarningKind::NotUtf8: return "not-utf8";
-  }
-  return "?";
-}
 
 Database parse_dbc(std::string_view text, const std::string& file, const DbcOptions& options) {
   if (text.size() >= 3 && static_cast<unsigned char>(text[0]) == 0xEF &&

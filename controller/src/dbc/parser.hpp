@@ -79,6 +79,13 @@ class DbcParser {
   DbcMessage* message_by_raw(std::uint32_t raw);
   std::optional<std::string> enum_text(const std::string& name, const AttrValue& v);
   void finish();
+  // The stages of finish(), in order. The statements that name a signal (VAL_, SIG_VALTYPE_, CM_,
+  // SG_MUL_VAL_) applied to it, unknown references warned about:
+  void apply_signal_statements();
+  // Simple multiplexing: the mN signals switch on their message's plain 'M' signal.
+  void resolve_plain_multiplexing();
+  // Attributes: defaults first, then per-object values (cycle times, J1939 and FD frame formats).
+  void apply_attributes();
   bool independent(std::uint32_t raw) const { return raw == kIndependentSignalsId || raw == independent_raw_; }
 
   DbcLexer lex_;

@@ -41,7 +41,12 @@ std::optional<std::string> DbcParser::enum_text(const std::string& name, const A
 void DbcParser::finish() {
   for (std::size_t i = 0; i < db_.messages.size(); ++i)
     first_by_id_.try_emplace(id_key(db_.messages[i].id, db_.messages[i].extended), i);
-  // Value tables, value types, comments, extended multiplexing.
+  apply_signal_statements();
+  resolve_plain_multiplexing();
+  apply_attributes();
+}
+
+void DbcParser::apply_signal_statements() {
   std::set<std::pair<const DbcSignal*, char>> seen;  // a second VAL_ / SIG_VALTYPE_ for a signal
   for (auto& p : pending_) {
     DbcMessage* m = message_by_raw(p.raw_id);
@@ -89,7 +94,9 @@ void DbcParser::finish() {
       default: break;
     }
   }
-  // Simple multiplexing: mN signals switch on the message's plain 'M' signal.
+}
+
+void DbcParser::resolve_plain_multiplexing() {
   for (auto& m : db_.messages) {
     int plain = -1;
     for (std::size_t i = 0; i < m.signals.size(); ++i)
@@ -116,7 +123,9 @@ void DbcParser::finish() {
                  std::to_string(m.size) + "-byte message");
     }
   }
-  // Attributes: defaults first, then per-object values.
+}
+
+void DbcParser::apply_attributes() {
   // A cycle time is a whole number of ms an int holds: a larger one (or a NaN) is no cycle time.
   auto cycle_time_fits = [](double ms) { return ms <= double(std::numeric_limits<int>::max()); };
   auto apply_msg_attr = [&](DbcMessage& m, const std::string& name, const AttrValue& v) {

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/candump_line.hpp"
 
 namespace meter::controller {
 namespace {

@@ -1,8 +1,6 @@
-#include "clocks.hpp"
+#include "meter/controller/input/clocks.hpp"
 
 #include <time.h>
-
-#include "meter/controller/input/can_frame.hpp"
 
 namespace meter::controller {
 

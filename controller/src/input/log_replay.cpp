@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "clocks.hpp"
+#include "meter/controller/input/clocks.hpp"
 #include "meter/controller/input/log_replay.hpp"
 
 namespace meter::controller {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "clocks.hpp"
+#include "meter/controller/input/clocks.hpp"
 #include "meter/controller/input/modbus_input.hpp"
 
 namespace meter::controller {

@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "meter/controller/input/clocks.hpp"
 #include "meter/controller/input/socketcan.hpp"
 
 namespace meter::controller {

@@ -1,6 +1,6 @@
 // Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus] and
 // [modbus.register NAME]. Every error names file:line and what was expected.
-#include "meter/controller/mapping/mapping.hpp"
+#include "meter/controller/mapping/map_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +9,8 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+
+#include "meter/controller/mapping/mapping.hpp"
 
 namespace meter::controller {
 namespace {
@@ -146,8 +148,10 @@ void add_value(OutputMapping& o, const ValueItem& from, double to, const Ctx& c)
   else o.remap_names.push_back({from.text, to, c.line});
 }
 
-void set_output_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
-  auto w = words(value);
+// Where the value comes from and how it becomes the catalog value: sources, combine, conversion,
+// value maps, the range rule. False: not one of these keys.
+bool set_value_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
+  const auto w = words(value);
   if (key == "source") {
     if (w.empty()) c.fail("source: expected Message.Signal, INPUT.Message.Signal or modbus.NAME (comma separated for several)");
     for (auto& s : w)
@@ -169,7 +173,7 @@ void set_output_key(OutputMapping& o, const std::string& key, std::string_view v
       if (v == k.name) {
         o.scale = k.scale;
         o.offset = k.offset;
-        return;
+        return true;
       }
     std::string known;
     for (auto& k : kConversions) known += std::string(known.empty() ? "" : ", ") + k.name;
@@ -198,28 +202,44 @@ void set_output_key(OutputMapping& o, const std::string& key, std::string_view v
     else if (v == "clamp") o.out_of_range = RangeAction::Clamp;
     else if (v == "accept") o.out_of_range = RangeAction::Accept;
     else c.fail("out_of_range: expected invalid, clamp or accept, got '" + v + "'");
-  } else if (key == "timeout") {
-    if (trim(value) == "auto") {
-      o.timeout_auto = true;
-      o.timeout_s.reset();
-    } else if (trim(value) == "none") {
-      o.timeout_auto = false;
-      o.timeout_s.reset();
-    } else {
-      o.timeout_auto = false;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// When a source counts as lost and what is shown then. False: not one of these keys.
+bool set_timeout_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
+  if (key == "first_timeout") {
+    o.first_timeout_s = c.seconds(value, key);
+    return true;
+  }
+  if (key == "timeout") {
+    const std::string_view v = trim(value);
+    o.timeout_auto = v == "auto";
+    o.timeout_s.reset();
+    if (v != "auto" && v != "none") {
       o.timeout_s = c.seconds(value, key);
       if (*o.timeout_s <= 0) c.fail("timeout: expected a duration > 0, 'auto' or 'none'");
     }
-  } else if (key == "first_timeout") {
-    o.first_timeout_s = c.seconds(value, key);
-  } else if (key == "on_timeout") {
-    if (w.size() == 1 && w[0] == "hold") o.on_timeout = TimeoutAction::Hold;
-    else if (w.size() == 1 && w[0] == "invalid") o.on_timeout = TimeoutAction::Invalid;
-    else if (w.size() == 2 && w[0] == "substitute") {
-      o.on_timeout = TimeoutAction::Substitute;
-      o.substitute = c.number(w[1], key);
-    } else c.fail("on_timeout: expected hold, invalid or 'substitute <value>'");
-  } else if (key == "needle") {
+    return true;
+  }
+  if (key != "on_timeout") return false;
+  const auto w = words(value);
+  if (w.size() == 1 && w[0] == "hold") o.on_timeout = TimeoutAction::Hold;
+  else if (w.size() == 1 && w[0] == "invalid") o.on_timeout = TimeoutAction::Invalid;
+  else if (w.size() == 2 && w[0] == "substitute") {
+    o.on_timeout = TimeoutAction::Substitute;
+    o.substitute = c.number(w[1], key);
+  } else c.fail("on_timeout: expected hold, invalid or 'substitute <value>'");
+  return true;
+}
+
+// How the shown value is conditioned: needle damping, the speedometer rule, fuel filtering,
+// telltale blink and rules, the odometer. False: not one of these keys.
+bool set_conditioning_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
+  const auto w = words(value);
+  if (key == "needle") {
     o.needle_tau_s = c.seconds(value, key);
     if (o.needle_tau_s <= 0) c.fail("needle: expected the damping time constant in seconds (> 0)");
   } else if (key == "speedometer") {
@@ -279,9 +299,15 @@ void set_output_key(OutputMapping& o, const std::string& key, std::string_view v
       c.fail("accumulate: expected 'speed' or 'counter <Message.Signal> <bits> <micrometres per count>'");
     }
   } else {
-    c.fail("unknown key '" + key + "'; expected source, combine, convert, scale, offset, map, lit_when, out_of_range, timeout, "
-           "first_timeout, on_timeout, needle, speedometer, fuel, blink, invert, rule, first_level, accumulate");
+    return false;
   }
+  return true;
+}
+
+void set_output_key(OutputMapping& o, const std::string& key, std::string_view value, const Ctx& c) {
+  if (set_value_key(o, key, value, c) || set_timeout_key(o, key, value, c) || set_conditioning_key(o, key, value, c)) return;
+  c.fail("unknown key '" + key + "'; expected source, combine, convert, scale, offset, map, lit_when, out_of_range, timeout, "
+         "first_timeout, on_timeout, needle, speedometer, fuel, blink, invert, rule, first_level, accumulate");
 }
 
 RegisterType register_type(const std::string& v, const Ctx& c) {
@@ -293,128 +319,104 @@ RegisterType register_type(const std::string& v, const Ctx& c) {
   c.fail("type: expected int16, uint16, int32, uint32 or float32, got '" + v + "'");
 }
 
-}  // namespace
+enum class Section { None, Global, Modbus, Register, Output };
 
-const OutputMapping* Mapping::find(protocol::SignalId id) const {
-  for (auto& o : outputs)
-    if (o.id == id) return &o;
-  return nullptr;
+// A [section] header: the section it opens (a catalog signal's output, a Modbus register, ...).
+Section open_section(Mapping& m, std::string_view header, const Ctx& c) {
+  if (header.back() != ']') c.fail("expected ']' closing the section header");
+  std::string name(trim(header.substr(1, header.size() - 2)));
+  if (name == "global") {
+    return Section::Global;
+  } else if (name == "modbus") {
+    if (!m.modbus) m.modbus.emplace();
+    return Section::Modbus;
+  } else if (name.rfind("modbus.register", 0) == 0) {
+    if (!m.modbus) m.modbus.emplace();
+    std::string reg(trim(std::string_view(name).substr(15)));
+    if (reg.empty()) c.fail("expected [modbus.register NAME]");
+    if (m.modbus->find(reg)) c.fail("register '" + reg + "' defined twice");
+    ModbusRegister r;
+    r.name = reg;
+    r.line = c.line;
+    m.modbus->registers.push_back(r);
+    return Section::Register;
+  } else {
+    const protocol::SignalInfo* info = protocol::find_signal(name);
+    if (!info)
+      c.fail("section [" + name + "]: expected a signal of the catalog " + protocol::active_catalog()->source() +
+             " (e.g. Vehicle.Speed), 'global', 'modbus' or 'modbus.register NAME'");
+    if (m.find(info->id)) c.fail("section [" + name + "] appears twice");
+    OutputMapping o;
+    o.id = info->id;
+    o.name = name;
+    o.line = c.line;
+    m.outputs.push_back(o);
+    return Section::Output;
+  }
 }
 
-Mapping parse_mapping(std::string_view text, const std::string& file) {
-  Mapping m;
-  m.file = file;
-  enum class Sec { None, Global, Modbus, Register, Output } sec = Sec::None;
-  Ctx c{file, 0};
-  std::istringstream in{std::string(text)};
-  std::string raw;
-  while (std::getline(in, raw)) {
-    ++c.line;
-    std::string_view line = raw;
-    auto hash = line.find('#');
-    if (hash != std::string_view::npos) line = line.substr(0, hash);
-    line = trim(line);
-    if (line.empty()) continue;
-    if (line.front() == '[') {
-      if (line.back() != ']') c.fail("expected ']' closing the section header");
-      std::string name(trim(line.substr(1, line.size() - 2)));
-      if (name == "global") {
-        sec = Sec::Global;
-      } else if (name == "modbus") {
-        if (!m.modbus) m.modbus.emplace();
-        sec = Sec::Modbus;
-      } else if (name.rfind("modbus.register", 0) == 0) {
-        if (!m.modbus) m.modbus.emplace();
-        std::string reg(trim(std::string_view(name).substr(15)));
-        if (reg.empty()) c.fail("expected [modbus.register NAME]");
-        if (m.modbus->find(reg)) c.fail("register '" + reg + "' defined twice");
-        ModbusRegister r;
-        r.name = reg;
-        r.line = c.line;
-        m.modbus->registers.push_back(r);
-        sec = Sec::Register;
-      } else {
-        const protocol::SignalInfo* info = protocol::find_signal(name);
-        if (!info)
-          c.fail("section [" + name + "]: expected a signal of the catalog " + protocol::active_catalog()->source() +
-                 " (e.g. Vehicle.Speed), 'global', 'modbus' or 'modbus.register NAME'");
-        if (m.find(info->id)) c.fail("section [" + name + "] appears twice");
-        OutputMapping o;
-        o.id = info->id;
-        o.name = name;
-        o.line = c.line;
-        m.outputs.push_back(o);
-        sec = Sec::Output;
-      }
-      continue;
-    }
-    auto eq = line.find('=');
-    if (eq == std::string_view::npos) c.fail("expected 'key = value' or a [section] header");
-    std::string key(trim(line.substr(0, eq)));
-    std::string_view value = trim(line.substr(eq + 1));
-    if (value.empty()) c.fail(key + ": expected a value after '='");
-    switch (sec) {
-      case Sec::None: c.fail("'" + key + "' outside any [section]");
-      case Sec::Global:
-        if (key == "bulb_check") {
-          m.bulb_check_s = c.seconds(value, key);
-          if (m.bulb_check_s < 2 || m.bulb_check_s > 4) c.fail("bulb_check: expected 2..4 s");
-        } else if (key == "persist_interval") {
-          m.persist_interval_s = c.seconds(value, key);
-          if (m.persist_interval_s <= 0) c.fail("persist_interval: expected > 0 s");
-        } else if (key == "update_period") {
-          m.update_period_s = c.seconds(value, key);
-          if (m.update_period_s < 0.001 || m.update_period_s > 1) c.fail("update_period: expected 1 ms..1 s");
-        } else {
-          c.fail("unknown [global] key '" + key + "'; expected bulb_check, persist_interval or update_period");
-        }
-        break;
-      case Sec::Modbus:
-        if (key == "poll") m.modbus->poll_s = c.seconds(value, key);
-        else if (key == "timeout") m.modbus->response_timeout_s = c.seconds(value, key);
-        else if (key == "unit") {
-          double u = c.number(value, key);
-          if (u < 0 || u > 247 || u != std::floor(u)) c.fail("unit: expected a Modbus unit id 0..247");
-          m.modbus->unit_id = static_cast<int>(u);
-        }
-        else if (key == "heartbeat") m.modbus->heartbeat = std::string(value);
-        else if (key == "stale_after") {
-          double n = c.number(value, key);
-          if (n < 1 || n > 100000 || n != std::floor(n)) c.fail("stale_after: expected a poll count 1..100000");
-          m.modbus->stale_after_polls = static_cast<int>(n);
-        }
-        else c.fail("unknown [modbus] key '" + key + "'; expected poll, timeout, unit, heartbeat or stale_after");
-        if (m.modbus->poll_s <= 0 || m.modbus->response_timeout_s <= 0) c.fail(key + ": expected a duration > 0");
-        break;
-      case Sec::Register: {
-        auto& r = m.modbus->registers.back();
-        if (key == "table") {
-          if (value == "holding") r.input_table = false;
-          else if (value == "input") r.input_table = true;
-          else c.fail("table: expected holding or input");
-        } else if (key == "address") {
-          double a = c.number(value, key);
-          if (a < 0 || a > 65535 || a != std::floor(a)) c.fail("address: expected 0..65535");
-          r.address = static_cast<int>(a);
-        } else if (key == "type") {
-          r.type = register_type(std::string(value), c);
-        } else if (key == "word_order") {
-          if (value == "high_first") r.word_swap = false;
-          else if (value == "low_first") r.word_swap = true;
-          else c.fail("word_order: expected high_first or low_first");
-        } else if (key == "scale") {
-          r.scale = c.number(value, key);
-        } else if (key == "offset") {
-          r.offset = c.number(value, key);
-        } else {
-          c.fail("unknown register key '" + key + "'; expected table, address, type, word_order, scale or offset");
-        }
-        break;
-      }
-      case Sec::Output: set_output_key(m.outputs.back(), key, value, c); break;
-    }
+// [global]: the bulb check, the odometer's persist interval, the model's update period.
+void set_global_key(Mapping& m, const std::string& key, std::string_view value, const Ctx& c) {
+  if (key == "bulb_check") {
+    m.bulb_check_s = c.seconds(value, key);
+    if (m.bulb_check_s < 2 || m.bulb_check_s > 4) c.fail("bulb_check: expected 2..4 s");
+  } else if (key == "persist_interval") {
+    m.persist_interval_s = c.seconds(value, key);
+    if (m.persist_interval_s <= 0) c.fail("persist_interval: expected > 0 s");
+  } else if (key == "update_period") {
+    m.update_period_s = c.seconds(value, key);
+    if (m.update_period_s < 0.001 || m.update_period_s > 1) c.fail("update_period: expected 1 ms..1 s");
+  } else {
+    c.fail("unknown [global] key '" + key + "'; expected bulb_check, persist_interval or update_period");
   }
-  // Cross-checks that need the whole file.
+}
+
+// [modbus]: the poll settings of the Modbus input.
+void set_modbus_key(ModbusConfig& modbus, const std::string& key, std::string_view value, const Ctx& c) {
+  if (key == "poll") modbus.poll_s = c.seconds(value, key);
+  else if (key == "timeout") modbus.response_timeout_s = c.seconds(value, key);
+  else if (key == "unit") {
+    double u = c.number(value, key);
+    if (u < 0 || u > 247 || u != std::floor(u)) c.fail("unit: expected a Modbus unit id 0..247");
+    modbus.unit_id = static_cast<int>(u);
+  }
+  else if (key == "heartbeat") modbus.heartbeat = std::string(value);
+  else if (key == "stale_after") {
+    double n = c.number(value, key);
+    if (n < 1 || n > 100000 || n != std::floor(n)) c.fail("stale_after: expected a poll count 1..100000");
+    modbus.stale_after_polls = static_cast<int>(n);
+  }
+  else c.fail("unknown [modbus] key '" + key + "'; expected poll, timeout, unit, heartbeat or stale_after");
+  if (modbus.poll_s <= 0 || modbus.response_timeout_s <= 0) c.fail(key + ": expected a duration > 0");
+}
+
+// [modbus.register NAME]: where the register is and how its words become a value.
+void set_register_key(ModbusRegister& r, const std::string& key, std::string_view value, const Ctx& c) {
+  if (key == "table") {
+    if (value == "holding") r.input_table = false;
+    else if (value == "input") r.input_table = true;
+    else c.fail("table: expected holding or input");
+  } else if (key == "address") {
+    double a = c.number(value, key);
+    if (a < 0 || a > 65535 || a != std::floor(a)) c.fail("address: expected 0..65535");
+    r.address = static_cast<int>(a);
+  } else if (key == "type") {
+    r.type = register_type(std::string(value), c);
+  } else if (key == "word_order") {
+    if (value == "high_first") r.word_swap = false;
+    else if (value == "low_first") r.word_swap = true;
+    else c.fail("word_order: expected high_first or low_first");
+  } else if (key == "scale") {
+    r.scale = c.number(value, key);
+  } else if (key == "offset") {
+    r.offset = c.number(value, key);
+  } else {
+    c.fail("unknown register key '" + key + "'; expected table, address, type, word_order, scale or offset");
+  }
+}
+
+// Cross-checks that need the whole file: every output has what it needs, every Modbus name resolves.
+void check_mapping(const Mapping& m, Ctx& c) {
   for (const auto& o : m.outputs) {
     c.line = o.line;
     const bool needs_source = o.rule == Rule::None && o.accumulate == Accumulate::None;
@@ -430,7 +432,43 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
         c.fail("[" + o.name + "]: source " + s + " names no [modbus.register " + s.substr(7) + "]");
   }
   if (m.modbus && !m.modbus->heartbeat.empty() && !m.modbus->find(m.modbus->heartbeat))
-    throw MappingError(file, 0, "[modbus] heartbeat '" + m.modbus->heartbeat + "' names no register");
+    throw MappingError(m.file, 0, "[modbus] heartbeat '" + m.modbus->heartbeat + "' names no register");
+}
+
+}  // namespace
+
+Mapping parse_mapping(std::string_view text, const std::string& file) {
+  Mapping m;
+  m.file = file;
+  Section sec = Section::None;
+  Ctx c{file, 0};
+  std::istringstream in{std::string(text)};
+  std::string raw;
+  while (std::getline(in, raw)) {
+    ++c.line;
+    std::string_view line = raw;
+    auto hash = line.find('#');
+    if (hash != std::string_view::npos) line = line.substr(0, hash);
+    line = trim(line);
+    if (line.empty()) continue;
+    if (line.front() == '[') {
+      sec = open_section(m, line, c);
+      continue;
+    }
+    auto eq = line.find('=');
+    if (eq == std::string_view::npos) c.fail("expected 'key = value' or a [section] header");
+    std::string key(trim(line.substr(0, eq)));
+    std::string_view value = trim(line.substr(eq + 1));
+    if (value.empty()) c.fail(key + ": expected a value after '='");
+    switch (sec) {
+      case Section::None: c.fail("'" + key + "' outside any [section]");
+      case Section::Global: set_global_key(m, key, value, c); break;
+      case Section::Modbus: set_modbus_key(*m.modbus, key, value, c); break;
+      case Section::Register: set_register_key(m.modbus->registers.back(), key, value, c); break;
+      case Section::Output: set_output_key(m.outputs.back(), key, value, c); break;
+    }
+  }
+  check_mapping(m, c);
   return m;
 }
 

@@ -5,6 +5,7 @@
 
 #include "meter/controller/mapping/signal_period.hpp"
 #include "meter/controller/mapping/value_names.hpp"
+#include "meter/protocol/signal_change.hpp"
 
 namespace meter::controller {
 
@@ -233,8 +234,10 @@ void Model::update(std::int64_t t) {
 void Model::detect_changes() {
   changed_.clear();
   const bool first = reported_.size() != outputs_.size();
+  // The link's own rule (signal_change.hpp): a change here is exactly what the Publisher's table
+  // will count as one, so every listed output reaches the view and no unlisted one differs.
   for (std::size_t i = 0; i < outputs_.size(); ++i)
-    if (first || reported_[i].value != outputs_[i].value || reported_[i].status != outputs_[i].status)
+    if (first || protocol::signal_changed(reported_[i].value, reported_[i].status, outputs_[i].value, outputs_[i].status))
       changed_.push_back(i);
   reported_ = outputs_;
 }

@@ -5,7 +5,7 @@
 
 #include "command_output.hpp"
 #include "meter/controller/dbc/database.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/check_dbc_command.hpp"
 
 namespace meter::controller {
 

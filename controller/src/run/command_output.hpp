@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/parsed_log.hpp"
 
 namespace meter::controller {
 

@@ -1,4 +1,4 @@
-// decode: a candump log through the DBC to CSV, one row per decoded signal.
+// decode: a recorded CAN log (any format of log_format.hpp) through the DBC to CSV, one row per decoded signal.
 #include <cstdio>
 #include <ostream>
 #include <set>
@@ -6,11 +6,11 @@
 #include "command_output.hpp"
 #include "meter/controller/dbc/codec.hpp"
 #include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/log_format.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/mapping/sources.hpp"
 #include "meter/controller/model/model.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/decode_command.hpp"
 
 namespace meter::controller {
 
@@ -30,7 +30,7 @@ int decode_command(const std::string& dbc_path, const std::string& log_path, con
           wanted.emplace(src.message, src.signal);
         }
     }
-    ParsedLog log = load_candump_log(log_path);
+    ParsedLog log = load_log_file(log_path);
     report_bad_lines(log, log_path, err);
     out << "timestamp,message,signal,raw,physical,unit,status\n";
     std::vector<DecodedSignal> decoded;

@@ -1,4 +1,4 @@
-// Several inputs polled as one on one clock, and several candump logs merged onto one timeline.
+// Several inputs polled as one on one clock.
 #include <sys/epoll.h>
 #include <unistd.h>
 
@@ -7,33 +7,9 @@
 #include <stdexcept>
 #include <thread>
 
-#include "meter/controller/run/inputs.hpp"
+#include "meter/controller/run/input_set.hpp"
 
 namespace meter::controller {
-
-ParsedLog merge_logs(std::vector<std::pair<int, ParsedLog>> logs) {
-  ParsedLog out;
-  std::size_t total = 0;
-  for (auto& [index, log] : logs) {
-    total += log.frames.size();
-    out.lines += log.lines;
-    for (BadLine& b : log.bad_lines) out.bad_lines.push_back(std::move(b));
-    for (CanFrame& f : log.frames) f.input = static_cast<std::uint8_t>(index);
-  }
-  out.frames.reserve(total);
-  // k-way merge: always the log whose next frame is earliest (ties: the earlier --input).
-  std::vector<std::size_t> next(logs.size(), 0);
-  while (out.frames.size() < total) {
-    std::size_t best = logs.size();
-    for (std::size_t i = 0; i < logs.size(); ++i) {
-      const auto& frames = logs[i].second.frames;
-      if (next[i] == frames.size()) continue;
-      if (best == logs.size() || frames[next[i]].timestamp_ns < logs[best].second.frames[next[best]].timestamp_ns) best = i;
-    }
-    out.frames.push_back(logs[best].second.frames[next[best]++]);
-  }
-  return out;
-}
 
 namespace {
 
@@ -60,13 +36,14 @@ class OntoTimeBase : public InputSink {
 InputSet::InputSet(std::vector<Member> members) : members_(std::move(members)), ended_(members_.size(), false) {
   if (members_.empty()) throw std::invalid_argument("InputSet: no inputs");
   for (const Member& m : members_) {
-    if (m.fd < 0) continue;
+    const std::optional<int> fd = m.input->wait_fd();
+    if (!fd) continue;
     if (epoll_ < 0 && (epoll_ = ::epoll_create1(EPOLL_CLOEXEC)) < 0)
       throw std::runtime_error(std::string("epoll_create1: ") + std::strerror(errno));
     epoll_event ev{};
     ev.events = EPOLLIN;
-    ev.data.fd = m.fd;
-    if (::epoll_ctl(epoll_, EPOLL_CTL_ADD, m.fd, &ev) != 0) {
+    ev.data.fd = *fd;
+    if (::epoll_ctl(epoll_, EPOLL_CTL_ADD, *fd, &ev) != 0) {
       const int e = errno;
       ::close(epoll_);
       throw std::runtime_error(m.input->describe() + ": epoll_ctl: " + std::strerror(e));

@@ -3,7 +3,7 @@
 #include <cctype>
 #include <stdexcept>
 
-#include "meter/controller/run/inputs.hpp"
+#include "meter/controller/run/input_specs.hpp"
 
 namespace meter::controller {
 namespace {
@@ -20,17 +20,7 @@ std::pair<std::string, std::string> split_name(const std::string& arg) {
   return {name, arg.substr(eq + 1)};
 }
 
-bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
-
 }  // namespace
-
-InputKind input_kind(const std::string& target) {
-  if (starts_with(target, "log:") && target.size() > 4) return InputKind::Log;
-  if (starts_with(target, "can:") && target.size() > 4) return InputKind::SocketCan;
-  if (starts_with(target, "modbus-tcp:") || starts_with(target, "modbus-rtu:")) return InputKind::Modbus;
-  throw std::invalid_argument("--input: expected [NAME=]log:FILE, can:IFACE, modbus-tcp:HOST:PORT or modbus-rtu:DEV:BAUD, got '" +
-                              target + "'");
-}
 
 std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs, const std::vector<std::string>& dbcs) {
   if (inputs.empty()) throw std::invalid_argument("--input: expected at least one input");
@@ -38,7 +28,8 @@ std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs,
   std::vector<InputSpec> specs;
   for (const std::string& arg : inputs) {
     auto [name, target] = split_name(arg);
-    InputSpec s{name, target, "", input_kind(target)};
+    InputTarget parsed = parse_input_target(target);
+    InputSpec s{name, target, "", parsed.scheme->kind, parsed.scheme, std::move(parsed.address)};
     if (inputs.size() > 1 && name.empty())
       throw std::invalid_argument("--input " + arg + ": with several inputs each one needs a name, e.g. --input body=" + arg);
     if (name == "modbus")

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "../input/clocks.hpp"
 #include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/clocks.hpp"
 
 namespace meter::controller {
 

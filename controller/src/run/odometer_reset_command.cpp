@@ -7,7 +7,7 @@
 
 #include "command_output.hpp"
 #include "meter/controller/persistence/odometer_store.hpp"
-#include "meter/controller/run/commands.hpp"
+#include "meter/controller/run/odometer_reset_command.hpp"
 
 namespace meter::controller {
 

@@ -1,6 +1,8 @@
-// The --input arguments to input backends. This is where the mapping becomes input configuration:
-// the kernel id filter from the DBC messages the mapping reads on each bus, the Modbus register
-// table from its [modbus] sections. The input stage itself knows nothing about mappings.
+// The --input arguments to input backends: every log loaded and the logs merged into one replay,
+// every live input opened by its scheme's factory (run/input_schemes.hpp), several inputs put on
+// one clock. This is where the mapping becomes input configuration: the kernel id filter from the
+// DBC messages the mapping reads on each bus, the Modbus register table from its [modbus]
+// sections. The input stage itself knows nothing about mappings.
 #pragma once
 
 #include <cstdint>
@@ -12,11 +14,11 @@
 #include <vector>
 
 #include "meter/controller/dbc/database.hpp"
+#include "meter/controller/input/can_id_filter.hpp"
 #include "meter/controller/input/input.hpp"
-#include "meter/controller/input/socketcan.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/model/model.hpp"
-#include "meter/controller/run/inputs.hpp"
+#include "meter/controller/run/input_specs.hpp"
 
 namespace meter::controller {
 

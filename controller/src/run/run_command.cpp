@@ -16,8 +16,8 @@
 #include "meter/controller/input/socketcan.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/model/model.hpp"
-#include "meter/controller/run/commands.hpp"
-#include "meter/controller/run/inputs.hpp"
+#include "meter/controller/run/input_specs.hpp"
+#include "meter/controller/run/run_command.hpp"
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "open_input.hpp"
@@ -47,6 +47,66 @@ class ModelSink : public InputSink {
   protocol::TraceEventFile& events_;
 };
 
+// Every input's DBC (none: empty), loaded as the specs name them; warnings go to err.
+std::vector<std::optional<Database>> load_dbcs(const std::vector<InputSpec>& specs, bool strict, std::ostream& err) {
+  std::vector<std::optional<Database>> dbs(specs.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    if (specs[i].dbc.empty()) continue;
+    dbs[i] = load_dbc(specs[i].dbc, DbcOptions{strict});
+    report_dbc_warnings(*dbs[i], err);
+  }
+  return dbs;
+}
+
+// The model's view of the inputs: each one's name and DBC.
+std::vector<InputDbc> input_dbcs(const std::vector<InputSpec>& specs, const std::vector<std::optional<Database>>& dbs) {
+  std::vector<InputDbc> buses;
+  for (std::size_t i = 0; i < specs.size(); ++i) buses.push_back(InputDbc{specs[i].name, dbs[i] ? &*dbs[i] : nullptr});
+  return buses;
+}
+
+// The outputs a tick changed (the model says which), and only those, to the link, the latency
+// trace and the --record file: a SNAPSHOT for the first tick (it changes every output), DELTAs after.
+class ChangePublisher {
+ public:
+  ChangePublisher(const Model& model, protocol::Publisher& pub, Trace& trace, PublishRecording& recording)
+      : model_(model), pub_(pub), trace_(trace), recording_(recording) {}
+  void operator()(std::int64_t t) {
+    const auto& outs = model_.outputs();
+    std::vector<protocol::SignalUpdate> recorded;
+    for (std::size_t i : model_.changed()) {
+      pub_.set(outs[i].id, outs[i].value, outs[i].status);
+      trace_.publish(static_cast<int>(outs[i].id), outs[i].value);
+      if (recording_.on()) recorded.push_back(protocol::SignalUpdate{outs[i].id, outs[i].status, outs[i].value, false, {}});
+    }
+    if (recording_.on()) {
+      const bool first = model_.changed().size() == outs.size() && !recorded_any_;
+      recorded_any_ = true;
+      if (first) recording_.snapshot(t, std::move(recorded));
+      else recording_.delta(t, std::move(recorded));
+    }
+  }
+
+ private:
+  const Model& model_;
+  protocol::Publisher& pub_;
+  Trace& trace_;
+  PublishRecording& recording_;
+  bool recorded_any_ = false;
+};
+
+// The final stats line: frames, link traffic, the odometer and its store, the bus health.
+void print_stats(std::ostream& out, const Model& model, const protocol::Publisher& pub, const HealthReport& health) {
+  const auto& st = model.stats();
+  auto ls = pub.stats();
+  out << "meter-controller: " << st.frames << " frames (" << st.frames_mapped << " mapped, " << st.frames_unknown
+      << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
+      << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
+      << fmt_double(model.odometer().total_km()) << " km" << (st.odometer_refused ? " (invalid: stored state refused)" : "")
+      << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors, "
+      << health.stats_text() << "\n";
+}
+
 }  // namespace
 
 int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
@@ -57,17 +117,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
   try {
     protocol::use_catalog_option(o.catalog);  // before the mapping: its sections name catalog signals
     const std::vector<InputSpec> specs = parse_input_specs(o.inputs, o.dbcs);
-    std::vector<std::optional<Database>> dbs(specs.size());
-    std::vector<InputDbc> buses;
-    for (std::size_t i = 0; i < specs.size(); ++i) {
-      if (!specs[i].dbc.empty()) {
-        dbs[i] = load_dbc(specs[i].dbc, DbcOptions{o.strict});
-        report_dbc_warnings(*dbs[i], err);
-      }
-      buses.push_back(InputDbc{specs[i].name, dbs[i] ? &*dbs[i] : nullptr});
-    }
+    const std::vector<std::optional<Database>> dbs = load_dbcs(specs, o.strict, err);
     Mapping map = load_mapping(o.map);
-    Model model(std::move(buses), map,
+    Model model(input_dbcs(specs, dbs), map,
                 ModelOptions{o.state_dir, [&err](const std::string& line) { err << "meter-controller: " << line << "\n"; }});
 
     std::unique_ptr<Input> input;
@@ -91,23 +143,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
 
     // --record: the same changes on the input's clock (the first tick changes every output: a SNAPSHOT).
     PublishRecording recording(o.record);
-    bool recorded_any = false;
-    // The model says which outputs the tick changed; only those go to the link (and the trace).
-    auto publish = [&](std::int64_t t) {
-      const auto& outs = model.outputs();
-      std::vector<protocol::SignalUpdate> recorded;
-      for (std::size_t i : model.changed()) {
-        pub.set(outs[i].id, outs[i].value, outs[i].status);
-        trace.publish(static_cast<int>(outs[i].id), outs[i].value);
-        if (recording.on()) recorded.push_back(protocol::SignalUpdate{outs[i].id, outs[i].status, outs[i].value, false, {}});
-      }
-      if (recording.on()) {
-        const bool first = model.changed().size() == outs.size() && !recorded_any;
-        recorded_any = true;
-        if (first) recording.snapshot(t, std::move(recorded));
-        else recording.delta(t, std::move(recorded));
-      }
-    };
+    ChangePublisher publish(model, pub, trace, recording);
 
     ModelSink sink(model, trace, events);
     HealthReport health(input->describe());
@@ -178,14 +214,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
         report_health(input->now_ns());
       }
     }
-    const auto& st = model.stats();
-    auto ls = pub.stats();
-    out << "meter-controller: " << st.frames << " frames (" << st.frames_mapped << " mapped, " << st.frames_unknown
-        << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
-        << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
-        << fmt_double(model.odometer().total_km()) << " km" << (st.odometer_refused ? " (invalid: stored state refused)" : "")
-        << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors, "
-        << health.stats_text() << "\n";
+    print_stats(out, model, pub, health);
     return 0;
   } catch (const std::exception& e) {
     err << "meter-controller: " << e.what() << "\n";

@@ -1,9 +1,10 @@
 #include "meter/protocol/signal_table.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <stdexcept>
 #include <utility>
+
+#include "meter/protocol/signal_change.hpp"
 
 namespace meter::protocol {
 SignalTable::SignalTable() : SignalTable(active_catalog()) {}
@@ -41,9 +42,8 @@ bool SignalTable::set_text(SignalId id, std::string text, SignalStatus status) {
 
 bool SignalTable::store(std::size_t index, double value, SignalStatus status, std::string* text) {
   SignalState& s = states_[index];
-  // Compare bits, not values: -0.0 vs 0.0 is a change a display may care about, and it keeps the
-  // comparison exact.
-  bool changed = std::bit_cast<std::uint64_t>(s.value) != std::bit_cast<std::uint64_t>(value) || s.status != status;
+  // The one change rule of both ends (signal_change.hpp): the value's bits, then the status.
+  bool changed = signal_changed(s.value, s.status, value, status);
   s.value = value;
   s.status = status;
   if (text != nullptr && *text != s.text) {

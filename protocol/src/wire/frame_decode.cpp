@@ -96,40 +96,63 @@ bool decode_updates(Reader& r, std::uint8_t& flags, std::vector<SignalUpdate>& o
   return true;
 }
 
+// HELLO: role, flags, protocol version, catalog hash and size, heartbeat period, name, catalog source.
+bool decode_hello(Reader& r, std::size_t size, Message& out, std::string& detail) {
+  Hello h;
+  std::uint8_t role = 0, name_len = 0, source_len = 0;
+  if (!r.u8(role) || !r.u8(h.flags) || !r.u16(h.protocol_version) || !r.u64(h.catalog_hash) ||
+      !r.u16(h.signal_count) || !r.u32(h.heartbeat_period_ms) || !r.u8(name_len)) {
+    detail = "HELLO needs at least 20 bytes, got " + std::to_string(size);
+    return false;
+  }
+  if (role != 1 && role != 2) {
+    detail = "HELLO role " + std::to_string(role) + " is not 1 (publisher) or 2 (subscriber)";
+    return false;
+  }
+  if ((h.flags & ~kHelloTakesCatalog) != 0) {
+    detail = "HELLO flags " + std::to_string(h.flags) + " use reserved bits (only bit 0 is defined)";
+    return false;
+  }
+  if (name_len > kMaxNameBytes) {
+    detail = "HELLO name length " + std::to_string(name_len) + " exceeds " + std::to_string(kMaxNameBytes);
+    return false;
+  }
+  if (!read_text(r, name_len, h.name, "HELLO name", detail)) return false;
+  if (!r.u8(source_len)) {
+    detail = "HELLO catalog source length missing after the name";
+    return false;
+  }
+  if (!read_text(r, source_len, h.catalog_source, "HELLO catalog source", detail)) return false;
+  h.role = static_cast<Role>(role);
+  out = std::move(h);
+  return true;
+}
+
+// CLOSE: the reason and its text.
+bool decode_close(Reader& r, Message& out, std::string& detail) {
+  Close c;
+  std::uint8_t reason = 0, len = 0;
+  if (!r.u8(reason) || !r.u8(len)) {
+    detail = "CLOSE needs at least 2 bytes";
+    return false;
+  }
+  if (reason > static_cast<std::uint8_t>(CloseReason::Timeout)) {
+    detail = "CLOSE reason " + std::to_string(reason) + " is not 0..6";
+    return false;
+  }
+  if (!read_text(r, len, c.text, "CLOSE text", detail)) return false;
+  c.reason = static_cast<CloseReason>(reason);
+  out = std::move(c);
+  return true;
+}
+
 bool decode_payload(std::uint8_t type, std::span<const std::uint8_t> payload, Message& out,
                     std::string& detail) {
   Reader r(payload);
   switch (static_cast<MessageType>(type)) {
-    case MessageType::Hello: {
-      Hello h;
-      std::uint8_t role = 0, name_len = 0, source_len = 0;
-      if (!r.u8(role) || !r.u8(h.flags) || !r.u16(h.protocol_version) || !r.u64(h.catalog_hash) ||
-          !r.u16(h.signal_count) || !r.u32(h.heartbeat_period_ms) || !r.u8(name_len)) {
-        detail = "HELLO needs at least 20 bytes, got " + std::to_string(payload.size());
-        return false;
-      }
-      if (role != 1 && role != 2) {
-        detail = "HELLO role " + std::to_string(role) + " is not 1 (publisher) or 2 (subscriber)";
-        return false;
-      }
-      if ((h.flags & ~kHelloTakesCatalog) != 0) {
-        detail = "HELLO flags " + std::to_string(h.flags) + " use reserved bits (only bit 0 is defined)";
-        return false;
-      }
-      if (name_len > kMaxNameBytes) {
-        detail = "HELLO name length " + std::to_string(name_len) + " exceeds " + std::to_string(kMaxNameBytes);
-        return false;
-      }
-      if (!read_text(r, name_len, h.name, "HELLO name", detail)) return false;
-      if (!r.u8(source_len)) {
-        detail = "HELLO catalog source length missing after the name";
-        return false;
-      }
-      if (!read_text(r, source_len, h.catalog_source, "HELLO catalog source", detail)) return false;
-      h.role = static_cast<Role>(role);
-      out = std::move(h);
+    case MessageType::Hello:
+      if (!decode_hello(r, payload.size(), out, detail)) return false;
       break;
-    }
     case MessageType::Snapshot: {
       Snapshot s;
       std::uint8_t flags = 0;
@@ -171,22 +194,9 @@ bool decode_payload(std::uint8_t type, std::span<const std::uint8_t> payload, Me
       out = s;
       break;
     }
-    case MessageType::Close: {
-      Close c;
-      std::uint8_t reason = 0, len = 0;
-      if (!r.u8(reason) || !r.u8(len)) {
-        detail = "CLOSE needs at least 2 bytes";
-        return false;
-      }
-      if (reason > static_cast<std::uint8_t>(CloseReason::Timeout)) {
-        detail = "CLOSE reason " + std::to_string(reason) + " is not 0..6";
-        return false;
-      }
-      if (!read_text(r, len, c.text, "CLOSE text", detail)) return false;
-      c.reason = static_cast<CloseReason>(reason);
-      out = std::move(c);
+    case MessageType::Close:
+      if (!decode_close(r, out, detail)) return false;
       break;
-    }
     case MessageType::Catalog: {
       CatalogChunk c;
       std::uint32_t len = 0;

@@ -45,8 +45,9 @@ class SignalTable {
   const SignalState* find(SignalId id) const;  // nullptr for an id not in the catalog
   const SignalState& get(SignalId id) const;   // unknown id: std::out_of_range
 
-  // Each setter stores the new state and returns true if anything observable changed: the value's
-  // bits (so -0.0 after 0.0 is a change, and the comparison is exact), the status or the text.
+  // Each setter stores the new state and returns true if anything observable changed: the value or
+  // the status by signal_changed() (signal_change.hpp: the value's bits, so -0.0 after 0.0 is a
+  // change), or the text.
   // A change bumps version() and stamps the entry with it. Unknown id: std::out_of_range.
   bool set(SignalId id, SignalState state);
   bool set(SignalId id, double value, SignalStatus status);          // keeps the text

@@ -1,5 +1,6 @@
-// DBC database: messages, signals and their attributes as parsed from a DBC file, and the parser.
-// Pure functions on plain data; no I/O except load_dbc(). Decoding and encoding: dbc/codec.hpp.
+// DBC database: messages, signals and their attributes as parsed from a DBC file, and their
+// look-ups. Pure functions on plain data. The parser's entry points (parse_dbc, load_dbc): dbc/parse.hpp,
+// included here; decoding and encoding: dbc/codec.hpp.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,8 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include "meter/controller/dbc/parse.hpp"
 
 namespace meter::controller {
 
@@ -130,16 +133,5 @@ class Database {
   std::unordered_map<std::uint64_t, std::size_t> by_id_;
   std::unordered_map<std::uint32_t, std::size_t> by_pgn_;
 };
-
-struct DbcOptions {
-  // Refuse every quirk: the first warning the lenient parse gives becomes a DbcError that lists
-  // them all (file:line each). Without it, quirks are warnings and unreadable statements are skipped.
-  bool strict = false;
-};
-
-// Parses DBC text (UTF-8, or cp1252 which is converted to UTF-8). Lenient: every tolerated problem
-// is a warning in Database::warnings and never throws. With options.strict any warning throws.
-Database parse_dbc(std::string_view text, const std::string& file = "<dbc>", const DbcOptions& options = {});
-Database load_dbc(const std::string& path, const DbcOptions& options = {});  // DbcError also for unreadable files
 
 }  // namespace meter::controller

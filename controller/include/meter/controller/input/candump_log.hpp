@@ -1,26 +1,22 @@
-// A whole candump -L log file: the frames it holds and the lines that break the grammar.
+// A whole candump -L log file (can-utils): the frames it holds and the lines that break the
+// grammar. The first log format of log_format.hpp.
 #pragma once
 
-#include <cstddef>
 #include <string>
 #include <string_view>
-#include <vector>
 
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/log_format.hpp"
+#include "meter/controller/input/parsed_log.hpp"
 
 namespace meter::controller {
 
-struct BadLine {
-  std::size_t line;
-  std::string why;
-};
-
-struct ParsedLog {
-  std::vector<CanFrame> frames;
-  std::vector<BadLine> bad_lines;  // skipped, with their line numbers
-  std::size_t lines = 0;
-};
 ParsedLog parse_candump_log(std::string_view text);
 ParsedLog load_candump_log(const std::string& path);  // throws std::runtime_error if unreadable
+
+// True when one of the first complete, non-blank lines of `head` is a candump -L line.
+bool sniff_candump_log(std::string_view head);
+
+// candump: recognised by its lines ("(1631416514.717133) can0 0D2#0000FFFF10000000"), else by .log.
+const LogFormat& candump_log_format();
 
 }  // namespace meter::controller

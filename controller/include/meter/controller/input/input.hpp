@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -28,6 +29,10 @@ class Input {
   virtual bool poll(InputSink& sink, std::chrono::milliseconds timeout) = 0;
   virtual std::int64_t now_ns() const = 0;  // current time on this input's clock
   virtual std::string describe() const = 0;
+  // What to wait on before the next poll: a file descriptor that turns readable when the input has
+  // frames to deliver (a SocketCAN bus), or none for an input that paces itself (a replayed log,
+  // the Modbus poll period), which the caller polls without waiting at each wake-up.
+  virtual std::optional<int> wait_fd() const { return std::nullopt; }
   // Input-clock seconds per wall second (a scaled replay runs faster; live inputs are 1).
   virtual double rate() const { return 1.0; }
   // The bus's state as its error frames tell it, and the frames this input could not deliver

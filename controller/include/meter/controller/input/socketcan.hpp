@@ -45,7 +45,7 @@ class SocketCanInput : public Input {
   std::int64_t now_ns() const override;
   std::string describe() const override;
   // Readable whenever any receive queue holds a frame (an epoll descriptor), for an outer epoll.
-  int fd() const { return epoll_; }
+  std::optional<int> wait_fd() const override { return epoll_; }
   std::uint64_t dropped() const { return health_.kernel_drops; }  // kernel SO_RXQ_OVFL, all queues
   // Error frames (bus state), remote frames, kernel and interface drops (the interface's counter
   // read at most every kInterfaceDropsEvery), polls cut at the per-queue cap.

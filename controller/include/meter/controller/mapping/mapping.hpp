@@ -1,6 +1,7 @@
 // The mapping file: which bus signals (DBC "Message.Signal") or Modbus registers feed which catalog
-// signal, with unit conversion, timeouts and conditioning. Format: docs/mapping.md. Applying it to
-// source values: mapping/apply.hpp; the conditioning parameters it carries: conditioning/.
+// signal, with unit conversion, timeouts and conditioning. Format: docs/mapping.md. Its parser
+// (parse_mapping, load_mapping): mapping/map_file.hpp, included here. Applying it to source
+// values: mapping/apply.hpp; the conditioning parameters it carries: conditioning/.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "meter/controller/conditioning/needle.hpp"
 #include "meter/controller/conditioning/telltales.hpp"
 #include "meter/controller/input/modbus_registers.hpp"
+#include "meter/controller/mapping/map_file.hpp"
 #include "meter/protocol/catalog.hpp"
 
 namespace meter::controller {
@@ -80,8 +82,5 @@ struct Mapping {
   std::optional<ModbusConfig> modbus;
   const OutputMapping* find(protocol::SignalId id) const;
 };
-
-Mapping parse_mapping(std::string_view text, const std::string& file = "<map>");
-Mapping load_mapping(const std::string& path);
 
 }  // namespace meter::controller

@@ -72,7 +72,8 @@ class Model {
 
   const std::vector<ModelOutput>& outputs() const { return outputs_; }
   // Indices into outputs() whose value or status the last update() changed (all of them after
-  // the first): the run loop publishes and traces only these.
+  // the first), by the link's own rule (protocol::signal_changed: the value's bits, then the
+  // status): the run loop publishes and traces only these.
   const std::vector<std::size_t>& changed() const { return changed_; }
   const ModelOutput* output(protocol::SignalId id) const;
   const ModelStats& stats() const { return stats_; }

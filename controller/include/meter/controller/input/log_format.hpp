@@ -1,0 +1,51 @@
+// Recorded CAN log formats behind one small interface, and the one list of them. A format knows
+// its files (by their first lines, else by their extension) and parses a whole file into a
+// ParsedLog; `run` (every log:FILE input) and `decode` load logs only through load_log_file(), so
+// a new format (Vector ASC, BLF, PCAN TRC, ...) is its own file plus one entry in log_formats().
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "meter/controller/input/parsed_log.hpp"
+
+namespace meter::controller {
+
+struct LogFormat {
+  std::string_view name;         // "candump": in messages and the help text
+  std::string_view example;      // one line of such a file, for the message when no format fits
+  std::span<const std::string_view> extensions;  // ".log": claims files whose start no format knows
+  // True when the start of a file (up to kLogSniffBytes of it) is in this format.
+  bool (*sniff)(std::string_view head);
+  // The whole file: its frames in file order and every record that breaks the grammar.
+  ParsedLog (*parse)(std::string_view contents);
+};
+
+// How much of a file the formats' sniff() sees.
+inline constexpr std::size_t kLogSniffBytes = 4096;
+
+// Every format this build reads, in the order they are asked.
+std::span<const LogFormat> log_formats();
+
+// The format of a file that starts with `head`: the first whose sniff() accepts it; when none does
+// (a damaged first page), the first that claims the path's extension; nullptr when neither.
+const LogFormat* find_log_format(std::string_view path, std::string_view head);
+
+// Reads and parses a log in its format. Throws std::runtime_error naming the file when it cannot
+// be read, or when no format fits: with the first non-blank line and its number, the formats known
+// and their extensions.
+ParsedLog load_log_file(const std::string& path);
+
+// The whole file as bytes; throws std::runtime_error naming it when it cannot be read.
+std::string read_log_file(const std::string& path);
+
+// A text log's line without the spaces, tabs and carriage return at its end (blank lines are not
+// errors in any text format).
+std::string_view trim_line_end(std::string_view line);
+
+// "candump" (the names of log_formats(), comma separated)
+std::string log_format_names();
+
+}  // namespace meter::controller

@@ -1,0 +1,24 @@
+// A recorded CAN log once parsed, whatever its format: the frames it holds, in file order, and the
+// records (lines) that broke the format's grammar.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "meter/controller/input/can_frame.hpp"
+
+namespace meter::controller {
+
+struct BadLine {
+  std::size_t line;  // 1-based line of a text format (a binary format: its record number)
+  std::string why;   // what was expected there
+};
+
+struct ParsedLog {
+  std::vector<CanFrame> frames;
+  std::vector<BadLine> bad_lines;  // skipped, with their line numbers
+  std::size_t lines = 0;
+};
+
+}  // namespace meter::controller

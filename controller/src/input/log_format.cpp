@@ -1,0 +1,91 @@
+// The recorded log formats this build reads, and how a file is matched to one.
+#include "meter/controller/input/log_format.hpp"
+
+#include <array>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "meter/controller/input/candump_log.hpp"
+
+namespace meter::controller {
+
+std::span<const LogFormat> log_formats() {
+  // The registration: one entry per format, asked in this order.
+  static const std::array formats{
+      candump_log_format(),
+  };
+  return formats;
+}
+
+namespace {
+
+bool has_extension(std::string_view path, std::string_view ext) {
+  return path.size() > ext.size() && path.substr(path.size() - ext.size()) == ext;
+}
+
+// "line 3 '...'" for the first non-blank line of head, or "it is empty".
+std::string first_line(std::string_view head) {
+  std::size_t number = 0, pos = 0;
+  while (pos < head.size()) {
+    const std::size_t nl = head.find('\n', pos);
+    const std::string_view line = trim_line_end(head.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos));
+    pos = nl == std::string_view::npos ? head.size() : nl + 1;
+    ++number;
+    if (line.empty()) continue;
+    std::string shown(line.substr(0, 60));
+    for (char& c : shown)
+      if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+    return "line " + std::to_string(number) + " '" + shown + (line.size() > 60 ? "...'" : "'");
+  }
+  return "it is empty";
+}
+
+std::string no_format_message(const std::string& path, std::string_view head) {
+  std::string known;
+  for (const LogFormat& f : log_formats()) {
+    known += (known.empty() ? "" : "; ") + std::string(f.name) + ", e.g. '" + std::string(f.example) + "'";
+    for (std::string_view ext : f.extensions) known += ", or any file named *" + std::string(ext);
+  }
+  return path + ": not a CAN log this build reads: " + first_line(head) + " starts no known format (" + known + ")";
+}
+
+}  // namespace
+
+const LogFormat* find_log_format(std::string_view path, std::string_view head) {
+  for (const LogFormat& f : log_formats())
+    if (f.sniff(head)) return &f;
+  for (const LogFormat& f : log_formats())
+    for (std::string_view ext : f.extensions)
+      if (has_extension(path, ext)) return &f;
+  return nullptr;
+}
+
+std::string read_log_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the log for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return std::move(ss).str();
+}
+
+std::string_view trim_line_end(std::string_view line) {
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+  return line;
+}
+
+ParsedLog load_log_file(const std::string& path) {
+  const std::string contents = read_log_file(path);
+  const std::string_view head = std::string_view(contents).substr(0, kLogSniffBytes);
+  const LogFormat* format = find_log_format(path, head);
+  if (!format) throw std::runtime_error(no_format_message(path, head));
+  return format->parse(contents);
+}
+
+std::string log_format_names() {
+  std::string names;
+  for (const LogFormat& f : log_formats()) names += (names.empty() ? "" : ", ") + std::string(f.name);
+  return names;
+}
+
+}  // namespace meter::controller

@@ -1,0 +1,70 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <unistd.h>
+
+#include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/log_format.hpp"
+
+using namespace meter::controller;
+
+namespace {
+
+const std::string kCandump = "(1.000000) can0 100#01\n(1.010000) can0 100#02\n";
+
+std::string message_of(const std::string& path) {
+  try {
+    load_log_file(path);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+struct TempDir {
+  std::filesystem::path path = std::filesystem::temp_directory_path() / ("meter-logfmt-" + std::to_string(::getpid()));
+  TempDir() { std::filesystem::create_directories(path); }
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name, std::ios::binary) << text;
+    return (path / name).string();
+  }
+};
+
+}  // namespace
+
+TEST(LogFormat, TheContentChoosesTheFormatAndTheExtensionOnlyWhenTheContentCannot) {
+  EXPECT_EQ(find_log_format("drive.txt", kCandump), &log_formats()[0]);  // by its lines
+  EXPECT_EQ(find_log_format("drive", "(bad) line\n" + kCandump), &log_formats()[0]);  // a damaged first line
+  EXPECT_EQ(find_log_format("drive.log", "garbage\n"), &log_formats()[0]);  // by .log
+  EXPECT_EQ(find_log_format("drive.txt", "garbage\n"), nullptr);
+  EXPECT_EQ(find_log_format("drive.txt", ""), nullptr);
+  EXPECT_EQ(log_formats()[0].name, "candump");
+  EXPECT_EQ(log_format_names(), "candump");
+  // The example each format gives in its messages is a line of its own.
+  for (const LogFormat& f : log_formats()) EXPECT_TRUE(f.sniff(f.example)) << f.name;
+}
+
+TEST(LogFormat, LoadingGoesThroughTheFormatAndNamesTheFileAndLineWhenNoneFits) {
+  TempDir dir;
+  const ParsedLog log = load_log_file(dir.write("drive.rec", kCandump));
+  EXPECT_EQ(log.frames.size(), 2u);
+  const ParsedLog bad = load_log_file(dir.write("bad.log", "garbage\n" + kCandump));
+  EXPECT_EQ(bad.frames.size(), 2u);
+  ASSERT_EQ(bad.bad_lines.size(), 1u);
+  EXPECT_EQ(bad.bad_lines[0].line, 1u);
+
+  const std::string path = dir.write("notes.txt", "\n  \nhello world\n");
+  const std::string why = message_of(path);
+  EXPECT_NE(why.find(path + ": not a CAN log this build reads: line 3 'hello world' starts no known format"),
+            std::string::npos) << why;
+  EXPECT_NE(why.find("candump, e.g. '(1631416514.717133) can0 0D2#0000FFFF10000000', or any file named *.log"),
+            std::string::npos) << why;
+  EXPECT_NE(message_of(dir.write("empty.txt", "")).find("empty.txt: not a CAN log this build reads: it is empty"),
+            std::string::npos);
+  EXPECT_NE(message_of((dir.path / "missing.log").string()).find("missing.log: cannot open the log for reading"),
+            std::string::npos);
+}
