@@ -1,6 +1,6 @@
 // The scene config parser. Both sides run it: the converter on the artist's file, the runtime on
 // the config text the package stores.
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 
 #include <cmath>
 #include <cstdio>
