@@ -78,6 +78,29 @@ void simplify(Primitive& p, float lod, QualityReport& report) {
   p.indices.assign(out.begin(), out.end());
 }
 
+}  // namespace
+
+// The spelling is shadergen's (to_string), so the ladder and meter-shadergen agree on names.
+std::optional<ShadingModel> parse_shading_model(const std::string& t) {
+  for (ShadingModel m : {ShadingModel::Unlit, ShadingModel::Flat, ShadingModel::Gouraud,
+                         ShadingModel::BlinnPhong, ShadingModel::PbrMetallicRoughness}) {
+    if (t == shadergen::to_string(m)) return m;
+  }
+  return std::nullopt;
+}
+
+const char* filter_name(TextureFilter f) {
+  switch (f) {
+    case TextureFilter::Nearest: return "nearest";
+    case TextureFilter::Bilinear: return "bilinear";
+    case TextureFilter::Trilinear: return "trilinear";
+    case TextureFilter::Anisotropic: return "anisotropic";
+  }
+  return "?";
+}
+
+namespace {
+
 // The settings each node gets: the global ones with the node's own overrides on top. Checks the
 // settings against the scene (msaa, lod fractions, object names) on construction.
 class NodeQuality {
@@ -229,25 +252,6 @@ void make_programs_affine(Scene& s, QualityReport& report) {
 }
 
 }  // namespace
-
-// The spelling is shadergen's (to_string), so the ladder and meter-shadergen agree on names.
-std::optional<ShadingModel> parse_shading_model(const std::string& t) {
-  for (ShadingModel m : {ShadingModel::Unlit, ShadingModel::Flat, ShadingModel::Gouraud,
-                         ShadingModel::BlinnPhong, ShadingModel::PbrMetallicRoughness}) {
-    if (t == shadergen::to_string(m)) return m;
-  }
-  return std::nullopt;
-}
-
-const char* filter_name(TextureFilter f) {
-  switch (f) {
-    case TextureFilter::Nearest: return "nearest";
-    case TextureFilter::Bilinear: return "bilinear";
-    case TextureFilter::Trilinear: return "trilinear";
-    case TextureFilter::Anisotropic: return "anisotropic";
-  }
-  return "?";
-}
 
 QualityReport apply_quality(Scene& s, const QualitySettings& q) {
   QualityReport report;
