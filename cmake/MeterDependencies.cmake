@@ -59,7 +59,7 @@ if(NOT Freetype_FOUND)
   meter_missing("FreeType" libfreetype-dev)
 endif()
 meter_config(meshoptimizer libmeshoptimizer-dev) # meshoptimizer::meshoptimizer
-meter_pkg(LUA lua5.4 liblua5.4-dev)                # scene scripts (PkgConfig::LUA): bridge checks, engine runs
+meter_pkg(LUA lua5.4 liblua5.4-dev)                # scene scripts (PkgConfig::LUA): scene_config checks, engine runs
 
 # Shader optimizer (converter only, never the runtime): glslang -> spirv-opt -> SPIRV-Cross.
 meter_config(glslang glslang-dev)                 # glslang::glslang, glslang::SPIRV

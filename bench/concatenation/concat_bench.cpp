@@ -31,7 +31,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/shadergen/shadergen.hpp"

@@ -13,7 +13,7 @@
 
 #include <sys/utsname.h>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/platform/render_target.hpp"
 #include "reference_state.hpp"

@@ -21,7 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/logic/scripts.hpp"

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/engine/evaluation/scene_evaluator.hpp"
 #include "meter/engine/evaluation/skinned_normals.hpp"

@@ -26,7 +26,7 @@
 #include "integrity_bench.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/package_reader.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/engine/renderer.hpp"

@@ -20,7 +20,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/quality_ladder.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"

@@ -15,7 +15,7 @@
 #include "bound_signals.hpp"
 #include "process.hpp"
 #include "meter/engine/package_reader.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/integrity.hpp"
 #include "meter/convert/quality_ladder.hpp"

@@ -10,7 +10,7 @@
 #include "gltf_builder.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 

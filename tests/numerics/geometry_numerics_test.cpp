@@ -10,7 +10,7 @@
 #include "gltf_builder.hpp"
 #include "meter/engine/evaluation/animation.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 
 using namespace meter;
 using namespace meter::engine;

@@ -11,7 +11,7 @@
 #include "meter/controller/conditioning/needle.hpp"
 #include "meter/controller/conditioning/odometer.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/scene.hpp"
 #include "odometer_drive.hpp"
 

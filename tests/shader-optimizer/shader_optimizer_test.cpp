@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "meter/engine/evaluation/bindings.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"

@@ -16,7 +16,7 @@
 #include <string>
 
 #include "exercise_scene.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/engine/package_reader.hpp"

@@ -7,7 +7,7 @@
 #include <iostream>
 #include <string>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/levels.hpp"
 #include "meter/convert/package_writer.hpp"

@@ -4,7 +4,7 @@
 #include "meter/convert/integrity.hpp"
 #include "meter/convert/levels.hpp"
 #include "meter/convert/package_writer.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/protocol/catalog.hpp"
 
 namespace meter::convert {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "linear_scaling.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "test_scenes.hpp"
 

@@ -11,7 +11,7 @@
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/convert/quality_ladder.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "test_scenes.hpp"
 

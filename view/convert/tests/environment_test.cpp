@@ -14,7 +14,7 @@
 #include "meter/convert/converter.hpp"
 #include "meter/convert/environment_probe.hpp"
 #include "meter/convert/package_writer.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "meter/platform/image.hpp"
 #include "test_scenes.hpp"

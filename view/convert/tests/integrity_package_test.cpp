@@ -2,7 +2,7 @@
 // read back field for field by the runtime's reader, and every cross-reference checked on load.
 #include <gtest/gtest.h>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/engine/package_reader.hpp"

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/shadergen/program_cache.hpp"

@@ -2,7 +2,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter::engine;

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/engine/integrity_check.hpp"
 #include "meter/platform/image.hpp"

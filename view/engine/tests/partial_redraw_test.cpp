@@ -11,7 +11,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"

@@ -7,7 +7,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/scene_features.hpp"

@@ -8,7 +8,7 @@
 #include <lua.hpp>
 #include <nlohmann/json.hpp>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/engine/package_reader.hpp"

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/scene.hpp"
 
 namespace meter::engine::test {

@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/quality_ladder.hpp"
 #include "meter/engine/renderer.hpp"

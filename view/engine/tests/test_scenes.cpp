@@ -15,7 +15,7 @@
 #include <tiny_gltf.h>
 
 #include "meter/convert/converter.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 
 namespace meter::engine::test {
 namespace {

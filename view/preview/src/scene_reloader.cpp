@@ -2,7 +2,7 @@
 
 #include <exception>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/engine/package_reader.hpp"

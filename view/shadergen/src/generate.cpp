@@ -24,6 +24,7 @@ struct Needs {
   bool tangent = false;
   bool uv0 = false, uv1 = false;
   bool gouraud_light = false;
+  bool morph_normals = false;     // morph targets move the normal too
 };
 
 Needs analyse(const MaterialFeatures& f) {
@@ -45,6 +46,7 @@ Needs analyse(const MaterialFeatures& f) {
     (detail::uses_texcoord1(f, slot) ? n.uv1 : n.uv0) = true;
   }
   n.gouraud_light = f.shading == ShadingModel::Gouraud && lights > 0;
+  n.morph_normals = f.morph_normals && n.normal_attribute;
   return n;
 }
 
@@ -113,16 +115,11 @@ std::string light_helpers(const LightCounts& lights) {
   return s;
 }
 
-}  // namespace
+// ---- vertex stage
 
-Program generate(const MaterialFeatures& requested) {
-  const MaterialFeatures f = canonical(requested);  // validates; throws std::invalid_argument
-  const Needs need = analyse(f);
-  const bool per_pixel = detail::per_pixel_normal(f.shading);
-  const int lights = f.lights.total();
-  GlslBuilder b(f.precision);
-
-  // ---- vertex inputs
+// The vertex inputs: the position, then only the attributes the features read, in a fixed order
+// (their locations follow it).
+void declare_attributes(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
   b.attribute("a_position", "vec3", AttributeSemantic::Position, 3);
   if (need.normal_attribute) b.attribute("a_normal", "vec3", AttributeSemantic::Normal, 3);
   if (need.tangent) b.attribute("a_tangent", "vec4", AttributeSemantic::Tangent, 4);
@@ -134,16 +131,18 @@ Program generate(const MaterialFeatures& requested) {
     b.attribute("a_joints0", "vec4", AttributeSemantic::Joints0, 4);
     b.attribute("a_weights0", "vec4", AttributeSemantic::Weights0, 4);
   }
-  const bool morph_normals = f.morph_normals && need.normal_attribute;
   for (int i = 0; i < f.morph_targets; ++i) {
     b.attribute("a_morph_position" + std::to_string(i), "vec3", AttributeSemantic::MorphPosition, 3,
                 i);
-    if (morph_normals)
+    if (need.morph_normals)
       b.attribute("a_morph_normal" + std::to_string(i), "vec3", AttributeSemantic::MorphNormal, 3,
                   i);
   }
+}
 
-  // ---- vertex uniforms
+// The transforms every program has, the normal matrix of lit models, and the joint matrices and
+// morph weights of deformed meshes.
+void declare_vertex_uniforms(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
   b.uniform(Stage::Vertex, "u_model_matrix", "mat4", UniformSemantic::ModelMatrix);
   b.uniform(Stage::Vertex, "u_view_projection", "mat4", UniformSemantic::ViewProjection);
   if (need.normal_attribute)
@@ -154,8 +153,10 @@ Program generate(const MaterialFeatures& requested) {
   if (f.morph_targets > 0)
     b.uniform(Stage::Vertex, "u_morph_weights", "float", UniformSemantic::MorphWeights, -1,
               f.morph_targets);
+}
 
-  // ---- varyings
+// What the vertex stage hands the fragment stage.
+void declare_varyings(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
   if (need.world_position) b.varying("v_world_position", "vec3", true);
   if (need.normal_varying) b.varying("v_normal", "vec3");
   if (need.tangent) b.varying("v_tangent", "vec4");
@@ -167,8 +168,10 @@ Program generate(const MaterialFeatures& requested) {
     b.varying("v_diffuse_light", "vec3");
     b.varying("v_specular_light", "vec3");
   }
+}
 
-  // ---- vertex body
+// Morph targets, then skinning, move the model-space position (and normal, tangent).
+void deform_vertex(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
   std::string& vb = b.vs_body;
   vb += "  vec3 position = a_position;\n";
   if (need.normal_attribute) vb += "  vec3 normal = a_normal;\n";
@@ -176,7 +179,8 @@ Program generate(const MaterialFeatures& requested) {
   for (int i = 0; i < f.morph_targets; ++i) {
     const std::string w = "u_morph_weights[" + std::to_string(i) + "]";
     vb += "  position += " + w + " * a_morph_position" + std::to_string(i) + ";\n";
-    if (morph_normals) vb += "  normal += " + w + " * a_morph_normal" + std::to_string(i) + ";\n";
+    if (need.morph_normals)
+      vb += "  normal += " + w + " * a_morph_normal" + std::to_string(i) + ";\n";
   }
   if (f.skin_joints > 0) {
     // Clamped indices: an out-of-range joint index must not read outside the uniform array.
@@ -190,6 +194,11 @@ Program generate(const MaterialFeatures& requested) {
     if (need.normal_attribute) vb += "  normal = mat3(skin) * normal;\n";
     if (need.tangent) vb += "  tangent = mat3(skin) * tangent;\n";
   }
+}
+
+// The deformed vertex into world space, and the varyings written from it and the attributes.
+void write_vertex_outputs(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
+  std::string& vb = b.vs_body;
   vb += "  vec4 world = u_model_matrix * vec4(position, 1.0);\n";
   if (need.world_position) vb += "  v_world_position = world.xyz;\n";
   if (need.normal_attribute) vb += "  vec3 world_normal = normalize(u_normal_matrix * normal);\n";
@@ -200,28 +209,43 @@ Program generate(const MaterialFeatures& requested) {
   if (need.uv1) vb += "  v_texcoord1 = a_texcoord1;\n";
   if (f.vertex_colors) vb += "  v_color0 = a_color0;\n";
   if (f.vertex_alpha) vb += "  v_vertex_alpha = a_vertex_alpha;\n";
-  if (need.gouraud_light) {
-    b.uniform(Stage::Vertex, "u_camera_position", "vec3", UniformSemantic::CameraPosition);
-    b.uniform(Stage::Vertex, "u_specular_color", "vec3", UniformSemantic::SpecularColor);
-    b.uniform(Stage::Vertex, "u_shininess", "float", UniformSemantic::Shininess);
-    b.vs_functions += light_helpers(f.lights);
-    b.vs_functions += detail::kBlinnPhongSpecular;
-    vb += "  vec3 n = world_normal;\n";
-    vb += "  vec3 v = normalize(u_camera_position - world.xyz);\n";
-    vb += "  vec3 diffuse_light = vec3(0.0);\n  vec3 specular_light = vec3(0.0);\n";
-    vb += light_loop(b, Stage::Vertex, f.lights, "world.xyz",
-                     "    float n_dot_l = max(dot(n, l), 0.0);\n"
-                     "    diffuse_light += e * (n_dot_l / PI);\n"
-                     "    specular_light += e * (n_dot_l * blinn_phong_specular(n, v, l, "
-                     "u_shininess));\n");
-    vb += "  v_diffuse_light = diffuse_light;\n";
-    vb += "  v_specular_light = specular_light * u_specular_color;\n";
-  }
-  vb += "  gl_Position = u_view_projection * world;\n";
+}
 
-  // ---- fragment
-  std::string& fb = b.fs_body;
-  // Texture coordinates per texture (KHR_texture_transform applied here, per texture).
+// Gouraud shading: the lights are summed per vertex (diffuse and specular apart, so the fragment
+// stage can tint the diffuse part with the base colour).
+void light_vertex(GlslBuilder& b, const MaterialFeatures& f) {
+  std::string& vb = b.vs_body;
+  b.uniform(Stage::Vertex, "u_camera_position", "vec3", UniformSemantic::CameraPosition);
+  b.uniform(Stage::Vertex, "u_specular_color", "vec3", UniformSemantic::SpecularColor);
+  b.uniform(Stage::Vertex, "u_shininess", "float", UniformSemantic::Shininess);
+  b.vs_functions += light_helpers(f.lights);
+  b.vs_functions += detail::kBlinnPhongSpecular;
+  vb += "  vec3 n = world_normal;\n";
+  vb += "  vec3 v = normalize(u_camera_position - world.xyz);\n";
+  vb += "  vec3 diffuse_light = vec3(0.0);\n  vec3 specular_light = vec3(0.0);\n";
+  vb += light_loop(b, Stage::Vertex, f.lights, "world.xyz",
+                   "    float n_dot_l = max(dot(n, l), 0.0);\n"
+                   "    diffuse_light += e * (n_dot_l / PI);\n"
+                   "    specular_light += e * (n_dot_l * blinn_phong_specular(n, v, l, "
+                   "u_shininess));\n");
+  vb += "  v_diffuse_light = diffuse_light;\n";
+  vb += "  v_specular_light = specular_light * u_specular_color;\n";
+}
+
+void write_vertex_stage(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
+  declare_attributes(b, f, need);
+  declare_vertex_uniforms(b, f, need);
+  declare_varyings(b, f, need);
+  deform_vertex(b, f, need);
+  write_vertex_outputs(b, f, need);
+  if (need.gouraud_light) light_vertex(b, f);
+  b.vs_body += "  gl_Position = u_view_projection * world;\n";
+}
+
+// ---- fragment stage
+
+// Texture coordinates per texture (KHR_texture_transform applied here, per texture).
+void sample_coordinates(GlslBuilder& b, const MaterialFeatures& f) {
   for (int s = 0; s <= static_cast<int>(TextureSlot::Occlusion); ++s) {
     const auto slot = static_cast<TextureSlot>(s);
     if (!detail::has_texture(f, slot)) continue;
@@ -230,12 +254,17 @@ Program generate(const MaterialFeatures& requested) {
     if (f.texture_transform) {
       const std::string t = "u_" + slot_name(slot) + "_uv_transform";
       b.uniform(Stage::Fragment, t, "mat3", UniformSemantic::TextureTransform, s);
-      fb += "  vec2 uv_" + slot_name(slot) + " = (" + t + " * vec3(" + uv + ", 1.0)).xy;\n";
+      b.fs_body += "  vec2 uv_" + slot_name(slot) + " = (" + t + " * vec3(" + uv + ", 1.0)).xy;\n";
     } else {
-      fb += "  vec2 uv_" + slot_name(slot) + " = " + uv + ";\n";
+      b.fs_body += "  vec2 uv_" + slot_name(slot) + " = " + uv + ";\n";
     }
   }
+}
 
+// The base colour (factor, texture, vertex colour, concatenated-mesh visibility) and the alpha
+// test of masked materials.
+void base_color(GlslBuilder& b, const MaterialFeatures& f) {
+  std::string& fb = b.fs_body;
   b.uniform(Stage::Fragment, "u_base_color_factor", "vec4", UniformSemantic::BaseColorFactor);
   fb += "  vec4 base_color = u_base_color_factor;\n";
   if (f.base_color_texture)
@@ -251,142 +280,184 @@ Program generate(const MaterialFeatures& requested) {
     b.uniform(Stage::Fragment, "u_alpha_cutoff", "float", UniformSemantic::AlphaCutoff);
     fb += "  if (base_color.a < u_alpha_cutoff) discard;\n";
   }
+}
 
-  if (f.shading == ShadingModel::Unlit) {
-    fb += "  vec3 color = base_color.rgb;\n";
-  } else {
-    // Surface normal.
-    if (f.shading == ShadingModel::Flat) {
-      // Face normal from screen-space derivatives: always faces the viewer, so it is right for
-      // single- and double-sided faces alike.
-      fb += "  vec3 n = normalize(cross(dFdx(v_world_position), dFdy(v_world_position)));\n";
-    } else if (per_pixel) {
-      fb += "  vec3 n = normalize(v_normal);\n";
-      if (f.double_sided) fb += "  if (!gl_FrontFacing) n = -n;\n";
-    }
-    if (f.normal_texture) {
-      b.uniform(Stage::Fragment, "u_normal_scale", "float", UniformSemantic::NormalScale);
-      if (f.has_tangents) {
-        fb += "  vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));\n";
-        fb += "  vec3 bt = cross(n, t) * v_tangent.w;\n";
-        if (f.double_sided) fb += "  if (!gl_FrontFacing) { t = -t; bt = -bt; }\n";
-      } else {
-        b.fs_functions += detail::kCotangentFrame;
-        fb += "  mat3 tbn_derived = cotangent_frame(n, v_world_position, uv_normal);\n";
-        fb += "  vec3 t = tbn_derived[0];\n  vec3 bt = tbn_derived[1];\n";
-      }
-      fb += "  vec3 tn = texture(u_normal_texture, uv_normal).xyz * 2.0 - 1.0;\n";
-      fb += "  tn.xy *= u_normal_scale;\n";
-      fb += "  n = normalize(mat3(t, bt, n) * tn);\n";
-    }
-    if (need.view_vector) {
-      b.uniform(Stage::Fragment, "u_camera_position", "vec3", UniformSemantic::CameraPosition);
-      fb += "  vec3 v = normalize(u_camera_position - v_world_position);\n";
-    }
-    fb += "  float ao = 1.0;\n";
-    if (f.occlusion_texture) {
-      b.uniform(Stage::Fragment, "u_occlusion_strength", "float",
-                UniformSemantic::OcclusionStrength);
-      fb += "  ao += u_occlusion_strength * (texture(u_occlusion_texture, uv_occlusion).r - 1.0);\n";
-    }
-    // With an environment map the world's diffuse light comes from its ambient cube (below), so
-    // the uniform ambient exists only in programs without one.
-    if (!f.environment_map_2d)
-      b.uniform(Stage::Fragment, "u_ambient_light", "vec3", UniformSemantic::AmbientLight);
-    std::string env_diffuse;  // expression: diffuse radiance from the environment for normal n
-    if (f.environment_map_2d) {
-      b.sampler("u_environment_texture", TextureSlot::Environment);
-      b.uniform(Stage::Fragment, "u_environment_intensity", "float",
-                UniformSemantic::EnvironmentIntensity);
-      static const char* kAxis[6] = {"px", "nx", "py", "ny", "pz", "nz"};
-      std::string args;
-      for (int i = 0; i < 6; ++i) {
-        const std::string name = std::string("u_environment_irradiance_") + kAxis[i];
-        b.uniform(Stage::Fragment, name, "vec3", UniformSemantic::EnvironmentIrradiance, i);
-        args += ", " + name;
-      }
-      b.fs_functions += detail::kAmbientCube;
-      env_diffuse = "ambient_cube(n" + args + ")";
-    }
-    if (per_pixel || f.shading == ShadingModel::Flat) {
-      if (lights > 0) b.fs_functions += light_helpers(f.lights);
-    }
-
-    if (f.shading == ShadingModel::PbrMetallicRoughness) {
-      b.uniform(Stage::Fragment, "u_metallic_factor", "float", UniformSemantic::MetallicFactor);
-      b.uniform(Stage::Fragment, "u_roughness_factor", "float", UniformSemantic::RoughnessFactor);
-      fb += "  float metallic = u_metallic_factor;\n  float roughness = u_roughness_factor;\n";
-      if (f.metallic_roughness_texture) {
-        fb += "  vec4 mr = texture(u_metallic_roughness_texture, uv_metallic_roughness);\n";
-        fb += "  roughness *= mr.g;\n  metallic *= mr.b;\n";
-      }
-      fb += std::string("  roughness = clamp(roughness, ") +
-            (f.precision == Precision::Highp ? "0.045" : "0.089") +
-            ", 1.0);  // keeps GGX finite (and representable in mediump)\n";
-      fb += "  metallic = clamp(metallic, 0.0, 1.0);\n";
-      fb += "  vec3 c_diff = mix(base_color.rgb, vec3(0.0), metallic);\n";
-      fb += "  vec3 f0 = mix(vec3(0.04), base_color.rgb, metallic);\n";
-      fb += "  float alpha = roughness * roughness;\n";
-      fb += "  float n_dot_v = max(dot(n, v), 1e-4);\n";
-      fb += "  vec3 color = vec3(0.0);\n";
-      if (lights > 0) {
-        b.fs_functions += detail::kPbrBrdf;
-        fb += light_loop(b, Stage::Fragment, f.lights, "v_world_position",
-                         "    color += pbr_light(n, v, l, e, c_diff, f0, alpha);\n");
-      }
-      b.fs_functions += detail::kEnvBrdfApprox;
-      fb += "  vec3 specular_weight = env_brdf_approx(f0, roughness, n_dot_v);\n";
-      if (f.environment_map_2d) {
-        // EEVEE's world-probe lookup (Blender 3.x probe_evaluate_world_spec): level sqrt(roughness)
-        // times the last level, whose lobes the converter prefiltered (bridge::EnvironmentProbe).
-        // No footprint term: a level's lobe, not its texel size, sets its blur, so a footprint-chosen
-        // level blurs far more than the pixel sees (reflection 19.12 dB object with it, 33.60
-        // without); sharp mirrors are shaded per MSAA sample instead (docs/scene-config.md).
-        fb += "  vec3 r = reflect(-v, n);\n";
-        fb += "  float probe_size = float(textureSize(u_environment_texture, 0).x);\n";
-        fb += "  float env_lod = sqrt(roughness) * (log2(probe_size) - " + std::to_string(bridge::kProbeSmallestFaceLog2) + ".0);\n";
-        fb += "  vec3 environment = textureLod(u_environment_texture, r, env_lod).rgb * u_environment_intensity;\n";
-        fb += "  color += (c_diff * " + env_diffuse + " + specular_weight * environment) * ao;\n";
-      } else {
-        fb += "  color += (c_diff + specular_weight) * u_ambient_light * ao;\n";
-      }
-    } else if (f.shading == ShadingModel::BlinnPhong) {
-      fb += "  vec3 color = vec3(0.0);\n";
-      const bool specular = lights > 0 || f.environment_map_2d;
-      if (specular)
-        b.uniform(Stage::Fragment, "u_specular_color", "vec3", UniformSemantic::SpecularColor);
-      if (lights > 0) {
-        b.uniform(Stage::Fragment, "u_shininess", "float", UniformSemantic::Shininess);
-        b.fs_functions += detail::kBlinnPhongSpecular;
-        fb += light_loop(b, Stage::Fragment, f.lights, "v_world_position",
-                         "    float n_dot_l = max(dot(n, l), 0.0);\n"
-                         "    color += e * n_dot_l * (base_color.rgb / PI + u_specular_color * "
-                         "blinn_phong_specular(n, v, l, u_shininess));\n");
-      }
-      if (f.environment_map_2d) {
-        fb += "  color += base_color.rgb * " + env_diffuse + " * ao;\n";
-        fb += "  vec3 r = reflect(-v, n);\n";
-        // No roughness: a mirror, the probe's sharp level 0 (EEVEE's lookup at roughness 0); the
-        // scene's "sample_shading": "mirrors" averages it inside the pixel.
-        fb += "  color += u_specular_color * textureLod(u_environment_texture, r, 0.0).rgb * "
-              "u_environment_intensity * ao;\n";
-      } else {
-        fb += "  color += base_color.rgb * u_ambient_light * ao;\n";
-      }
-    } else if (f.shading == ShadingModel::Flat) {
-      fb += "  vec3 color = vec3(0.0);\n";
-      if (lights > 0)
-        fb += light_loop(b, Stage::Fragment, f.lights, "v_world_position",
-                         "    color += e * (max(dot(n, l), 0.0) / PI);\n");
-      fb += "  color = base_color.rgb * (color + u_ambient_light * ao);\n";
-    } else {  // Gouraud: lighting came from the vertex shader
-      fb += need.gouraud_light
-                ? "  vec3 color = base_color.rgb * (v_diffuse_light + u_ambient_light * ao) + "
-                  "v_specular_light;\n"
-                : "  vec3 color = base_color.rgb * u_ambient_light * ao;\n";
-    }
+// The shading normal `n`: the face's (Flat), the interpolated one, then the normal map's.
+void surface_normal(GlslBuilder& b, const MaterialFeatures& f) {
+  std::string& fb = b.fs_body;
+  if (f.shading == ShadingModel::Flat) {
+    // Face normal from screen-space derivatives: always faces the viewer, so it is right for
+    // single- and double-sided faces alike.
+    fb += "  vec3 n = normalize(cross(dFdx(v_world_position), dFdy(v_world_position)));\n";
+  } else if (detail::per_pixel_normal(f.shading)) {
+    fb += "  vec3 n = normalize(v_normal);\n";
+    if (f.double_sided) fb += "  if (!gl_FrontFacing) n = -n;\n";
   }
+  if (!f.normal_texture) return;
+  b.uniform(Stage::Fragment, "u_normal_scale", "float", UniformSemantic::NormalScale);
+  if (f.has_tangents) {
+    fb += "  vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));\n";
+    fb += "  vec3 bt = cross(n, t) * v_tangent.w;\n";
+    if (f.double_sided) fb += "  if (!gl_FrontFacing) { t = -t; bt = -bt; }\n";
+  } else {
+    b.fs_functions += detail::kCotangentFrame;
+    fb += "  mat3 tbn_derived = cotangent_frame(n, v_world_position, uv_normal);\n";
+    fb += "  vec3 t = tbn_derived[0];\n  vec3 bt = tbn_derived[1];\n";
+  }
+  fb += "  vec3 tn = texture(u_normal_texture, uv_normal).xyz * 2.0 - 1.0;\n";
+  fb += "  tn.xy *= u_normal_scale;\n";
+  fb += "  n = normalize(mat3(t, bt, n) * tn);\n";
+}
 
+// The view vector `v` (where the model needs it) and the ambient occlusion `ao`.
+void view_and_occlusion(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
+  std::string& fb = b.fs_body;
+  if (need.view_vector) {
+    b.uniform(Stage::Fragment, "u_camera_position", "vec3", UniformSemantic::CameraPosition);
+    fb += "  vec3 v = normalize(u_camera_position - v_world_position);\n";
+  }
+  fb += "  float ao = 1.0;\n";
+  if (f.occlusion_texture) {
+    b.uniform(Stage::Fragment, "u_occlusion_strength", "float",
+              UniformSemantic::OcclusionStrength);
+    fb += "  ao += u_occlusion_strength * (texture(u_occlusion_texture, uv_occlusion).r - 1.0);\n";
+  }
+}
+
+// Declares the world's light (the uniform ambient, or the environment's probe and ambient cube)
+// and the light helpers of per-pixel models. Returns the expression of the environment's diffuse
+// radiance for normal n, empty without an environment map.
+std::string world_light(GlslBuilder& b, const MaterialFeatures& f) {
+  // With an environment map the world's diffuse light comes from its ambient cube (below), so
+  // the uniform ambient exists only in programs without one.
+  if (!f.environment_map_2d)
+    b.uniform(Stage::Fragment, "u_ambient_light", "vec3", UniformSemantic::AmbientLight);
+  std::string env_diffuse;
+  if (f.environment_map_2d) {
+    b.sampler("u_environment_texture", TextureSlot::Environment);
+    b.uniform(Stage::Fragment, "u_environment_intensity", "float",
+              UniformSemantic::EnvironmentIntensity);
+    static const char* kAxis[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+    std::string args;
+    for (int i = 0; i < 6; ++i) {
+      const std::string name = std::string("u_environment_irradiance_") + kAxis[i];
+      b.uniform(Stage::Fragment, name, "vec3", UniformSemantic::EnvironmentIrradiance, i);
+      args += ", " + name;
+    }
+    b.fs_functions += detail::kAmbientCube;
+    env_diffuse = "ambient_cube(n" + args + ")";
+  }
+  if (detail::per_pixel_normal(f.shading) || f.shading == ShadingModel::Flat) {
+    if (f.lights.total() > 0) b.fs_functions += light_helpers(f.lights);
+  }
+  return env_diffuse;
+}
+
+// glTF metallic-roughness: the lights through the PBR BRDF, then the world's light split into
+// diffuse and specular by the split-sum approximation.
+void shade_pbr(GlslBuilder& b, const MaterialFeatures& f, const std::string& env_diffuse) {
+  std::string& fb = b.fs_body;
+  b.uniform(Stage::Fragment, "u_metallic_factor", "float", UniformSemantic::MetallicFactor);
+  b.uniform(Stage::Fragment, "u_roughness_factor", "float", UniformSemantic::RoughnessFactor);
+  fb += "  float metallic = u_metallic_factor;\n  float roughness = u_roughness_factor;\n";
+  if (f.metallic_roughness_texture) {
+    fb += "  vec4 mr = texture(u_metallic_roughness_texture, uv_metallic_roughness);\n";
+    fb += "  roughness *= mr.g;\n  metallic *= mr.b;\n";
+  }
+  fb += std::string("  roughness = clamp(roughness, ") +
+        (f.precision == Precision::Highp ? "0.045" : "0.089") +
+        ", 1.0);  // keeps GGX finite (and representable in mediump)\n";
+  fb += "  metallic = clamp(metallic, 0.0, 1.0);\n";
+  fb += "  vec3 c_diff = mix(base_color.rgb, vec3(0.0), metallic);\n";
+  fb += "  vec3 f0 = mix(vec3(0.04), base_color.rgb, metallic);\n";
+  fb += "  float alpha = roughness * roughness;\n";
+  fb += "  float n_dot_v = max(dot(n, v), 1e-4);\n";
+  fb += "  vec3 color = vec3(0.0);\n";
+  if (f.lights.total() > 0) {
+    b.fs_functions += detail::kPbrBrdf;
+    fb += light_loop(b, Stage::Fragment, f.lights, "v_world_position",
+                     "    color += pbr_light(n, v, l, e, c_diff, f0, alpha);\n");
+  }
+  b.fs_functions += detail::kEnvBrdfApprox;
+  fb += "  vec3 specular_weight = env_brdf_approx(f0, roughness, n_dot_v);\n";
+  if (f.environment_map_2d) {
+    // EEVEE's world-probe lookup (Blender 3.x probe_evaluate_world_spec): level sqrt(roughness)
+    // times the last level, whose lobes the converter prefiltered (bridge::EnvironmentProbe).
+    // No footprint term: a level's lobe, not its texel size, sets its blur, so a footprint-chosen
+    // level blurs far more than the pixel sees (reflection 19.12 dB object with it, 33.60
+    // without); sharp mirrors are shaded per MSAA sample instead (docs/scene-config.md).
+    fb += "  vec3 r = reflect(-v, n);\n";
+    fb += "  float probe_size = float(textureSize(u_environment_texture, 0).x);\n";
+    fb += "  float env_lod = sqrt(roughness) * (log2(probe_size) - " + std::to_string(bridge::kProbeSmallestFaceLog2) + ".0);\n";
+    fb += "  vec3 environment = textureLod(u_environment_texture, r, env_lod).rgb * u_environment_intensity;\n";
+    fb += "  color += (c_diff * " + env_diffuse + " + specular_weight * environment) * ao;\n";
+  } else {
+    fb += "  color += (c_diff + specular_weight) * u_ambient_light * ao;\n";
+  }
+}
+
+// Blinn-Phong per pixel: Lambert plus a specular lobe per light, the environment as a mirror.
+void shade_blinn_phong(GlslBuilder& b, const MaterialFeatures& f, const std::string& env_diffuse) {
+  std::string& fb = b.fs_body;
+  const int lights = f.lights.total();
+  fb += "  vec3 color = vec3(0.0);\n";
+  const bool specular = lights > 0 || f.environment_map_2d;
+  if (specular)
+    b.uniform(Stage::Fragment, "u_specular_color", "vec3", UniformSemantic::SpecularColor);
+  if (lights > 0) {
+    b.uniform(Stage::Fragment, "u_shininess", "float", UniformSemantic::Shininess);
+    b.fs_functions += detail::kBlinnPhongSpecular;
+    fb += light_loop(b, Stage::Fragment, f.lights, "v_world_position",
+                     "    float n_dot_l = max(dot(n, l), 0.0);\n"
+                     "    color += e * n_dot_l * (base_color.rgb / PI + u_specular_color * "
+                     "blinn_phong_specular(n, v, l, u_shininess));\n");
+  }
+  if (f.environment_map_2d) {
+    fb += "  color += base_color.rgb * " + env_diffuse + " * ao;\n";
+    fb += "  vec3 r = reflect(-v, n);\n";
+    // No roughness: a mirror, the probe's sharp level 0 (EEVEE's lookup at roughness 0); the
+    // scene's "sample_shading": "mirrors" averages it inside the pixel.
+    fb += "  color += u_specular_color * textureLod(u_environment_texture, r, 0.0).rgb * "
+          "u_environment_intensity * ao;\n";
+  } else {
+    fb += "  color += base_color.rgb * u_ambient_light * ao;\n";
+  }
+}
+
+// Flat: Lambert with the face normal.
+void shade_flat(GlslBuilder& b, const MaterialFeatures& f) {
+  std::string& fb = b.fs_body;
+  fb += "  vec3 color = vec3(0.0);\n";
+  if (f.lights.total() > 0)
+    fb += light_loop(b, Stage::Fragment, f.lights, "v_world_position",
+                     "    color += e * (max(dot(n, l), 0.0) / PI);\n");
+  fb += "  color = base_color.rgb * (color + u_ambient_light * ao);\n";
+}
+
+// Gouraud: the lighting came from the vertex stage.
+void shade_gouraud(GlslBuilder& b, const Needs& need) {
+  b.fs_body += need.gouraud_light
+                   ? "  vec3 color = base_color.rgb * (v_diffuse_light + u_ambient_light * ao) + "
+                     "v_specular_light;\n"
+                   : "  vec3 color = base_color.rgb * u_ambient_light * ao;\n";
+}
+
+// A lit model's colour: its normal, view vector and occlusion, the world's light, then the model.
+void shade_lit(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
+  surface_normal(b, f);
+  view_and_occlusion(b, f, need);
+  const std::string env_diffuse = world_light(b, f);
+  switch (f.shading) {
+    case ShadingModel::PbrMetallicRoughness: shade_pbr(b, f, env_diffuse); break;
+    case ShadingModel::BlinnPhong: shade_blinn_phong(b, f, env_diffuse); break;
+    case ShadingModel::Flat: shade_flat(b, f); break;
+    default: shade_gouraud(b, need); break;
+  }
+}
+
+// Emission (lit models only) and the exposed, linear output colour.
+void write_output(GlslBuilder& b, const MaterialFeatures& f) {
+  std::string& fb = b.fs_body;
   if (f.shading != ShadingModel::Unlit) {
     b.uniform(Stage::Fragment, "u_emissive_factor", "vec3", UniformSemantic::EmissiveFactor);
     fb += "  vec3 emissive = u_emissive_factor;\n";
@@ -398,7 +469,26 @@ Program generate(const MaterialFeatures& requested) {
   // Linear output: the render target encodes sRGB on write.
   fb += std::string("  o_color = vec4(color * u_exposure, ") +
         (f.alpha == AlphaMode::Blend ? "base_color.a" : "1.0") + ");\n";
+}
 
+void write_fragment_stage(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
+  sample_coordinates(b, f);
+  base_color(b, f);
+  if (f.shading == ShadingModel::Unlit)
+    b.fs_body += "  vec3 color = base_color.rgb;\n";
+  else
+    shade_lit(b, f, need);
+  write_output(b, f);
+}
+
+}  // namespace
+
+Program generate(const MaterialFeatures& requested) {
+  const MaterialFeatures f = canonical(requested);  // validates; throws std::invalid_argument
+  const Needs need = analyse(f);
+  GlslBuilder b(f.precision);
+  write_vertex_stage(b, f, need);
+  write_fragment_stage(b, f, need);
   Program& p = b.program();
   p.features = f;
   p.blend = f.alpha == AlphaMode::Blend;

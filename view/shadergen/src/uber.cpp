@@ -10,14 +10,14 @@
 namespace meter::shadergen {
 
 namespace {
+
+using detail::GlslBuilder;
+using detail::Stage;
+
 constexpr int kUberLightsPerType = 2;
-}
 
-Program generate_uber() {
-  using detail::Stage;
-  detail::GlslBuilder b(Precision::Highp);
-  const std::string n_lights = std::to_string(kUberLightsPerType);
-
+// Every attribute, transform and varying any material could use: the vertex stage reads them all.
+void declare_vertex_interface(GlslBuilder& b) {
   b.attribute("a_position", "vec3", AttributeSemantic::Position, 3);
   b.attribute("a_normal", "vec3", AttributeSemantic::Normal, 3);
   b.attribute("a_tangent", "vec4", AttributeSemantic::Tangent, 4);
@@ -40,9 +40,12 @@ Program generate_uber() {
   b.varying("v_texcoord0", "vec2", true);
   b.varying("v_texcoord1", "vec2", true);
   b.varying("v_color0", "vec4");
+}
 
+// Skinning behind a switch, then every varying written unconditionally.
+std::string vertex_body() {
   const std::string last_joint = std::to_string(kMaxSkinJoints - 1);
-  b.vs_body = R"(  vec3 position = a_position;
+  return R"(  vec3 position = a_position;
   vec3 normal = a_normal;
   vec3 tangent = a_tangent.xyz;
   if ((u_uber_vertex_switches.z & 2) != 0) {
@@ -62,7 +65,10 @@ Program generate_uber() {
   v_color0 = (u_uber_vertex_switches.z & 1) != 0 ? a_color0 : vec4(1.0);
   gl_Position = u_view_projection * world;
 )";
+}
 
+// The switches, every texture with its transform, and every material factor.
+void declare_material_uniforms(GlslBuilder& b) {
   // Fragment: every texture, both lighting models, up to 2 lights per type, all switched at run time.
   b.uniform(Stage::Fragment, "u_uber_switches", "ivec4", UniformSemantic::UberSwitches, 1);
   b.uniform(Stage::Fragment, "u_uber_light_counts", "ivec3", UniformSemantic::UberLightCounts);
@@ -84,6 +90,10 @@ Program generate_uber() {
   b.uniform(Stage::Fragment, "u_shininess", "float", UniformSemantic::Shininess);
   b.uniform(Stage::Fragment, "u_ambient_light", "vec3", UniformSemantic::AmbientLight);
   b.uniform(Stage::Fragment, "u_exposure", "float", UniformSemantic::Exposure);
+}
+
+// One uniform array per light type and property, kUberLightsPerType long.
+void declare_light_arrays(GlslBuilder& b) {
   // Light arrays: index = first light-list index of the type (directional 0, point 2, spot 4).
   const struct {
     const char* prefix;
@@ -114,8 +124,11 @@ Program generate_uber() {
                 UniformSemantic::LightOuterConeCos, t.base, kUberLightsPerType);
     }
   }
+}
 
-  b.fs_functions = std::string(detail::kLightConstants) + detail::kRangeAttenuation +
+// Every helper, plus the switch readers and the per-light shading of both lit models.
+std::string fragment_functions() {
+  return std::string(detail::kLightConstants) + detail::kRangeAttenuation +
                    detail::kSpotAttenuation + detail::kBlinnPhongSpecular + detail::kPbrBrdf +
                    detail::kEnvBrdfApprox + detail::kCotangentFrame + R"(vec2 uber_uv(int slot, mat3 transform) {
   // switches.w bits 4..8: texture `slot` reads TEXCOORD_1; switches.z & 16: KHR_texture_transform
@@ -129,8 +142,12 @@ vec3 shade(int model, vec3 n, vec3 v, vec3 l, vec3 e, vec3 base, vec3 c_diff, ve
   return e * n_dot_l * (base / PI + u_specular_color * blinn_phong_specular(n, v, l, u_shininess));
 }
 )";
+}
 
-  b.fs_body = R"(  int model = u_uber_switches.x;  // 0 unlit, 1 Blinn-Phong, 2 PBR
+// The material and every light, each behind its runtime switch.
+std::string fragment_body() {
+  const std::string n_lights = std::to_string(kUberLightsPerType);
+  return R"(  int model = u_uber_switches.x;  // 0 unlit, 1 Blinn-Phong, 2 PBR
   int alpha_mode = u_uber_switches.w & 3;
   vec4 base_color = u_base_color_factor * v_color0;
   if (has_texture(0)) base_color *= texture(u_base_color_texture, uber_uv(0, u_base_color_uv_transform));
@@ -205,6 +222,18 @@ vec3 shade(int model, vec3 n, vec3 v, vec3 l, vec3 e, vec3 base, vec3 c_diff, ve
   }
   o_color = vec4(color * u_exposure, alpha_mode == 2 ? base_color.a : 1.0);
 )";
+}
+
+}  // namespace
+
+Program generate_uber() {
+  GlslBuilder b(Precision::Highp);
+  declare_vertex_interface(b);
+  b.vs_body = vertex_body();
+  declare_material_uniforms(b);
+  declare_light_arrays(b);
+  b.fs_functions = fragment_functions();
+  b.fs_body = fragment_body();
 
   Program& p = b.program();
   p.uber = true;

@@ -39,13 +39,53 @@ bool overlap(const DrawExtent& a, const DrawExtent& b) {
   return !(a.depth_max + eps < b.depth_min || b.depth_max + eps < a.depth_min);
 }
 
+// Static reasons a node cannot be a member; "" when it can. Sets the node's material and vertex
+// layout.
+std::string member_problem(const Scene& s, int node, int& material, std::string& layout) {
+  const Node& n = s.nodes[static_cast<std::size_t>(node)];
+  if (n.mesh < 0) return "has no mesh";
+  if (n.skin >= 0) return "is skinned (joint matrices are per draw)";
+  const Mesh& m = s.meshes[static_cast<std::size_t>(n.mesh)];
+  material = -1;
+  for (const auto& p : m.primitives) {
+    if (p.morph_targets > 0) return "has morph targets (not merged: the CPU path handles rigid transforms only)";
+    if (material >= 0 && p.material != material) return "has primitives with different materials";
+    material = p.material;
+    layout = vertex_layout_key(p);
+  }
+  if (material < 0) return "has no primitives";
+  return "";
+}
+
+// The planning state: which unit (merged group, or the draw alone) each draw belongs to, the
+// nodes already taken by a group, and the decisions made so far.
 struct Planner {
+  static constexpr int kSingle = 1 << 20;  // unit ids of ungrouped draws: kSingle + draw index
+
   const Scene& s;
   std::vector<DrawExtent> ext;
   std::vector<int> unit;  // per draw: index of its unit (group id, or draw index + offset)
   std::map<int, std::vector<int>> node_draws;
+  std::set<int> used_nodes;
+  std::map<int, std::string> unit_name;  // accepted group unit id -> group name
+  ConcatPlan plan;
 
+  explicit Planner(const Scene& scene) : s(scene), ext(draw_extents(scene)) {
+    unit.resize(ext.size());
+    for (std::size_t d = 0; d < ext.size(); ++d) {
+      unit[d] = kSingle + static_cast<int>(d);
+      node_draws[ext[d].node].push_back(static_cast<int>(d));
+    }
+  }
+
+  int draw_count() const { return static_cast<int>(ext.size()); }
   std::string node_name(int d) const { return "\"" + s.nodes[static_cast<std::size_t>(ext[static_cast<std::size_t>(d)].node)].name + "\""; }
+  const std::string& material_name(int material) const { return s.materials[static_cast<std::size_t>(material)].name; }
+
+  // Puts every draw of `node` in unit `id` (kSingle: back on their own).
+  void assign(int node, int id) {
+    for (int d : node_draws[node]) unit[static_cast<std::size_t>(d)] = id == kSingle ? kSingle + d : id;
+  }
 
   // All violations of the order/overlap rules among draws whose unit is in `units`, given `unit`.
   std::vector<std::string> conflicts(const std::set<int>& units) const {
@@ -78,43 +118,10 @@ struct Planner {
     }
     return out;
   }
-};
 
-}  // namespace
-
-ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, bool propose, const std::string& origin) {
-  ConcatPlan plan;
-  Planner pl{s, draw_extents(s), {}, {}};
-  const int n_draws = static_cast<int>(pl.ext.size());
-  const int kSingle = 1 << 20;  // unit ids of ungrouped draws: kSingle + draw index
-  pl.unit.resize(pl.ext.size());
-  for (int d = 0; d < n_draws; ++d) pl.unit[static_cast<std::size_t>(d)] = kSingle + d, pl.node_draws[pl.ext[static_cast<std::size_t>(d)].node].push_back(d);
-
-  std::set<int> used_nodes;
-  std::map<int, std::string> unit_name;  // accepted group unit id -> group name
-  // Static reasons a node cannot be a member; "" when it can. Sets material / layout of the node.
-  auto member_problem = [&](int node, int& material, std::string& layout) -> std::string {
-    const Node& n = s.nodes[static_cast<std::size_t>(node)];
-    if (n.mesh < 0) return "has no mesh";
-    if (n.skin >= 0) return "is skinned (joint matrices are per draw)";
-    const Mesh& m = s.meshes[static_cast<std::size_t>(n.mesh)];
-    material = -1;
-    for (const auto& p : m.primitives) {
-      if (p.morph_targets > 0) return "has morph targets (not merged: the CPU path handles rigid transforms only)";
-      if (material >= 0 && p.material != material) return "has primitives with different materials";
-      material = p.material;
-      layout = vertex_layout_key(p);
-    }
-    if (material < 0) return "has no primitives";
-    return "";
-  };
-
-  auto group_id = [&](std::size_t g) { return static_cast<int>(g); };
-  for (std::size_t g = 0; g < configured.size(); ++g) {
-    const Group& grp = configured[g];
-    GroupDecision dec;
-    dec.group = grp.name;
-    dec.members = grp.members;
+  // A group the scene config names: every member must be mergeable with the first, and merging
+  // them must change no pixel. Anything else is an error naming the group and each reason.
+  void accept_configured(int id, const Group& grp, const std::string& origin) {
     std::vector<std::string> errs;
     int material = -1;
     std::string layout, first;
@@ -125,12 +132,12 @@ ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, boo
       if (used_nodes.count(node)) { errs.push_back("\"" + name + "\" is already a member of another group"); continue; }
       int mat = -1;
       std::string lay;
-      std::string why = member_problem(node, mat, lay);
+      std::string why = member_problem(s, node, mat, lay);
       if (!why.empty()) { errs.push_back("\"" + name + "\" " + why); continue; }
       if (material < 0) material = mat, layout = lay, first = name;
       else if (mat != material) {
-        errs.push_back("\"" + name + "\" uses material \"" + s.materials[static_cast<std::size_t>(mat)].name + "\" but \"" + first + "\" uses \"" +
-                       s.materials[static_cast<std::size_t>(material)].name + "\" (one draw has one material)");
+        errs.push_back("\"" + name + "\" uses material \"" + material_name(mat) + "\" but \"" + first + "\" uses \"" +
+                       material_name(material) + "\" (one draw has one material)");
         continue;
       } else if (lay != layout) {
         errs.push_back("\"" + name + "\" has a different vertex layout from \"" + first + "\"");
@@ -141,31 +148,35 @@ ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, boo
     }
     if (grp.members.size() < 2) errs.push_back("a group needs at least two members");
     if (errs.empty()) {
-      for (int node : nodes) for (int d : pl.node_draws[node]) pl.unit[static_cast<std::size_t>(d)] = group_id(g);
-      for (auto& c : pl.conflicts({group_id(g)})) errs.push_back(c);
+      for (int node : nodes) assign(node, id);
+      for (auto& c : conflicts({id})) errs.push_back(c);
     }
     if (!errs.empty()) {
-      std::string msg = origin + ": scene config $.groups[" + std::to_string(g) + "] (\"" + grp.name + "\") cannot be merged:";
+      std::string msg = origin + ": scene config $.groups[" + std::to_string(id) + "] (\"" + grp.name + "\") cannot be merged:";
       for (const auto& e : errs) msg += "\n  - " + e;
       throw SceneError(msg);
     }
+    GroupDecision dec;
+    dec.group = grp.name;
+    dec.members = grp.members;
     dec.accepted = true;
-    unit_name[group_id(g)] = grp.name;
-    dec.reasons.push_back("one material \"" + s.materials[static_cast<std::size_t>(material)].name + "\", same vertex layout, no skin/morph");
+    unit_name[id] = grp.name;
+    dec.reasons.push_back("one material \"" + material_name(material) + "\", same vertex layout, no skin/morph");
     dec.reasons.push_back("no overlap among members and no draw-order change against other draws over all animation ranges");
     plan.decisions.push_back(std::move(dec));
   }
 
-  if (propose) {
-    // Candidates in draw order, bucketed by material + layout (blend state follows the material).
+  // Candidates for proposed groups in draw order, bucketed by material + layout (blend state
+  // follows the material). A node that can never be a member gets its "not proposed" decision.
+  std::vector<std::pair<std::pair<int, std::string>, std::vector<int>>> candidate_buckets() {
     std::map<std::pair<int, std::string>, std::vector<int>> buckets;
     std::vector<std::pair<int, std::string>> bucket_order;
-    for (int d = 0; d < n_draws; ++d) {
-      const int node = pl.ext[static_cast<std::size_t>(d)].node;
-      if (pl.ext[static_cast<std::size_t>(d)].primitive != 0 || used_nodes.count(node)) continue;
+    for (int d = 0; d < draw_count(); ++d) {
+      const int node = ext[static_cast<std::size_t>(d)].node;
+      if (ext[static_cast<std::size_t>(d)].primitive != 0 || used_nodes.count(node)) continue;
       int mat = -1;
       std::string lay;
-      std::string why = member_problem(node, mat, lay);
+      std::string why = member_problem(s, node, mat, lay);
       if (!why.empty()) {
         GroupDecision dec;
         dec.group = "(not proposed)";
@@ -178,41 +189,56 @@ ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, boo
       if (!buckets.count(key)) bucket_order.push_back(key);
       buckets[key].push_back(node);
     }
-    int next_id = static_cast<int>(configured.size());
-    for (const auto& key : bucket_order) {
-      const auto& cand = buckets[key];
-      const std::string mat_name = s.materials[static_cast<std::size_t>(key.first)].name;
+    std::vector<std::pair<std::pair<int, std::string>, std::vector<int>>> out;
+    for (const auto& key : bucket_order) out.emplace_back(key, buckets[key]);
+    return out;
+  }
+
+  // Grows a group from candidate `i` of one bucket: each later candidate that conflicts with
+  // nothing joins it. Returns the members, the refusals in `refused`.
+  std::vector<int> grow_group(const std::vector<int>& cand, std::size_t i, int id, std::vector<bool>& taken,
+                              std::vector<std::string>& refused) {
+    std::vector<int> members{cand[i]};
+    assign(cand[i], id);
+    for (std::size_t j = i + 1; j < cand.size(); ++j) {
+      if (taken[j]) continue;
+      assign(cand[j], id);
+      auto c = conflicts({id});
+      if (c.empty()) {
+        members.push_back(cand[j]);
+        taken[j] = true;
+      } else {
+        assign(cand[j], kSingle);
+        refused.push_back("\"" + s.nodes[static_cast<std::size_t>(cand[j])].name + "\" left out: " + c.front());
+      }
+    }
+    taken[i] = true;
+    return members;
+  }
+
+  // --propose-groups: merges the ungrouped objects greedily, bucket by bucket, recording a
+  // decision for every group tried. Proposed groups get ids from `first_id` on.
+  void propose(int first_id) {
+    int next_id = first_id;
+    for (const auto& [key, cand] : candidate_buckets()) {
+      const std::string mat_name = material_name(key.first);
       std::vector<bool> taken(cand.size(), false);
       for (std::size_t i = 0; i < cand.size(); ++i) {
         if (taken[i]) continue;
         const int id = next_id;
-        std::vector<int> members{cand[i]};
         std::vector<std::string> refused;
-        for (int d : pl.node_draws[cand[i]]) pl.unit[static_cast<std::size_t>(d)] = id;
-        for (std::size_t j = i + 1; j < cand.size(); ++j) {
-          if (taken[j]) continue;
-          for (int d : pl.node_draws[cand[j]]) pl.unit[static_cast<std::size_t>(d)] = id;
-          auto c = pl.conflicts({id});
-          if (c.empty()) {
-            members.push_back(cand[j]);
-            taken[j] = true;
-          } else {
-            for (int d : pl.node_draws[cand[j]]) pl.unit[static_cast<std::size_t>(d)] = kSingle + d;
-            refused.push_back("\"" + s.nodes[static_cast<std::size_t>(cand[j])].name + "\" left out: " + c.front());
-          }
-        }
-        taken[i] = true;
+        const std::vector<int> members = grow_group(cand, i, id, taken, refused);
         GroupDecision dec;
         for (int m : members) dec.members.push_back(s.nodes[static_cast<std::size_t>(m)].name);
         if (members.size() < 2) {
-          for (int d : pl.node_draws[cand[i]]) pl.unit[static_cast<std::size_t>(d)] = kSingle + d;
+          assign(cand[i], kSingle);
           dec.group = "(not proposed)";
           dec.reasons.push_back("no other object with material \"" + mat_name + "\" can join it without overlap or an order change");
         } else {
-          dec.group = "auto_" + std::to_string(next_id - static_cast<int>(configured.size())) + "_" + mat_name;
+          dec.group = "auto_" + std::to_string(next_id - first_id) + "_" + mat_name;
           dec.accepted = true;
           unit_name[id] = dec.group;
-          dec.reasons.push_back("same material \"" + mat_name + "\" (blend " + (pl.ext[static_cast<std::size_t>(pl.node_draws[cand[i]][0])].blend ? "on" : "off") +
+          dec.reasons.push_back("same material \"" + mat_name + "\" (blend " + (ext[static_cast<std::size_t>(node_draws[cand[i]][0])].blend ? "on" : "off") +
                                 "), same vertex layout, no overlap / order change over the animation ranges");
           ++next_id;
         }
@@ -223,19 +249,31 @@ ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, boo
       }
     }
   }
+
   // Accepted groups in the plan with members in draw order.
-  std::map<int, std::vector<int>> by_unit;
-  for (int d = 0; d < n_draws; ++d) {
-    const int u = pl.unit[static_cast<std::size_t>(d)];
-    if (u < kSingle && pl.ext[static_cast<std::size_t>(d)].primitive == 0) by_unit[u].push_back(pl.ext[static_cast<std::size_t>(d)].node);
+  ConcatPlan finish() {
+    std::map<int, std::vector<int>> by_unit;
+    for (int d = 0; d < draw_count(); ++d) {
+      const int u = unit[static_cast<std::size_t>(d)];
+      if (u < kSingle && ext[static_cast<std::size_t>(d)].primitive == 0) by_unit[u].push_back(ext[static_cast<std::size_t>(d)].node);
+    }
+    for (const auto& [u, nodes] : by_unit) {
+      Group g;
+      g.name = unit_name.at(u);
+      for (int node : nodes) g.members.push_back(s.nodes[static_cast<std::size_t>(node)].name);
+      plan.groups.push_back(std::move(g));
+    }
+    return std::move(plan);
   }
-  for (const auto& [u, nodes] : by_unit) {
-    Group g;
-    g.name = unit_name.at(u);
-    for (int node : nodes) g.members.push_back(s.nodes[static_cast<std::size_t>(node)].name);
-    plan.groups.push_back(std::move(g));
-  }
-  return plan;
+};
+
+}  // namespace
+
+ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, bool propose, const std::string& origin) {
+  Planner pl(s);
+  for (std::size_t g = 0; g < configured.size(); ++g) pl.accept_configured(static_cast<int>(g), configured[g], origin);
+  if (propose) pl.propose(static_cast<int>(configured.size()));
+  return pl.finish();
 }
 
 std::string concat_report(const ConcatPlan& plan) {

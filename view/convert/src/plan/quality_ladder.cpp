@@ -99,50 +99,67 @@ const char* filter_name(TextureFilter f) {
   return "?";
 }
 
-QualityReport apply_quality(Scene& s, const QualitySettings& q) {
-  QualityReport report;
-  const std::string where = s.source_name + ": quality: ";
-  if (q.msaa && *q.msaa != 1 && *q.msaa != 2 && *q.msaa != 4 && *q.msaa != 8)
-    throw SceneError(where + "msaa = " + std::to_string(*q.msaa) + ", expected 1, 2, 4 or 8");
-  auto check_lod = [&](const QualityOverride& o, const std::string& who) {
-    if (o.lod && !(*o.lod > 0.0f && *o.lod <= 1.0f))
-      throw SceneError(where + who + ": lod = " + std::to_string(*o.lod) + ", expected a fraction of triangles in (0, 1]");
-  };
-  check_lod(q.global, "global");
-  std::vector<const QualityOverride*> per_node(s.nodes.size(), nullptr);
-  for (const auto& [name, o] : q.objects) {
-    const int n = s.find_node(name);
-    if (n < 0) throw SceneError(where + "objects.\"" + name + "\": no node of that name in the scene");
-    check_lod(o, "objects.\"" + name + "\"");
-    per_node[std::size_t(n)] = &o;
+namespace {
+
+// The settings each node gets: the global ones with the node's own overrides on top. Checks the
+// settings against the scene (msaa, lod fractions, object names) on construction.
+class NodeQuality {
+ public:
+  NodeQuality(const Scene& s, const QualitySettings& q, const std::string& where)
+      : global_(q.global), per_node_(s.nodes.size(), nullptr) {
+    if (q.msaa && *q.msaa != 1 && *q.msaa != 2 && *q.msaa != 4 && *q.msaa != 8)
+      throw SceneError(where + "msaa = " + std::to_string(*q.msaa) + ", expected 1, 2, 4 or 8");
+    auto check_lod = [&](const QualityOverride& o, const std::string& who) {
+      if (o.lod && !(*o.lod > 0.0f && *o.lod <= 1.0f))
+        throw SceneError(where + who + ": lod = " + std::to_string(*o.lod) + ", expected a fraction of triangles in (0, 1]");
+    };
+    check_lod(q.global, "global");
+    for (const auto& [name, o] : q.objects) {
+      const int n = s.find_node(name);
+      if (n < 0) throw SceneError(where + "objects.\"" + name + "\": no node of that name in the scene");
+      check_lod(o, "objects.\"" + name + "\"");
+      per_node_[std::size_t(n)] = &o;
+    }
   }
-  auto effective = [&](int node) {
-    QualityOverride e = q.global;
-    if (const QualityOverride* o = per_node[std::size_t(node)]) {
+
+  QualityOverride at(int node) const {
+    QualityOverride e = global_;
+    if (const QualityOverride* o = per_node_[std::size_t(node)]) {
       if (o->shading) e.shading = o->shading;
       if (o->precision) e.precision = o->precision;
       if (o->lod) e.lod = o->lod;
     }
     return e;
-  };
+  }
 
+ private:
+  QualityOverride global_;
+  std::vector<const QualityOverride*> per_node_;
+};
+
+// Scene-wide settings: the resolve and sample shading, and the environment and shadow maps the
+// settings turn off.
+void apply_scene_settings(Scene& s, const QualitySettings& q, QualityReport& report) {
   if (q.resolve) s.config.resolve.filter = *q.resolve;
   if (q.sample_format) s.config.resolve.sample_format = *q.sample_format;
   if (q.sample_shading) s.config.sample_shading = *q.sample_shading;
   if (q.environment == false && s.environment.present()) {
-    // The probe and the ambient cube go; the programs stop sampling them (below).
+    // The probe and the ambient cube go; the programs stop sampling them (regenerate_programs).
     s.environment = Environment{};
     report.environment_dropped = true;
   }
   if (q.shadows == false)
     for (Light& l : s.lights) report.shadow_maps_dropped += std::exchange(l.cast_shadow, false) ? 1 : 0;
-  // Programs: regenerate those whose draws ask for another model / precision, or that sample an
-  // environment the settings dropped (deduplicated by key).
+}
+
+// Programs: regenerate those whose draws ask for another model / precision, or that sample an
+// environment or shadow maps the settings dropped (deduplicated by key).
+void regenerate_programs(Scene& s, const NodeQuality& quality, const std::string& where, QualityReport& report) {
   std::map<std::string, int> cache;
   std::set<int> mapped_materials;
   for (std::size_t i = 0; i < s.draws.size(); ++i) {
     DrawItem& d = s.draws[i];
-    const QualityOverride e = effective(d.node);
+    const QualityOverride e = quality.at(d.node);
     const shadergen::MaterialFeatures& stored = s.programs[std::size_t(d.program)].program.features;
     // An environment or shadow maps the settings dropped: the program must stop sampling them.
     const bool drop_maps = (stored.environment_map_2d && !s.environment.present()) ||
@@ -171,7 +188,10 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     }
     d.program = it->second;
   }
-  // A merged group draws all members with one program: split programs end the merge.
+}
+
+// A merged group draws all members with one program: split programs end the merge.
+void drop_split_groups(Scene& s, QualityReport& report) {
   const std::size_t groups_before = s.groups.size();
   std::erase_if(s.groups, [&](const MergedGroup& g) {
     return std::any_of(g.draws.begin(), g.draws.end(), [&](int d) {
@@ -179,19 +199,21 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     });
   });
   report.groups_dropped = int(groups_before - s.groups.size());
+}
 
-  // LOD: per mesh, one simplified copy per distinct fraction asked for (a mesh shared by nodes
-  // with different fractions is duplicated so each node gets its own).
+// LOD: per mesh, one simplified copy per distinct fraction asked for (a mesh shared by nodes
+// with different fractions is duplicated so each node gets its own).
+void simplify_meshes(Scene& s, const NodeQuality& quality, QualityReport& report) {
   std::map<std::pair<int, float>, int> lod_mesh;
   std::map<int, float> first_lod;  // mesh -> the fraction its own (in-place) copy was given
   for (DrawItem& d : s.draws) {
-    const float lod = effective(d.node).lod.value_or(1.0f);
+    const float lod = quality.at(d.node).lod.value_or(1.0f);
     if (lod >= 1.0f) continue;
     auto it = lod_mesh.find({d.mesh, lod});
     if (it == lod_mesh.end()) {
       int target = d.mesh;
       const bool shared = std::any_of(s.draws.begin(), s.draws.end(), [&](const DrawItem& o) {
-        return o.mesh == d.mesh && effective(o.node).lod.value_or(1.0f) != lod;
+        return o.mesh == d.mesh && quality.at(o.node).lod.value_or(1.0f) != lod;
       });
       if (shared || first_lod.count(d.mesh)) {
         target = int(s.meshes.size());
@@ -207,25 +229,40 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
     d.mesh = it->second;
     s.nodes[std::size_t(d.node)].mesh = it->second;
   }
+}
 
-  if (q.filter) {
-    for (Texture& t : s.textures) {
-      t.mag_filter = *q.filter == TextureFilter::Nearest ? kGlNearest : kGlLinear;
-      t.min_filter = *q.filter == TextureFilter::Nearest    ? kGlNearest
-                     : *q.filter == TextureFilter::Bilinear ? kGlLinear
-                                                            : kGlLinearMipmapLinear;
-      // 16x: the usual ceiling of hardware and of llvmpipe; the renderer clamps to the driver's.
-      t.max_anisotropy = *q.filter == TextureFilter::Anisotropic ? 16.0f : 1.0f;
-      ++report.textures_changed;
-    }
+void set_texture_filter(Scene& s, TextureFilter filter, QualityReport& report) {
+  for (Texture& t : s.textures) {
+    t.mag_filter = filter == TextureFilter::Nearest ? kGlNearest : kGlLinear;
+    t.min_filter = filter == TextureFilter::Nearest    ? kGlNearest
+                   : filter == TextureFilter::Bilinear ? kGlLinear
+                                                       : kGlLinearMipmapLinear;
+    // 16x: the usual ceiling of hardware and of llvmpipe; the renderer clamps to the driver's.
+    t.max_anisotropy = filter == TextureFilter::Anisotropic ? 16.0f : 1.0f;
+    ++report.textures_changed;
   }
-  if (q.affine == true) {
-    for (ProgramEntry& e : s.programs) {
-      e.program.vertex_source = make_affine(e.program.vertex_source, true);
-      e.program.fragment_source = make_affine(e.program.fragment_source, false);
-      ++report.programs_made_affine;
-    }
+}
+
+void make_programs_affine(Scene& s, QualityReport& report) {
+  for (ProgramEntry& e : s.programs) {
+    e.program.vertex_source = make_affine(e.program.vertex_source, true);
+    e.program.fragment_source = make_affine(e.program.fragment_source, false);
+    ++report.programs_made_affine;
   }
+}
+
+}  // namespace
+
+QualityReport apply_quality(Scene& s, const QualitySettings& q) {
+  QualityReport report;
+  const std::string where = s.source_name + ": quality: ";
+  const NodeQuality quality(s, q, where);
+  apply_scene_settings(s, q, report);
+  regenerate_programs(s, quality, where, report);
+  drop_split_groups(s, report);
+  simplify_meshes(s, quality, report);
+  if (q.filter) set_texture_filter(s, *q.filter, report);
+  if (q.affine == true) make_programs_affine(s, report);
   return report;
 }
 

@@ -110,9 +110,24 @@ bool DrawSubmission::shades_per_sample(std::size_t index, const FrameState& fram
   return scene_.config.sample_shading.shades_per_sample(d->shadings[shading].shape->features, mat.roughness);
 }
 
+// What one draw's uniforms read, gathered once per draw.
+struct DrawSubmission::DrawValues {
+  const FrameState& frame;
+  const DrawState& state;
+  const GpuProgram& program;
+  const bridge::Program& shape;  // the program's metadata at the draw's shading level
+  const Node& node;
+  const Material& material;
+  const glm::mat4& model;            // object -> world (identity for merged, world-space vertices)
+  const glm::mat4& view_projection;  // the camera's, or the light's for a shadow map
+  // A cheaper model's own material parameters (a PBR material mapped for Blinn-Phong-style models).
+  glm::vec4 base;
+  glm::vec3 specular;
+  float shininess;
+};
+
 void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current,
                               std::vector<float>& scratch, const glm::mat4* light_view_projection) const {
-  const auto& gl = gl_;
   const GpuDraw* d = gpu_.draws()[index].get();
   const DrawState& state = frame.draws[index];
   // The draw's quality level (Renderer::set_quality); the frame's levels are within range.
@@ -121,19 +136,37 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
   const bool depth_only = light_view_projection != nullptr;
   const GpuProgram* gp = depth_only ? gpu_.depth_program(sh.program) : sh.program;
   if (!gp) return;
-  const glm::mat4& vp = depth_only ? *light_view_projection : frame.view_projection;
-  const glm::vec3& eye = frame.eye;
   const auto node_index = static_cast<std::size_t>(d->item->node);
-  const Node& node = scene_.nodes[node_index];
   const Material& mat = scene_.materials[static_cast<std::size_t>(d->prim->material)];
   static const glm::mat4 kIdentity(1.0f);
   // Merged vertices are already in world space.
   const glm::mat4& model = d->group ? kIdentity : frame.world[node_index];
   if (gp != current) {
-    gl.UseProgram(gp->program);
+    gl_.UseProgram(gp->program);
     current = gp;
   }
-  const bridge::Program& shape = *sh.shape;
+  set_raster_state(*sh.shape, depth_only, model);
+  const ShadingLevel* level = sh.level;
+  const DrawValues values{frame, state, *gp, *sh.shape, scene_.nodes[node_index], mat, model,
+                          depth_only ? *light_view_projection : frame.view_projection,
+                          level ? glm::vec4(glm::vec3(state.base) * level->base_scale, state.base.a) : state.base,
+                          level ? level->specular_color : mat.specular_color,
+                          level ? level->shininess : mat.shininess};
+  for (const auto& u : gp->uniforms) set_uniform(u, values, scratch);
+  bind_samplers(*gp, mat);
+  const GpuVertexInput& input = d->group ? d->group->inputs[shading] : sh.input;
+  gl_.BindVertexArray(input.vao);
+  for (const auto& [loc, v] : input.constant_attributes) gl_.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
+  if (d->group) {
+    gl_.DrawElements(GL_TRIANGLES, d->group->index_count, GL_UNSIGNED_INT, nullptr);
+  } else {
+    const auto& [offset, count] = d->lods[std::min(static_cast<std::size_t>(state.lod), d->lods.size() - 1)];
+    gl_.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
+  }
+}
+
+void DrawSubmission::set_raster_state(const bridge::Program& shape, bool depth_only, const glm::mat4& model) const {
+  const auto& gl = gl_;
   // A shadow map's draw keeps submit_depth's state: no blending, both faces.
   if (!depth_only) {
     if (shape.blend) {
@@ -153,110 +186,116 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
   }
   // A mirroring transform flips the winding.
   gl.FrontFace(glm::determinant(glm::mat3(model)) < 0 ? GL_CW : GL_CCW);
-  // A cheaper model's own material parameters (a PBR material mapped for Blinn-Phong-style models).
-  const ShadingLevel* level = sh.level;
-  const glm::vec4 base = level ? glm::vec4(glm::vec3(state.base) * level->base_scale, state.base.a) : state.base;
-  const glm::vec3& specular = level ? level->specular_color : mat.specular_color;
-  const float shininess = level ? level->shininess : mat.shininess;
-  const glm::vec3& emissive = state.emissive;
-  for (const auto& u : gp->uniforms) {
-    const GLint l = u.location;
-    switch (u.semantic) {
-      case UniformSemantic::ModelMatrix: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(model)); break;
-      case UniformSemantic::ViewProjection: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(vp)); break;
-      case UniformSemantic::NormalMatrix: {
-        const glm::mat3 n = normal_matrix(model);  // finite even for a zero scale
-        gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(n));
-        break;
+}
+
+void DrawSubmission::set_uniform(const GpuProgram::Uniform& u, const DrawValues& v, std::vector<float>& scratch) const {
+  const auto& gl = gl_;
+  const Material& mat = v.material;
+  const GLint l = u.location;
+  switch (u.semantic) {
+    case UniformSemantic::ModelMatrix: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(v.model)); break;
+    case UniformSemantic::ViewProjection: gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(v.view_projection)); break;
+    case UniformSemantic::NormalMatrix: {
+      const glm::mat3 n = normal_matrix(v.model);  // finite even for a zero scale
+      gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(n));
+      break;
+    }
+    case UniformSemantic::CameraPosition: gl.Uniform3f(l, v.frame.eye.x, v.frame.eye.y, v.frame.eye.z); break;
+    case UniformSemantic::BaseColorFactor: gl.Uniform4f(l, v.base.r, v.base.g, v.base.b, v.base.a); break;
+    case UniformSemantic::EmissiveFactor: gl.Uniform3f(l, v.state.emissive.r, v.state.emissive.g, v.state.emissive.b); break;
+    case UniformSemantic::MetallicFactor: gl.Uniform1f(l, mat.metallic); break;
+    case UniformSemantic::RoughnessFactor: gl.Uniform1f(l, mat.roughness); break;
+    case UniformSemantic::NormalScale: gl.Uniform1f(l, mat.normal_scale); break;
+    case UniformSemantic::OcclusionStrength: gl.Uniform1f(l, mat.occlusion_strength); break;
+    case UniformSemantic::AlphaCutoff: gl.Uniform1f(l, mat.alpha_cutoff); break;
+    case UniformSemantic::SpecularColor: gl.Uniform3f(l, v.specular.r, v.specular.g, v.specular.b); break;
+    case UniformSemantic::Shininess: gl.Uniform1f(l, v.shininess); break;
+    case UniformSemantic::AmbientLight: gl.Uniform3f(l, scene_.ambient.r, scene_.ambient.g, scene_.ambient.b); break;
+    case UniformSemantic::Exposure: gl.Uniform1f(l, v.state.exposure); break;
+    case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, scene_.environment.strength); break;
+    case UniformSemantic::EnvironmentIrradiance:
+      if (u.index >= 0 && u.index < 6) {
+        const glm::vec3& e = scene_.environment.irradiance[static_cast<std::size_t>(u.index)];
+        gl.Uniform3f(l, e.r, e.g, e.b);
       }
-      case UniformSemantic::CameraPosition: gl.Uniform3f(l, eye.x, eye.y, eye.z); break;
-      case UniformSemantic::BaseColorFactor: gl.Uniform4f(l, base.r, base.g, base.b, base.a); break;
-      case UniformSemantic::EmissiveFactor: gl.Uniform3f(l, emissive.r, emissive.g, emissive.b); break;
-      case UniformSemantic::MetallicFactor: gl.Uniform1f(l, mat.metallic); break;
-      case UniformSemantic::RoughnessFactor: gl.Uniform1f(l, mat.roughness); break;
-      case UniformSemantic::NormalScale: gl.Uniform1f(l, mat.normal_scale); break;
-      case UniformSemantic::OcclusionStrength: gl.Uniform1f(l, mat.occlusion_strength); break;
-      case UniformSemantic::AlphaCutoff: gl.Uniform1f(l, mat.alpha_cutoff); break;
-      case UniformSemantic::SpecularColor: gl.Uniform3f(l, specular.r, specular.g, specular.b); break;
-      case UniformSemantic::Shininess: gl.Uniform1f(l, shininess); break;
-      case UniformSemantic::AmbientLight: gl.Uniform3f(l, scene_.ambient.r, scene_.ambient.g, scene_.ambient.b); break;
-      case UniformSemantic::Exposure: gl.Uniform1f(l, state.exposure); break;
-      case UniformSemantic::EnvironmentIntensity: gl.Uniform1f(l, scene_.environment.strength); break;
-      case UniformSemantic::EnvironmentIrradiance:
-        if (u.index >= 0 && u.index < 6) {
-          const glm::vec3& e = scene_.environment.irradiance[static_cast<std::size_t>(u.index)];
-          gl.Uniform3f(l, e.r, e.g, e.b);
-        }
-        break;
-      case UniformSemantic::LightColor:
-      case UniformSemantic::LightIntensity:
-      case UniformSemantic::LightPosition:
-      case UniformSemantic::LightDirection:
-      case UniformSemantic::LightRange:
-      case UniformSemantic::LightInnerConeCos:
-      case UniformSemantic::LightOuterConeCos: {
-        int index = u.index;
-        if (gp->info->uber) {
-          // Uber arrays: index = 2 * type + k (k-th light of that type); generated programs
-          // index the type-sorted list directly.
-          const int type = index / 2, k = index % 2;
-          index = k < light_count_[type] ? light_first_[type] + k : -1;
-        }
-        if (index < 0 || static_cast<std::size_t>(index) >= frame.lights.size()) break;
-        const auto& [ln, lw] = frame.lights[static_cast<std::size_t>(index)];
-        const Light& li = scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(ln)].light)];
-        if (u.semantic == UniformSemantic::LightColor) gl.Uniform3f(l, li.color.r, li.color.g, li.color.b);
-        if (u.semantic == UniformSemantic::LightIntensity) gl.Uniform1f(l, li.intensity);
-        if (u.semantic == UniformSemantic::LightRange) gl.Uniform1f(l, li.range);
-        if (u.semantic == UniformSemantic::LightInnerConeCos) gl.Uniform1f(l, std::cos(li.inner_cone));
-        if (u.semantic == UniformSemantic::LightOuterConeCos) gl.Uniform1f(l, std::cos(li.outer_cone));
-        if (u.semantic == UniformSemantic::LightPosition) gl.Uniform3f(l, lw[3].x, lw[3].y, lw[3].z);
-        if (u.semantic == UniformSemantic::LightDirection) {
-          glm::vec3 dir = glm::normalize(glm::vec3(lw * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
-          gl.Uniform3f(l, dir.x, dir.y, dir.z);
-        }
-        break;
-      }
-      case UniformSemantic::LightShadowMatrix: {
-        const glm::mat4 m = shadow_maps_ ? shadow_maps_->matrix(u.index) : glm::mat4(0.0f);
-        gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(m));
-        break;
-      }
-      case UniformSemantic::JointMatrices: {
-        if (node.skin < 0) break;
-        const Skin& skin = scene_.skins[static_cast<std::size_t>(node.skin)];
-        const glm::mat4 inv_model = glm::inverse(model);
-        scratch.assign(static_cast<std::size_t>(u.array_size) * 16, 0.0f);
-        for (std::size_t j = 0; j < skin.joints.size() && j < static_cast<std::size_t>(u.array_size); ++j) {
-          const glm::mat4 jm = joint_matrix(skin, j, frame.world, inv_model);
-          std::copy(glm::value_ptr(jm), glm::value_ptr(jm) + 16, scratch.begin() + static_cast<std::ptrdiff_t>(j * 16));
-        }
-        gl.UniformMatrix4fv(l, u.array_size, GL_FALSE, scratch.data());
-        break;
-      }
-      case UniformSemantic::MorphWeights: {
-        scratch.assign(static_cast<std::size_t>(u.array_size), 0.0f);
-        const auto& w = state.morph_weights;
-        for (std::size_t k = 0; k < w.size() && k < scratch.size(); ++k) scratch[k] = w[k];
-        gl.Uniform1fv(l, u.array_size, scratch.data());
-        break;
-      }
-      case UniformSemantic::TextureTransform:
-        if (u.index >= 0 && u.index < 6) gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(mat.uv_transform[static_cast<std::size_t>(u.index)]));
-        break;
-      case UniformSemantic::UberSwitches: {  // uber baseline only; never in a package
-        const glm::ivec4 sw = uber_switches(shape.features, u.index);
-        gl.Uniform4i(l, sw.x, sw.y, sw.z, sw.w);
-        break;
-      }
-      case UniformSemantic::UberLightCounts: {
-        const auto& c = shape.features.lights;
-        gl.Uniform3i(l, std::min(c.directional, 2), std::min(c.point, 2), std::min(c.spot, 2));
-        break;
-      }
+      break;
+    case UniformSemantic::LightColor:
+    case UniformSemantic::LightIntensity:
+    case UniformSemantic::LightPosition:
+    case UniformSemantic::LightDirection:
+    case UniformSemantic::LightRange:
+    case UniformSemantic::LightInnerConeCos:
+    case UniformSemantic::LightOuterConeCos: set_light_uniform(u, v); break;
+    case UniformSemantic::LightShadowMatrix: {
+      const glm::mat4 m = shadow_maps_ ? shadow_maps_->matrix(u.index) : glm::mat4(0.0f);
+      gl.UniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(m));
+      break;
+    }
+    case UniformSemantic::JointMatrices: set_joint_matrices(u, v, scratch); break;
+    case UniformSemantic::MorphWeights: {
+      scratch.assign(static_cast<std::size_t>(u.array_size), 0.0f);
+      const auto& w = v.state.morph_weights;
+      for (std::size_t k = 0; k < w.size() && k < scratch.size(); ++k) scratch[k] = w[k];
+      gl.Uniform1fv(l, u.array_size, scratch.data());
+      break;
+    }
+    case UniformSemantic::TextureTransform:
+      if (u.index >= 0 && u.index < 6) gl.UniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(mat.uv_transform[static_cast<std::size_t>(u.index)]));
+      break;
+    case UniformSemantic::UberSwitches: {  // uber baseline only; never in a package
+      const glm::ivec4 sw = uber_switches(v.shape.features, u.index);
+      gl.Uniform4i(l, sw.x, sw.y, sw.z, sw.w);
+      break;
+    }
+    case UniformSemantic::UberLightCounts: {
+      const auto& c = v.shape.features.lights;
+      gl.Uniform3i(l, std::min(c.directional, 2), std::min(c.point, 2), std::min(c.spot, 2));
+      break;
     }
   }
-  for (const auto& s : gp->samplers) {
+}
+
+void DrawSubmission::set_light_uniform(const GpuProgram::Uniform& u, const DrawValues& v) const {
+  const auto& gl = gl_;
+  const GLint l = u.location;
+  int index = u.index;
+  if (v.program.info->uber) {
+    // Uber arrays: index = 2 * type + k (k-th light of that type); generated programs
+    // index the type-sorted list directly.
+    const int type = index / 2, k = index % 2;
+    index = k < light_count_[type] ? light_first_[type] + k : -1;
+  }
+  if (index < 0 || static_cast<std::size_t>(index) >= v.frame.lights.size()) return;
+  const auto& [ln, lw] = v.frame.lights[static_cast<std::size_t>(index)];
+  const Light& li = scene_.lights[static_cast<std::size_t>(scene_.nodes[static_cast<std::size_t>(ln)].light)];
+  if (u.semantic == UniformSemantic::LightColor) gl.Uniform3f(l, li.color.r, li.color.g, li.color.b);
+  if (u.semantic == UniformSemantic::LightIntensity) gl.Uniform1f(l, li.intensity);
+  if (u.semantic == UniformSemantic::LightRange) gl.Uniform1f(l, li.range);
+  if (u.semantic == UniformSemantic::LightInnerConeCos) gl.Uniform1f(l, std::cos(li.inner_cone));
+  if (u.semantic == UniformSemantic::LightOuterConeCos) gl.Uniform1f(l, std::cos(li.outer_cone));
+  if (u.semantic == UniformSemantic::LightPosition) gl.Uniform3f(l, lw[3].x, lw[3].y, lw[3].z);
+  if (u.semantic == UniformSemantic::LightDirection) {
+    glm::vec3 dir = glm::normalize(glm::vec3(lw * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    gl.Uniform3f(l, dir.x, dir.y, dir.z);
+  }
+}
+
+void DrawSubmission::set_joint_matrices(const GpuProgram::Uniform& u, const DrawValues& v,
+                                        std::vector<float>& scratch) const {
+  if (v.node.skin < 0) return;
+  const Skin& skin = scene_.skins[static_cast<std::size_t>(v.node.skin)];
+  const glm::mat4 inv_model = glm::inverse(v.model);
+  scratch.assign(static_cast<std::size_t>(u.array_size) * 16, 0.0f);
+  for (std::size_t j = 0; j < skin.joints.size() && j < static_cast<std::size_t>(u.array_size); ++j) {
+    const glm::mat4 jm = joint_matrix(skin, j, v.frame.world, inv_model);
+    std::copy(glm::value_ptr(jm), glm::value_ptr(jm) + 16, scratch.begin() + static_cast<std::ptrdiff_t>(j * 16));
+  }
+  gl_.UniformMatrix4fv(u.location, u.array_size, GL_FALSE, scratch.data());
+}
+
+void DrawSubmission::bind_samplers(const GpuProgram& gp, const Material& mat) const {
+  const auto& gl = gl_;
+  for (const auto& s : gp.samplers) {
     gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + s.unit));
     if (s.slot == bridge::TextureSlot::ShadowMap) {
       gl.BindTexture(GL_TEXTURE_2D, shadow_maps_ ? shadow_maps_->texture(s.index) : 0);
@@ -266,15 +305,6 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
       gl.BindTexture(GL_TEXTURE_2D, gpu_.texture(mat.texture[static_cast<std::size_t>(s.slot)]));
     }
     gl.Uniform1i(s.location, s.unit);
-  }
-  const GpuVertexInput& input = d->group ? d->group->inputs[shading] : sh.input;
-  gl.BindVertexArray(input.vao);
-  for (const auto& [loc, v] : input.constant_attributes) gl.VertexAttrib4f(loc, v.x, v.y, v.z, v.w);
-  if (d->group) {
-    gl.DrawElements(GL_TRIANGLES, d->group->index_count, GL_UNSIGNED_INT, nullptr);
-  } else {
-    const auto& [offset, count] = d->lods[std::min(static_cast<std::size_t>(state.lod), d->lods.size() - 1)];
-    gl.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
   }
 }
 

@@ -32,6 +32,14 @@ class DrawSubmission {
   // `light_view_projection` set: the depth-only draw of a shadow map.
   void draw_one(std::size_t index, const FrameState& frame, const GpuProgram*& current, std::vector<float>& scratch,
                 const glm::mat4* light_view_projection = nullptr) const;
+  // The stages of one draw: its blend, cull and winding state, each uniform (the lights' and the
+  // joints' apart), the textures, then the draw call.
+  struct DrawValues;
+  void set_raster_state(const bridge::Program& shape, bool depth_only, const glm::mat4& model) const;
+  void set_uniform(const GpuProgram::Uniform& u, const DrawValues& v, std::vector<float>& scratch) const;
+  void set_light_uniform(const GpuProgram::Uniform& u, const DrawValues& v) const;
+  void set_joint_matrices(const GpuProgram::Uniform& u, const DrawValues& v, std::vector<float>& scratch) const;
+  void bind_samplers(const GpuProgram& gp, const Material& mat) const;
   // Whether the draw's program at its current shading level samples a normal map.
   bool shades_per_sample(std::size_t index, const FrameState& frame) const;
 

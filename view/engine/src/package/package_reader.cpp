@@ -1,7 +1,7 @@
 // The package reader: bounds-checked decoding of the format in meter/bridge/package_format.hpp.
 #include "meter/engine/package_reader.hpp"
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/engine/frame_plan/draw_units.hpp"
 #include "meter/engine/merged_draws.hpp"
 

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter::bridge;

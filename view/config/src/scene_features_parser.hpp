@@ -1,5 +1,5 @@
 // Parsing of the display-feature keys of the scene config ("pages", "theme", "units", "sweep" and
-// a binding's "quantity" / "imperial"): scene_features.hpp. Internal to meter_bridge.
+// a binding's "quantity" / "imperial"): scene_features.hpp. Internal to meter_scene_config.
 #pragma once
 
 #include <string>

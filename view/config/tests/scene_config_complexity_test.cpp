@@ -6,7 +6,7 @@
 #include <string>
 
 #include "linear_scaling.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 
 using namespace meter::bridge;
 using meter::test::kLinearRatioBound;

@@ -1,5 +1,5 @@
 // The JSON reading helpers of the scene config parsers: typed values with errors naming the file,
-// the JSON path and what was expected. Internal to meter_bridge.
+// the JSON path and what was expected. Internal to meter_scene_config.
 #pragma once
 
 #include <array>

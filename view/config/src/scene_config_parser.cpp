@@ -1,10 +1,11 @@
 // The scene config parser. Both sides run it: the converter on the artist's file, the runtime on
 // the config text the package stores.
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -21,6 +22,50 @@ namespace {
 
 using nlohmann::json;
 using namespace config_json;
+
+// A text binding's own keys: the node, the number format, size, colour, alignment and the
+// value -> text map.
+void parse_text_binding(const Ctx& c, const json& b, const std::string& path, Binding& out) {
+  out.node = string(c, b["node"], path + ".node");
+  if (b.contains("format")) {
+    out.format = string(c, b["format"], path + ".format");
+    std::string why;
+    if (!valid_number_format(out.format, &why)) c.fail(path + ".format", why);
+  }
+  if (b.contains("size_px")) {
+    out.size_px = number(c, b["size_px"], path + ".size_px");
+    if (out.size_px < 4 || out.size_px > 512) c.fail(path + ".size_px", "expected 4..512 pixels");
+  }
+  if (b.contains("color")) out.color = colour(c, b["color"], path + ".color");
+  if (b.contains("colour")) out.color = colour(c, b["colour"], path + ".colour");
+  if (b.contains("align")) out.align = parse_align(c, b["align"], path + ".align");
+  if (b.contains("map")) {
+    const json& m = b["map"];
+    if (!m.is_object()) c.fail(path + ".map", "expected an object {\"value\": \"text\"}");
+    for (auto it = m.begin(); it != m.end(); ++it) {
+      const std::string kp = path + ".map." + it.key();
+      long long k = 0;
+      std::size_t used = 0;
+      try {
+        k = std::stoll(it.key(), &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != it.key().size()) c.fail(kp, "map keys must be integers");
+      out.map[k] = string(c, it.value(), kp);
+    }
+  }
+}
+
+// The binding's look while the link is lost; `keys`: the failsafe keys its kind allows.
+void parse_failsafe(const Ctx& c, const json& f, const std::string& path, const std::set<std::string>& keys, Binding& out) {
+  const std::string fp = path + ".failsafe";
+  if (!f.is_object()) c.fail(fp, "expected an object");
+  check_keys(c, f, fp, keys);
+  if (f.contains("value")) out.failsafe_value = number(c, f["value"], fp + ".value");
+  if (f.contains("visible")) out.failsafe_visible = boolean(c, f["visible"], fp + ".visible");
+  if (f.contains("text")) out.failsafe_text = string(c, f["text"], fp + ".text");
+}
 
 Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
   if (!b.is_object()) c.fail(path, "expected an object");
@@ -72,35 +117,8 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
     out.kind = BindingKind::Text;
     keys.insert({"node", "format", "size_px", "color", "colour", "align", "map"});
     failsafe_keys = {"text"};
-    out.node = string(c, need("node"), path + ".node");
-    if (b.contains("format")) {
-      out.format = string(c, b["format"], path + ".format");
-      std::string why;
-      if (!valid_number_format(out.format, &why)) c.fail(path + ".format", why);
-    }
-    if (b.contains("size_px")) {
-      out.size_px = number(c, b["size_px"], path + ".size_px");
-      if (out.size_px < 4 || out.size_px > 512) c.fail(path + ".size_px", "expected 4..512 pixels");
-    }
-    if (b.contains("color")) out.color = colour(c, b["color"], path + ".color");
-    if (b.contains("colour")) out.color = colour(c, b["colour"], path + ".colour");
-    if (b.contains("align")) out.align = parse_align(c, b["align"], path + ".align");
-    if (b.contains("map")) {
-      const json& m = b["map"];
-      if (!m.is_object()) c.fail(path + ".map", "expected an object {\"value\": \"text\"}");
-      for (auto it = m.begin(); it != m.end(); ++it) {
-        const std::string kp = path + ".map." + it.key();
-        long long k = 0;
-        std::size_t used = 0;
-        try {
-          k = std::stoll(it.key(), &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == 0 || used != it.key().size()) c.fail(kp, "map keys must be integers");
-        out.map[k] = string(c, it.value(), kp);
-      }
-    }
+    need("node");
+    parse_text_binding(c, b, path, out);
   } else {
     c.fail(path + ".kind",
            "unknown kind \"" + kind + "\" (expected animation, visibility, emissive, color, morph or text)");
@@ -113,15 +131,7 @@ Binding parse_binding(const Ctx& c, const json& b, const std::string& path) {
   }
   check_keys(c, b, path, keys);
   out.units = parse_binding_units(c, b, path, out.kind);
-  if (b.contains("failsafe")) {
-    const json& f = b["failsafe"];
-    const std::string fp = path + ".failsafe";
-    if (!f.is_object()) c.fail(fp, "expected an object");
-    check_keys(c, f, fp, failsafe_keys);
-    if (f.contains("value")) out.failsafe_value = number(c, f["value"], fp + ".value");
-    if (f.contains("visible")) out.failsafe_visible = boolean(c, f["visible"], fp + ".visible");
-    if (f.contains("text")) out.failsafe_text = string(c, f["text"], fp + ".text");
-  }
+  if (b.contains("failsafe")) parse_failsafe(c, b["failsafe"], path, failsafe_keys, out);
   return out;
 }
 
@@ -168,6 +178,70 @@ SampleShading parse_sample_shading(const Ctx& c, const json& v) {
   return out;
 }
 
+// The render size in pixels, each side an integer 16..8192.
+std::array<int, 2> parse_size(const Ctx& c, const json& v) {
+  std::array<int, 2> size{};
+  auto s = numbers<2>(c, v, "$.size");
+  for (int i = 0; i < 2; ++i) {
+    if (s[i] < 16 || s[i] > 8192 || s[i] != std::floor(s[i])) {
+      c.fail("$.size[" + std::to_string(i) + "]", "expected an integer 16..8192");
+    }
+    size[i] = static_cast<int>(s[i]);
+  }
+  return size;
+}
+
+// The link-loss look: the failsafe text and where it is drawn.
+void parse_link_loss(const Ctx& c, const json& l, LinkLossConfig& out) {
+  if (!l.is_object()) c.fail("$.link_loss", "expected an object");
+  check_keys(c, l, "$.link_loss", {"text_node", "text", "size_px", "color", "align"});
+  if (l.contains("text_node")) out.text_node = string(c, l["text_node"], "$.link_loss.text_node");
+  if (l.contains("text")) out.text = string(c, l["text"], "$.link_loss.text");
+  if (l.contains("size_px")) out.size_px = number(c, l["size_px"], "$.link_loss.size_px");
+  if (l.contains("color")) out.color = colour(c, l["color"], "$.link_loss.color");
+  if (l.contains("align")) out.align = parse_align(c, l["align"], "$.link_loss.align");
+}
+
+// Mesh concatenation groups: a name and its member nodes each.
+std::vector<Group> parse_groups(const Ctx& c, const json& gs) {
+  std::vector<Group> groups;
+  if (!gs.is_array()) c.fail("$.groups", "expected an array");
+  for (std::size_t i = 0; i < gs.size(); ++i) {
+    const std::string gp = "$.groups[" + std::to_string(i) + "]";
+    if (!gs[i].is_object()) c.fail(gp, "expected an object");
+    check_keys(c, gs[i], gp, {"name", "members"});
+    Group g;
+    if (!gs[i].contains("name")) c.fail(gp + ".name", "missing");
+    g.name = string(c, gs[i]["name"], gp + ".name");
+    if (!gs[i].contains("members") || !gs[i]["members"].is_array()) c.fail(gp + ".members", "expected an array of node names");
+    for (std::size_t k = 0; k < gs[i]["members"].size(); ++k) {
+      g.members.push_back(string(c, gs[i]["members"][k], gp + ".members[" + std::to_string(k) + "]"));
+    }
+    groups.push_back(std::move(g));
+  }
+  return groups;
+}
+
+// Per-material overrides by material name (the shading model).
+std::map<std::string, MaterialOverride> parse_materials(const Ctx& c, const json& ms) {
+  std::map<std::string, MaterialOverride> materials;
+  if (!ms.is_object()) c.fail("$.materials", "expected an object {\"MaterialName\": {...}}");
+  for (auto it = ms.begin(); it != ms.end(); ++it) {
+    const std::string mp = "$.materials." + it.key();
+    if (!it.value().is_object()) c.fail(mp, "expected an object");
+    check_keys(c, it.value(), mp, {"shading"});
+    MaterialOverride o;
+    if (it.value().contains("shading")) {
+      std::string s = string(c, it.value()["shading"], mp + ".shading");
+      static const std::set<std::string> ok{"unlit", "flat", "gouraud", "blinn-phong", "pbr"};
+      if (!ok.count(s)) c.fail(mp + ".shading", "expected unlit, flat, gouraud, blinn-phong or pbr");
+      o.shading = s;
+    }
+    materials[it.key()] = o;
+  }
+  return materials;
+}
+
 }  // namespace
 
 SceneConfig parse_scene_config(std::string_view text, const std::string& origin) {
@@ -195,15 +269,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   if (format != "meter-scene-config/1") {
     c.fail("$.format", "unsupported format \"" + format + "\" (this build reads \"meter-scene-config/1\")");
   }
-  if (j.contains("size")) {
-    auto s = numbers<2>(c, j["size"], "$.size");
-    for (int i = 0; i < 2; ++i) {
-      if (s[i] < 16 || s[i] > 8192 || s[i] != std::floor(s[i])) {
-        c.fail("$.size[" + std::to_string(i) + "]", "expected an integer 16..8192");
-      }
-      out.size[i] = static_cast<int>(s[i]);
-    }
-  }
+  if (j.contains("size")) out.size = parse_size(c, j["size"]);
   if (j.contains("camera")) out.camera = string(c, j["camera"], "$.camera");
   if (j.contains("clear_color")) out.clear_color = colour(c, j["clear_color"], "$.clear_color");
   if (j.contains("time")) {
@@ -220,50 +286,9 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   }
   if (j.contains("resolve")) out.resolve = parse_resolve(c, j["resolve"]);
   if (j.contains("sample_shading")) out.sample_shading = parse_sample_shading(c, j["sample_shading"]);
-  if (j.contains("link_loss")) {
-    const json& l = j["link_loss"];
-    if (!l.is_object()) c.fail("$.link_loss", "expected an object");
-    check_keys(c, l, "$.link_loss", {"text_node", "text", "size_px", "color", "align"});
-    if (l.contains("text_node")) out.link_loss.text_node = string(c, l["text_node"], "$.link_loss.text_node");
-    if (l.contains("text")) out.link_loss.text = string(c, l["text"], "$.link_loss.text");
-    if (l.contains("size_px")) out.link_loss.size_px = number(c, l["size_px"], "$.link_loss.size_px");
-    if (l.contains("color")) out.link_loss.color = colour(c, l["color"], "$.link_loss.color");
-    if (l.contains("align")) out.link_loss.align = parse_align(c, l["align"], "$.link_loss.align");
-  }
-  if (j.contains("groups")) {
-    const json& gs = j["groups"];
-    if (!gs.is_array()) c.fail("$.groups", "expected an array");
-    for (std::size_t i = 0; i < gs.size(); ++i) {
-      const std::string gp = "$.groups[" + std::to_string(i) + "]";
-      if (!gs[i].is_object()) c.fail(gp, "expected an object");
-      check_keys(c, gs[i], gp, {"name", "members"});
-      Group g;
-      if (!gs[i].contains("name")) c.fail(gp + ".name", "missing");
-      g.name = string(c, gs[i]["name"], gp + ".name");
-      if (!gs[i].contains("members") || !gs[i]["members"].is_array()) c.fail(gp + ".members", "expected an array of node names");
-      for (std::size_t k = 0; k < gs[i]["members"].size(); ++k) {
-        g.members.push_back(string(c, gs[i]["members"][k], gp + ".members[" + std::to_string(k) + "]"));
-      }
-      out.groups.push_back(std::move(g));
-    }
-  }
-  if (j.contains("materials")) {
-    const json& ms = j["materials"];
-    if (!ms.is_object()) c.fail("$.materials", "expected an object {\"MaterialName\": {...}}");
-    for (auto it = ms.begin(); it != ms.end(); ++it) {
-      const std::string mp = "$.materials." + it.key();
-      if (!it.value().is_object()) c.fail(mp, "expected an object");
-      check_keys(c, it.value(), mp, {"shading"});
-      MaterialOverride o;
-      if (it.value().contains("shading")) {
-        std::string s = string(c, it.value()["shading"], mp + ".shading");
-        static const std::set<std::string> ok{"unlit", "flat", "gouraud", "blinn-phong", "pbr"};
-        if (!ok.count(s)) c.fail(mp + ".shading", "expected unlit, flat, gouraud, blinn-phong or pbr");
-        o.shading = s;
-      }
-      out.materials[it.key()] = o;
-    }
-  }
+  if (j.contains("link_loss")) parse_link_loss(c, j["link_loss"], out.link_loss);
+  if (j.contains("groups")) out.groups = parse_groups(c, j["groups"]);
+  if (j.contains("materials")) out.materials = parse_materials(c, j["materials"]);
   out.features = parse_scene_features(c, j);
   if (j.contains("scripts")) {
     bool inlined = false;

@@ -1,5 +1,7 @@
 // Scene config parsing: text in, SceneConfig out, std::invalid_argument naming the
-// file, the JSON path and what was expected (docs/scene-config.md).
+// file, the JSON path and what was expected (docs/scene-config.md). The library is
+// meter::scene_config; the functions are declared in meter::bridge, beside the SceneConfig types
+// (meter/bridge/scene_config.hpp) they fill.
 #pragma once
 
 #include <string>

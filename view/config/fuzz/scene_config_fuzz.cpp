@@ -10,7 +10,7 @@
 #include <string>
 
 #include "exercise_scene.hpp"
-#include "meter/bridge/scene_config_parser.hpp"
+#include "meter/config/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 
 namespace {
