@@ -17,15 +17,6 @@ namespace {
 constexpr std::size_t kLongArray = 16;
 constexpr std::size_t kLongText = 96;
 
-template <class T>
-inline constexpr bool is_vector = false;
-template <class T>
-inline constexpr bool is_vector<std::vector<T>> = true;
-template <class T>
-inline constexpr bool is_array = false;
-template <class T, std::size_t N>
-inline constexpr bool is_array<std::array<T, N>> = true;
-
 std::uint64_t hash(const void* data, std::size_t size) {
   return package_checksum({static_cast<const std::uint8_t*>(data), size});
 }
@@ -91,7 +82,7 @@ class Dump {
   void value(const std::string& path, const T& v) {
     if constexpr (bridge::package_record<T>) {
       bridge::fields(v, [&](const auto& field, const auto& member) { value(path + "." + bridge::field_name(field), member); });
-    } else if constexpr (is_vector<T> || is_array<T>) {
+    } else if constexpr (bridge::is_vector<T> || bridge::is_array<T>) {
       list(path, v);
     } else if constexpr (std::is_same_v<T, std::string>) {
       line(path, text(v));
@@ -114,7 +105,7 @@ class Dump {
       for (const T& x : items) (s.size() > 1 ? s += ", " : s) += scalar(x);
       return line(path, s + "]");
     } else {
-      if constexpr (is_vector<L>) line(path + ".count", std::to_string(items.size()));
+      if constexpr (bridge::is_vector<L>) line(path + ".count", std::to_string(items.size()));
       for (std::size_t i = 0; i < items.size(); ++i) value(path + "[" + std::to_string(i) + "]", items[i]);
     }
   }

@@ -10,8 +10,11 @@
 // material_feature_fields.hpp. How each kind of value is encoded is bridge/package_format.hpp's.
 #pragma once
 
+#include <array>
 #include <concepts>
+#include <cstddef>
 #include <type_traits>
+#include <vector>
 
 #include "meter/bridge/material_feature_fields.hpp"
 #include "meter/bridge/scene.hpp"
@@ -279,6 +282,13 @@ void fields(S& s, V&& v) {
 inline const char* field_name(const char* name) { return name; }
 inline const char* field_name(const FeatureField& f) { return f.name; }
 inline const char* field_name(const SceneSection& s) { return s.name; }
+
+// The kinds of stored lists: a std::vector (u32 count, then the elements) and a std::array (the
+// elements only).
+template <class T> inline constexpr bool is_vector = false;
+template <class T> inline constexpr bool is_vector<std::vector<T>> = true;
+template <class T> inline constexpr bool is_array = false;
+template <class T, std::size_t N> inline constexpr bool is_array<std::array<T, N>> = true;
 
 // Whether `T` is a record with a field list (visited member by member) rather than a value.
 template <class T>
