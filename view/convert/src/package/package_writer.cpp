@@ -16,12 +16,6 @@
 
 namespace meter::convert {
 
-void RecordEncoder::count(std::size_t n) {
-  if (n > 0xffffffffu) throw SceneError("package: a list or text of " + std::to_string(n) + " elements, more than a u32 count holds");
-  const auto c = static_cast<std::uint32_t>(n);
-  raw(&c, 4);
-}
-
 namespace {
 
 template <class T>

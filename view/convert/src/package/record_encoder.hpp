@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "meter/bridge/package_fields.hpp"
+#include "meter/convert/scene.hpp"
 
 namespace meter::convert {
 
@@ -48,7 +49,12 @@ class RecordEncoder {
     const auto* b = static_cast<const std::uint8_t*>(p);
     bytes.insert(bytes.end(), b, b + n);
   }
-  void count(std::size_t n);  // u32; throws SceneError past 2^32 - 1
+  void count(std::size_t n) {  // u32
+    if (n > 0xffffffffu)
+      throw SceneError("package: a list or text of " + std::to_string(n) + " elements, more than a u32 count holds");
+    const auto c = static_cast<std::uint32_t>(n);
+    raw(&c, 4);
+  }
 
   template <class T>
   void scalar(const T& v) {

@@ -1,27 +1,14 @@
 // The checks of each package record as it is read (record_decoder.hpp): sizes that must agree,
 // values in their ranges, integrity regions inside their frame. References between sections are
 // checked once every section is read (scene_references.cpp).
+#include "record_checks.hpp"
+
 #include <cstdint>
 #include <string>
 
 #include "record_decoder.hpp"
 
 namespace meter::engine {
-
-std::string RecordDecoder::path() const {
-  std::string p;
-  for (const Step& s : path_) {
-    if (!p.empty()) p += '.';
-    p += s.name;
-    if (s.index >= 0) p += "[" + std::to_string(s.index) + "]";
-  }
-  return p;
-}
-
-void RecordDecoder::fail_at(const std::string& part, const std::string& what) const {
-  throw SceneError(origin_ + ": corrupt package at byte " + std::to_string(offset_ + pos_) + " (chunk " + chunk_ + "): " +
-                   path() + part + ": " + what);
-}
 
 void check_record(const RecordDecoder& in, const VertexAttribute& a) {
   if (a.components < 1 || a.components > 4 || a.offset < 0) in.fail("vertex attribute outside the vertex record");

@@ -15,27 +15,9 @@
 
 #include "meter/bridge/package_fields.hpp"
 #include "meter/engine/scene.hpp"
+#include "record_checks.hpp"
 
 namespace meter::engine {
-
-class RecordDecoder;
-
-// The checks of one record right after it is read (record_checks.cpp); records without any have
-// none. Each names the record's path in its message through `in.fail`.
-void check_record(const RecordDecoder& in, const VertexAttribute& a);
-void check_record(const RecordDecoder& in, const Primitive& p);
-void check_record(const RecordDecoder& in, const Texture& t);
-void check_record(const RecordDecoder& in, const Skin& k);
-void check_record(const RecordDecoder& in, const AnimSampler& s);
-void check_record(const RecordDecoder& in, const AttributeInfo& a);
-void check_record(const RecordDecoder& in, const UniformInfo& u);
-void check_record(const RecordDecoder& in, const SamplerInfo& s);
-void check_record(const RecordDecoder& in, const Environment& e);
-void check_record(const RecordDecoder& in, const SafetyRegion& g);
-void check_record(const RecordDecoder& in, const NeedleModel& n);
-void check_record(const RecordDecoder& in, const IntegrityTable& t);
-template <class T>
-void check_record(const RecordDecoder&, const T&) {}
 
 class RecordDecoder {
  public:
