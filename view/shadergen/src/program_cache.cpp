@@ -27,29 +27,34 @@ void text(std::string& out, const std::string& s) {
   out += '\x1f';
 }
 
-// Any value of the program's field list (meter/bridge/program_fields.hpp): texts with their
-// length, lists with their count, records field by field, numbers and flags as integers.
-template <class T>
-void value(std::string& out, const T& v) {
-  if constexpr (bridge::package_record<T>) {
-    bridge::fields(v, [&](const auto&, const auto& member) { value(out, member); });
-  } else if constexpr (bridge::is_vector<T>) {
+// The program's field list (meter/bridge/program_fields.hpp) as text: texts with their length,
+// lists with their count, records field by field, numbers and flags as integers.
+struct KeyText {
+  std::string& out;
+  template <class T>
+  void record(const T& r) {
+    bridge::fields(r, [&](const auto&, const auto& member) { bridge::visit_value(*this, member); });
+  }
+  template <class T>
+  void list(const std::vector<T>& v) {
     field(out, static_cast<long long>(v.size()));
-    for (const auto& x : v) value(out, x);
-  } else if constexpr (std::is_same_v<T, std::string>) {
-    text(out, v);
-  } else {
+    for (const auto& x : v) bridge::visit_value(*this, x);
+  }
+  void text(const std::string& s) { shadergen::text(out, s); }
+  template <class T>
+  void scalar(const T& v) {
     static_assert(std::is_integral_v<T> || std::is_enum_v<T>, "a program holds texts, lists, integers and flags");
     field(out, static_cast<long long>(v));
   }
-}
+};
 
 }  // namespace
 
 // Every field of the program, by the program's field list (the material terms included).
 std::string describe(const Program& p) {
   std::string out = "program\x1f";
-  value(out, p);
+  KeyText key{out};
+  bridge::visit_value(key, p);
   return out;
 }
 

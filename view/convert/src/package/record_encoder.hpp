@@ -1,5 +1,5 @@
 // The package's value encodings (meter/bridge/package_format.hpp), writing any record by its field
-// list (meter/bridge/package_fields.hpp).
+// list (meter/bridge/package_fields.hpp; the kinds of value: bridge::visit_value).
 #pragma once
 
 #include <array>
@@ -19,28 +19,48 @@ class RecordEncoder {
 
   template <class T>
   void value(const T& v) {
-    if constexpr (bridge::package_record<T>) {
-      bridge::fields(v, [&](const auto&, const auto& member) { value(member); });
-    } else if constexpr (bridge::is_vector<T>) {
-      count(v.size());
-      if constexpr (std::is_arithmetic_v<typename T::value_type>) {
-        raw(v.data(), v.size() * sizeof(typename T::value_type));
-      } else {
-        for (const auto& x : v) value(x);
-      }
-    } else if constexpr (bridge::is_array<T>) {
-      for (const auto& x : v) value(x);
-    } else if constexpr (std::is_same_v<T, std::string>) {
-      count(v.size());
-      raw(v.data(), v.size());
-    } else if constexpr (std::is_same_v<T, glm::quat>) {
-      value(v.x), value(v.y), value(v.z), value(v.w);
-    } else if constexpr (std::is_same_v<T, glm::mat3> || std::is_same_v<T, glm::mat4>) {
-      for (int c = 0; c < T::length(); ++c) value(v[c]);
-    } else if constexpr (std::is_same_v<T, glm::vec3> || std::is_same_v<T, glm::vec4>) {
-      for (int i = 0; i < T::length(); ++i) value(v[i]);
+    bridge::visit_value(*this, v);
+  }
+
+  // The kinds of value, as bridge::visit_value names them.
+  template <class T>
+  void record(const T& r) {
+    bridge::fields(r, [&](const auto&, const auto& member) { value(member); });
+  }
+  template <class T>
+  void list(const std::vector<T>& v) {
+    count(v.size());
+    if constexpr (std::is_arithmetic_v<T>) raw(v.data(), v.size() * sizeof(T));
+    else for (const auto& x : v) value(x);
+  }
+  template <class T, std::size_t N>
+  void array(const std::array<T, N>& a) {
+    for (const auto& x : a) value(x);
+  }
+  void text(const std::string& s) {
+    count(s.size());
+    raw(s.data(), s.size());
+  }
+  template <class T>
+  void floats(const T& v) {
+    bridge::for_each_float(v, [&](float f) { raw(&f, 4); });
+  }
+  template <class T>
+  void scalar(const T& v) {
+    if constexpr (std::is_same_v<T, bool>) {
+      const std::uint8_t b = v ? 1 : 0;
+      raw(&b, 1);
+    } else if constexpr (std::is_enum_v<T>) {
+      static_assert(bridge::enum_last<T> >= 0, "a stored enum needs its bridge::enum_last");
+      const auto i = static_cast<std::int32_t>(v);
+      raw(&i, 4);
+    } else if constexpr (std::is_same_v<T, std::size_t>) {
+      const std::uint64_t u = v;
+      raw(&u, 8);
     } else {
-      scalar(v);
+      static_assert(std::is_same_v<T, int> || std::is_same_v<T, unsigned> || std::is_same_v<T, float> ||
+                    std::is_same_v<T, double>, "no package encoding for this type");
+      raw(&v, sizeof v);
     }
   }
 
@@ -54,25 +74,6 @@ class RecordEncoder {
       throw SceneError("package: a list or text of " + std::to_string(n) + " elements, more than a u32 count holds");
     const auto c = static_cast<std::uint32_t>(n);
     raw(&c, 4);
-  }
-
-  template <class T>
-  void scalar(const T& v) {
-    if constexpr (std::is_same_v<T, bool>) {
-      const std::uint8_t b = v ? 1 : 0;
-      raw(&b, 1);
-    } else if constexpr (std::is_enum_v<T>) {
-      static_assert(bridge::enum_last<T> >= 0, "a stored enum needs its bridge::enum_last");
-      const std::int32_t i = static_cast<std::int32_t>(v);
-      raw(&i, 4);
-    } else if constexpr (std::is_same_v<T, std::size_t>) {
-      const std::uint64_t u = v;
-      raw(&u, 8);
-    } else {
-      static_assert(std::is_same_v<T, int> || std::is_same_v<T, unsigned> || std::is_same_v<T, float> ||
-                    std::is_same_v<T, double>, "no package encoding for this type");
-      raw(&v, sizeof v);
-    }
   }
 };
 

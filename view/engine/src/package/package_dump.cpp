@@ -5,6 +5,7 @@
 #include <cinttypes>
 #include <cstdio>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "meter/bridge/package_fields.hpp"
@@ -40,7 +41,7 @@ std::string number(double v) {
 
 // A scalar (integer, enum, bool, float) as text.
 template <class T>
-std::string scalar(const T& v) {
+std::string scalar_text(const T& v) {
   if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
   else if constexpr (std::is_floating_point_v<T>) return number(v);
   else if constexpr (std::is_enum_v<T>) return std::to_string(static_cast<long long>(v));
@@ -48,27 +49,15 @@ std::string scalar(const T& v) {
   else return std::to_string(static_cast<unsigned long long>(v));
 }
 
-template <class T>
-constexpr bool is_glm = std::is_same_v<T, glm::vec3> || std::is_same_v<T, glm::vec4> || std::is_same_v<T, glm::quat> ||
-                        std::is_same_v<T, glm::mat3> || std::is_same_v<T, glm::mat4>;
-
 // A vector, quaternion (x, y, z, w) or matrix (its columns) as "(a, b, ...)".
 template <class T>
-std::string glm_text(const T& v) {
+std::string floats_text(const T& v) {
   std::string s = "(";
-  auto put = [&](float f) { (s.size() > 1 ? s += ", " : s) += number(f); };
-  if constexpr (std::is_same_v<T, glm::quat>) {
-    put(v.x), put(v.y), put(v.z), put(v.w);
-  } else if constexpr (std::is_same_v<T, glm::mat3> || std::is_same_v<T, glm::mat4>) {
-    for (int c = 0; c < T::length(); ++c)
-      for (int r = 0; r < T::col_type::length(); ++r) put(v[c][r]);
-  } else {
-    for (int i = 0; i < T::length(); ++i) put(v[i]);
-  }
+  bridge::for_each_float(v, [&](float f) { (s.size() > 1 ? s += ", " : s) += number(f); });
   return s + ")";
 }
 
-std::string text(const std::string& s) {
+std::string quoted(const std::string& s) {
   bool plain = s.size() <= kLongText;
   for (unsigned char c : s) plain = plain && c >= 0x20 && c < 0x7f && c != '"' && c != '\\';
   return plain ? "\"" + s + "\"" : hashed(s.size(), "bytes", s.data(), s.size());
@@ -80,34 +69,58 @@ class Dump {
 
   template <class T>
   void value(const std::string& path, const T& v) {
-    if constexpr (bridge::package_record<T>) {
-      bridge::fields(v, [&](const auto& field, const auto& member) { value(path + "." + bridge::field_name(field), member); });
-    } else if constexpr (bridge::is_vector<T> || bridge::is_array<T>) {
-      list(path, v);
-    } else if constexpr (std::is_same_v<T, std::string>) {
-      line(path, text(v));
-    } else if constexpr (is_glm<T>) {
-      line(path, glm_text(v));
+    const std::string outer = std::exchange(path_, path);
+    bridge::visit_value(*this, v);
+    path_ = outer;
+  }
+
+  // The kinds of value, as bridge::visit_value names them.
+  template <class T>
+  void record(const T& v) {
+    const std::string at = path_;
+    bridge::fields(v, [&](const auto& field, const auto& member) { value(at + "." + bridge::field_name(field), member); });
+  }
+  template <class T>
+  void list(const std::vector<T>& items) {
+    if constexpr (std::is_arithmetic_v<T>) {
+      numbers(items);
     } else {
-      line(path, scalar(v));
+      line(std::to_string(items.size()), ".count");
+      elements(items);
     }
+  }
+  template <class T, std::size_t N>
+  void array(const std::array<T, N>& items) {
+    if constexpr (std::is_arithmetic_v<T>) numbers(items);
+    else elements(items);
+  }
+  void text(const std::string& s) { line(quoted(s)); }
+  template <class T>
+  void floats(const T& v) {
+    line(floats_text(v));
+  }
+  template <class T>
+  void scalar(const T& v) {
+    line(scalar_text(v));
   }
 
  private:
-  void line(const std::string& path, const std::string& v) { out += path + " = " + v + "\n"; }
+  std::string path_;
+
+  void line(const std::string& v, const char* suffix = "") { out += path_ + suffix + " = " + v + "\n"; }
 
   template <class L>
-  void list(const std::string& path, const L& items) {
+  void numbers(const L& items) {
     using T = typename L::value_type;
-    if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
-      if (items.size() > kLongArray) return line(path, hashed(items.size(), "values", items.data(), items.size() * sizeof(T)));
-      std::string s = "[";
-      for (const T& x : items) (s.size() > 1 ? s += ", " : s) += scalar(x);
-      return line(path, s + "]");
-    } else {
-      if constexpr (bridge::is_vector<L>) line(path + ".count", std::to_string(items.size()));
-      for (std::size_t i = 0; i < items.size(); ++i) value(path + "[" + std::to_string(i) + "]", items[i]);
-    }
+    if (items.size() > kLongArray) return line(hashed(items.size(), "values", items.data(), items.size() * sizeof(T)));
+    std::string s = "[";
+    for (const T& x : items) (s.size() > 1 ? s += ", " : s) += scalar_text(x);
+    line(s + "]");
+  }
+  template <class L>
+  void elements(const L& items) {
+    const std::string at = path_;
+    for (std::size_t i = 0; i < items.size(); ++i) value(at + "[" + std::to_string(i) + "]", items[i]);
   }
 };
 

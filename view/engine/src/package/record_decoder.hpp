@@ -15,7 +15,6 @@
 
 #include "meter/bridge/package_fields.hpp"
 #include "meter/engine/scene.hpp"
-#include "record_checks.hpp"
 
 namespace meter::engine {
 
@@ -35,9 +34,33 @@ class RecordDecoder {
   template <class T>
   void value(const char* name, T& v) {
     path_.push_back({name, -1});
-    read(v);
+    bridge::visit_value(*this, v);
     path_.pop_back();
   }
+
+  // The kinds of value, as bridge::visit_value names them.
+  template <class T>
+  void record(T& v) {
+    bridge::fields(v, [&](const auto& field, auto& member) { value(bridge::field_name(field), member); });
+    check_record(*this, v);
+  }
+  template <class T, std::size_t N>
+  void array(std::array<T, N>& a) {
+    for (std::size_t i = 0; i < N; ++i) element(a[i], i);
+  }
+  void text(std::string& s) {
+    const std::uint32_t n = count(1);
+    s.assign(reinterpret_cast<const char*>(data_.data() + pos_), n);
+    pos_ += n;
+  }
+  template <class T>
+  void floats(T& v) {
+    bridge::for_each_float(v, [&](float& f) { scalar(f); });
+  }
+  template <class T>
+  void list(std::vector<T>& v);
+  template <class T>
+  void scalar(T& v);
 
  private:
   struct Step {
@@ -46,53 +69,10 @@ class RecordDecoder {
   };
 
   template <class T>
-  void read(T& v) {
-    if constexpr (bridge::package_record<T>) {
-      bridge::fields(v, [&](const auto& field, auto& member) { value(bridge::field_name(field), member); });
-      check_record(*this, v);
-    } else if constexpr (bridge::is_vector<T>) {
-      list(v);
-    } else if constexpr (bridge::is_array<T>) {
-      for (std::size_t i = 0; i < v.size(); ++i) element(v[i], i);
-    } else if constexpr (std::is_same_v<T, std::string>) {
-      const std::uint32_t n = count(1);
-      v.assign(reinterpret_cast<const char*>(data_.data() + pos_), n);
-      pos_ += n;
-    } else if constexpr (std::is_same_v<T, glm::quat>) {
-      read(v.x), read(v.y), read(v.z), read(v.w);
-    } else if constexpr (std::is_same_v<T, glm::mat3> || std::is_same_v<T, glm::mat4>) {
-      for (int c = 0; c < T::length(); ++c) read(v[c]);
-    } else if constexpr (std::is_same_v<T, glm::vec3> || std::is_same_v<T, glm::vec4>) {
-      for (int i = 0; i < T::length(); ++i) read(v[i]);
-    } else {
-      scalar(v);
-    }
-  }
-
-  template <class T>
   void element(T& v, std::size_t i) {
     path_.back().index = static_cast<long>(i);
-    read(v);
+    bridge::visit_value(*this, v);
     path_.back().index = -1;
-  }
-
-  template <class T>
-  void list(std::vector<T>& v) {
-    if constexpr (std::is_arithmetic_v<T>) {
-      const std::uint32_t n = count(sizeof(T));
-      v.resize(n);
-      if (n) std::memcpy(v.data(), data_.data() + pos_, n * sizeof(T));
-      pos_ += n * sizeof(T);
-      if constexpr (std::is_floating_point_v<T>)
-        for (T x : v)
-          if (!std::isfinite(x)) fail("non-finite value");
-    } else {
-      // Every element takes at least one byte: a count past the chunk's end is refused before
-      // anything is allocated, and elements are appended one by one as they are read.
-      const std::uint32_t n = count(1);
-      v.clear();
-      for (std::uint32_t i = 0; i < n; ++i) element(v.emplace_back(), i);
-    }
   }
 
   void need(std::size_t n) const {
@@ -113,28 +93,6 @@ class RecordDecoder {
     return n;
   }
 
-  template <class T>
-  void scalar(T& v) {
-    if constexpr (std::is_same_v<T, bool>) {
-      const auto b = pod<std::uint8_t>();
-      if (b > 1) fail("bool byte " + std::to_string(b) + ", expected 0 or 1");
-      v = b == 1;
-    } else if constexpr (std::is_enum_v<T>) {
-      static_assert(bridge::enum_last<T> >= 0, "a stored enum needs its bridge::enum_last");
-      const auto i = pod<std::int32_t>();
-      if (i < 0 || i > bridge::enum_last<T>) fail("enum value " + std::to_string(i) + ", expected 0.." + std::to_string(bridge::enum_last<T>));
-      v = static_cast<T>(i);
-    } else if constexpr (std::is_same_v<T, std::size_t>) {
-      v = static_cast<std::size_t>(pod<std::uint64_t>());
-    } else {
-      static_assert(std::is_same_v<T, int> || std::is_same_v<T, unsigned> || std::is_same_v<T, float> ||
-                    std::is_same_v<T, double>, "no package encoding for this type");
-      v = pod<T>();
-      if constexpr (std::is_floating_point_v<T>)
-        if (!std::isfinite(v)) fail("non-finite value");
-    }
-  }
-
   std::span<const std::uint8_t> data_;
   std::size_t offset_;
   std::string origin_, chunk_;
@@ -142,4 +100,49 @@ class RecordDecoder {
   std::vector<Step> path_;
 };
 
+template <class T>
+void RecordDecoder::list(std::vector<T>& v) {
+  if constexpr (std::is_arithmetic_v<T>) {
+    const std::uint32_t n = count(sizeof(T));
+    v.resize(n);
+    if (n) std::memcpy(v.data(), data_.data() + pos_, n * sizeof(T));
+    pos_ += n * sizeof(T);
+    if constexpr (std::is_floating_point_v<T>)
+      for (T x : v)
+        if (!std::isfinite(x)) fail("non-finite value");
+  } else {
+    // Every element takes at least one byte: a count past the chunk's end is refused before
+    // anything is allocated, and elements are appended one by one as they are read.
+    const std::uint32_t n = count(1);
+    v.clear();
+    for (std::uint32_t i = 0; i < n; ++i) element(v.emplace_back(), i);
+  }
+}
+
+template <class T>
+void RecordDecoder::scalar(T& v) {
+  if constexpr (std::is_same_v<T, bool>) {
+    const auto b = pod<std::uint8_t>();
+    if (b > 1) fail("bool byte " + std::to_string(b) + ", expected 0 or 1");
+    v = b == 1;
+  } else if constexpr (std::is_enum_v<T>) {
+    static_assert(bridge::enum_last<T> >= 0, "a stored enum needs its bridge::enum_last");
+    const auto i = pod<std::int32_t>();
+    if (i < 0 || i > bridge::enum_last<T>) fail("enum value " + std::to_string(i) + ", expected 0.." + std::to_string(bridge::enum_last<T>));
+    v = static_cast<T>(i);
+  } else if constexpr (std::is_same_v<T, std::size_t>) {
+    v = static_cast<std::size_t>(pod<std::uint64_t>());
+  } else {
+    static_assert(std::is_same_v<T, int> || std::is_same_v<T, unsigned> || std::is_same_v<T, float> ||
+                  std::is_same_v<T, double>, "no package encoding for this type");
+    v = pod<T>();
+    if constexpr (std::is_floating_point_v<T>)
+      if (!std::isfinite(v)) fail("non-finite value");
+  }
+}
+
 }  // namespace meter::engine
+
+// The checks record() calls (found by argument-dependent lookup when it is instantiated); they
+// need the whole RecordDecoder.
+#include "record_checks.hpp"  // IWYU pragma: export

@@ -24,175 +24,75 @@ template <> inline constexpr int enum_last<TextAlign> = int(TextAlign::Right);
 
 // --- geometry -------------------------------------------------------------------------------------
 
-template <record_of<Node> R, class V>
-void fields(R& n, V&& v) {
-  v("name", n.name), v("parent", n.parent), v("children", n.children);
-  v("translation", n.translation), v("rotation", n.rotation), v("scale", n.scale);
-  v("mesh", n.mesh), v("camera", n.camera), v("light", n.light), v("skin", n.skin);
-  v("weights", n.weights);
-}
+METER_PACKAGE_RECORD(Node, name, parent, children, translation, rotation, scale, mesh, camera, light, skin,
+                     weights)
 
-template <record_of<VertexAttribute> R, class V>
-void fields(R& a, V&& v) {
-  v("semantic", a.semantic), v("index", a.index), v("components", a.components), v("offset", a.offset);
-}
+METER_PACKAGE_RECORD(VertexAttribute, semantic, index, components, offset)
 
-template <record_of<LodLevel> R, class V>
-void fields(R& l, V&& v) {
-  v("error", l.error), v("triangle_fraction", l.triangle_fraction), v("indices", l.indices);
-}
+METER_PACKAGE_RECORD(LodLevel, error, triangle_fraction, indices)
 
-template <record_of<Primitive> R, class V>
-void fields(R& p, V&& v) {
-  v("material", p.material), v("vertex_count", p.vertex_count), v("stride", p.stride);
-  v("morph_targets", p.morph_targets), v("layout", p.layout), v("vertices", p.vertices);
-  v("indices", p.indices), v("bounds_min", p.bounds_min), v("bounds_max", p.bounds_max);
-  v("lods", p.lods);
-}
+METER_PACKAGE_RECORD(Primitive, material, vertex_count, stride, morph_targets, layout, vertices, indices,
+                     bounds_min, bounds_max, lods)
 
-template <record_of<Mesh> R, class V>
-void fields(R& m, V&& v) {
-  v("name", m.name), v("weights", m.weights), v("primitives", m.primitives);
-}
+METER_PACKAGE_RECORD(Mesh, name, weights, primitives)
 
 // --- look -----------------------------------------------------------------------------------------
 
-template <record_of<Material> R, class V>
-void fields(R& m, V&& v) {
-  v("name", m.name), v("shading", m.shading), v("alpha", m.alpha), v("double_sided", m.double_sided);
-  v("base_color", m.base_color), v("emissive", m.emissive), v("metallic", m.metallic);
-  v("roughness", m.roughness), v("normal_scale", m.normal_scale);
-  v("occlusion_strength", m.occlusion_strength), v("alpha_cutoff", m.alpha_cutoff);
-  v("specular_color", m.specular_color), v("shininess", m.shininess), v("texture", m.texture);
-  v("texcoord", m.texcoord), v("uv_transform", m.uv_transform), v("has_uv_transform", m.has_uv_transform);
-}
+METER_PACKAGE_RECORD(Material, name, shading, alpha, double_sided, base_color, emissive, metallic,
+                     roughness, normal_scale, occlusion_strength, alpha_cutoff, specular_color, shininess,
+                     texture, texcoord, uv_transform, has_uv_transform)
 
-template <record_of<Texture> R, class V>
-void fields(R& t, V&& v) {
-  v("name", t.name), v("width", t.width), v("height", t.height), v("rgba", t.rgba), v("srgb", t.srgb);
-  v("min_filter", t.min_filter), v("mag_filter", t.mag_filter), v("wrap_s", t.wrap_s), v("wrap_t", t.wrap_t);
-}
+METER_PACKAGE_RECORD(Texture, name, width, height, rgba, srgb, min_filter, mag_filter, wrap_s, wrap_t)
 
-template <record_of<Camera> R, class V>
-void fields(R& c, V&& v) {
-  v("name", c.name), v("perspective", c.perspective), v("yfov", c.yfov), v("znear", c.znear);
-  v("zfar", c.zfar), v("xmag", c.xmag), v("ymag", c.ymag);
-}
+METER_PACKAGE_RECORD(Camera, name, perspective, yfov, znear, zfar, xmag, ymag)
 
-template <record_of<Light> R, class V>
-void fields(R& l, V&& v) {
-  v("name", l.name), v("type", l.type), v("color", l.color), v("intensity", l.intensity);
-  v("range", l.range), v("inner_cone", l.inner_cone), v("outer_cone", l.outer_cone);
-  v("cast_shadow", l.cast_shadow);
-}
+METER_PACKAGE_RECORD(Light, name, type, color, intensity, range, inner_cone, outer_cone, cast_shadow)
 
-template <record_of<EnvironmentProbe> R, class V>
-void fields(R& p, V&& v) {
-  v("face_size", p.face_size), v("levels", p.levels), v("rgb", p.rgb);
-}
+METER_PACKAGE_RECORD(EnvironmentProbe, face_size, levels, rgb)
 
-template <record_of<Environment> R, class V>
-void fields(R& e, V&& v) {
-  v("probe", e.probe), v("strength", e.strength), v("irradiance", e.irradiance);
-}
+METER_PACKAGE_RECORD(Environment, probe, strength, irradiance)
 
 // --- motion ---------------------------------------------------------------------------------------
 
-template <record_of<Skin> R, class V>
-void fields(R& k, V&& v) {
-  v("name", k.name), v("joints", k.joints), v("inverse_bind", k.inverse_bind);
-}
+METER_PACKAGE_RECORD(Skin, name, joints, inverse_bind)
 
-template <record_of<AnimSampler> R, class V>
-void fields(R& s, V&& v) {
-  v("interpolation", s.interpolation), v("components", s.components), v("input", s.input), v("output", s.output);
-}
+METER_PACKAGE_RECORD(AnimSampler, interpolation, components, input, output)
 
-template <record_of<AnimChannel> R, class V>
-void fields(R& c, V&& v) {
-  v("sampler", c.sampler), v("node", c.node), v("path", c.path);
-}
+METER_PACKAGE_RECORD(AnimChannel, sampler, node, path)
 
-template <record_of<Animation> R, class V>
-void fields(R& a, V&& v) {
-  v("name", a.name), v("start", a.start), v("end", a.end), v("samplers", a.samplers), v("channels", a.channels);
-}
+METER_PACKAGE_RECORD(Animation, name, start, end, samplers, channels)
 
 // --- programs and draws ---------------------------------------------------------------------------
 
-template <record_of<ProgramEntry> R, class V>
-void fields(R& e, V&& v) {
-  v("program", e.program), v("optimize_report", e.optimize_report);
-}
+METER_PACKAGE_RECORD(ProgramEntry, program, optimize_report)
 
-template <record_of<DrawItem> R, class V>
-void fields(R& d, V&& v) {
-  v("node", d.node), v("mesh", d.mesh), v("primitive", d.primitive), v("program", d.program);
-}
+METER_PACKAGE_RECORD(DrawItem, node, mesh, primitive, program)
 
-template <record_of<MergedGroup> R, class V>
-void fields(R& g, V&& v) {
-  v("name", g.name), v("draws", g.draws);
-}
+METER_PACKAGE_RECORD(MergedGroup, name, draws)
 
-template <record_of<ShadingLevel> R, class V>
-void fields(R& l, V&& v) {
-  v("shading", l.shading), v("program", l.program), v("specular_color", l.specular_color);
-  v("shininess", l.shininess), v("base_scale", l.base_scale);
-}
+METER_PACKAGE_RECORD(ShadingLevel, shading, program, specular_color, shininess, base_scale)
 
-template <record_of<DrawLevels> R, class V>
-void fields(R& d, V&& v) {
-  v("safety", d.safety), v("lods", d.lods), v("shadings", d.shadings);
-}
+METER_PACKAGE_RECORD(DrawLevels, safety, lods, shadings)
 
 // --- integrity (integrity.hpp) --------------------------------------------------------------------
 
-template <record_of<PixelRect> R, class V>
-void fields(R& r, V&& v) {
-  v("x", r.x), v("y", r.y), v("width", r.width), v("height", r.height);
-}
+METER_PACKAGE_RECORD(PixelRect, x, y, width, height)
 
-template <record_of<TelltaleLook> R, class V>
-void fields(R& l, V&& v) {
-  v("name", l.name), v("lit", l.lit), v("mean", l.mean);
-}
+METER_PACKAGE_RECORD(TelltaleLook, name, lit, mean)
 
-template <record_of<TelltaleModel> R, class V>
-void fields(R& t, V&& v) {
-  v("mask", t.mask), v("looks", t.looks), v("tolerance", t.tolerance);
-}
+METER_PACKAGE_RECORD(TelltaleModel, mask, looks, tolerance)
 
-template <record_of<NeedleSample> R, class V>
-void fields(R& s, V&& v) {
-  v("time", s.time), v("value", s.value), v("angle_deg", s.angle_deg);
-}
+METER_PACKAGE_RECORD(NeedleSample, time, value, angle_deg)
 
-template <record_of<NeedleModel> R, class V>
-void fields(R& n, V&& v) {
-  v("animation", n.animation), v("pivot_x", n.pivot_x), v("pivot_y", n.pivot_y), v("r_min", n.r_min);
-  v("r_max", n.r_max), v("color_min", n.color_min), v("color_max", n.color_max);
-  v("min_pixels", n.min_pixels), v("samples", n.samples), v("tolerance_deg", n.tolerance_deg);
-  v("sector_center_deg", n.sector_center_deg), v("sector_half_deg", n.sector_half_deg);
-}
+METER_PACKAGE_RECORD(NeedleModel, animation, pivot_x, pivot_y, r_min, r_max, color_min, color_max,
+                     min_pixels, samples, tolerance_deg, sector_center_deg, sector_half_deg)
 
-template <record_of<ReadoutModel> R, class V>
-void fields(R& o, V&& v) {
-  v("anchor_x", o.anchor_x), v("baseline_y", o.baseline_y), v("size_px", o.size_px), v("align", o.align);
-  v("format", o.format), v("tolerance_pixels", o.tolerance_pixels);
-}
+METER_PACKAGE_RECORD(ReadoutModel, anchor_x, baseline_y, size_px, align, format, tolerance_pixels)
 
-template <record_of<SafetyRegion> R, class V>
-void fields(R& g, V&& v) {
-  v("name", g.name), v("kind", g.kind), v("signal", g.signal), v("bindings", g.bindings);
-  v("node", g.node), v("materials", g.materials), v("rect", g.rect), v("telltale", g.telltale);
-  v("needle", g.needle), v("readout", g.readout);
-}
+METER_PACKAGE_RECORD(SafetyRegion, name, kind, signal, bindings, node, materials, rect, telltale, needle,
+                     readout)
 
-template <record_of<IntegrityTable> R, class V>
-void fields(R& t, V&& v) {
-  v("width", t.width), v("height", t.height), v("regions", t.regions);
-}
+METER_PACKAGE_RECORD(IntegrityTable, width, height, regions)
 
 // --- the scene: its stored members, each a section of the package ---------------------------------
 
@@ -226,5 +126,26 @@ void fields(S& s, V&& v) {
 }
 
 inline const char* field_name(const SceneSection& s) { return s.name; }
+
+// --- runs of floats -------------------------------------------------------------------------------
+
+template <> inline constexpr bool is_float_run<glm::vec3> = true;
+template <> inline constexpr bool is_float_run<glm::vec4> = true;
+template <> inline constexpr bool is_float_run<glm::quat> = true;
+template <> inline constexpr bool is_float_run<glm::mat3> = true;
+template <> inline constexpr bool is_float_run<glm::mat4> = true;
+
+// Each float of a vector, quaternion (x, y, z, w) or matrix (column by column), in package order.
+template <class T, class F>
+void for_each_float(T& v, F&& f) {
+  using U = std::remove_const_t<T>;
+  if constexpr (std::is_same_v<U, glm::quat>) {
+    f(v.x), f(v.y), f(v.z), f(v.w);
+  } else if constexpr (std::is_same_v<U, glm::mat3> || std::is_same_v<U, glm::mat4>) {
+    for (int c = 0; c < U::length(); ++c) for_each_float(v[c], f);
+  } else {
+    for (int i = 0; i < U::length(); ++i) f(v[i]);
+  }
+}
 
 }  // namespace meter::bridge

@@ -1,6 +1,6 @@
 // The field lists of a generated program's records (meter/bridge/program.hpp), and what every
 // field list shares: `fields(record, visit)` calls `visit(name, member)` for each stored member in
-// order (see package_fields.hpp, which adds the scene's records). The program cache's key and the
+// order, one METER_PACKAGE_RECORD line per record (package_fields.hpp adds the scene's records). The program cache's key and the
 // scene package both describe a program by these lists; its material terms are
 // material_feature_fields.hpp's.
 #pragma once
@@ -8,6 +8,7 @@
 #include <array>
 #include <concepts>
 #include <cstddef>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -36,41 +37,40 @@ template <class T> inline constexpr bool is_vector<std::vector<T>> = true;
 template <class T> inline constexpr bool is_array = false;
 template <class T, std::size_t N> inline constexpr bool is_array<std::array<T, N>> = true;
 
-template <record_of<AttributeInfo> R, class V>
-void fields(R& a, V&& v) {
-  v("name", a.name), v("semantic", a.semantic), v("index", a.index), v("location", a.location);
-  v("components", a.components);
-}
+// METER_PACKAGE_RECORD(Type, member...) is the field list of `Type`: it defines
+// `fields(record, visit)`, which calls `visit("member", record.member)` for each member in the
+// order given, on a const record (writer, dump, cache key) or not (reader).
+#define METER_PACKAGE_RECORD(Type, ...)                         \
+  template <record_of<Type> R, class V>                         \
+  void fields(R& record, V&& visit) {                           \
+    METER_PACKAGE_FOR_EACH(METER_PACKAGE_FIELD, __VA_ARGS__)    \
+  }
+#define METER_PACKAGE_FIELD(member) visit(#member, record.member);
+// METER_PACKAGE_FOR_EACH(m, a, b, ...) = m(a) m(b) ... (up to 256 arguments): each step expands
+// to the next one only on a later rescan, which METER_PACKAGE_EXPAND forces.
+#define METER_PACKAGE_FOR_EACH(m, ...) __VA_OPT__(METER_PACKAGE_EXPAND(METER_PACKAGE_FOR_EACH_STEP(m, __VA_ARGS__)))
+#define METER_PACKAGE_FOR_EACH_STEP(m, first, ...) m(first) __VA_OPT__(METER_PACKAGE_FOR_EACH_AGAIN METER_PACKAGE_PARENS(m, __VA_ARGS__))
+#define METER_PACKAGE_FOR_EACH_AGAIN() METER_PACKAGE_FOR_EACH_STEP
+#define METER_PACKAGE_PARENS ()
+#define METER_PACKAGE_EXPAND(...) METER_PACKAGE_EXPAND4(METER_PACKAGE_EXPAND4(METER_PACKAGE_EXPAND4(METER_PACKAGE_EXPAND4(__VA_ARGS__))))
+#define METER_PACKAGE_EXPAND4(...) METER_PACKAGE_EXPAND3(METER_PACKAGE_EXPAND3(METER_PACKAGE_EXPAND3(METER_PACKAGE_EXPAND3(__VA_ARGS__))))
+#define METER_PACKAGE_EXPAND3(...) METER_PACKAGE_EXPAND2(METER_PACKAGE_EXPAND2(METER_PACKAGE_EXPAND2(METER_PACKAGE_EXPAND2(__VA_ARGS__))))
+#define METER_PACKAGE_EXPAND2(...) METER_PACKAGE_EXPAND1(METER_PACKAGE_EXPAND1(METER_PACKAGE_EXPAND1(METER_PACKAGE_EXPAND1(__VA_ARGS__))))
+#define METER_PACKAGE_EXPAND1(...) __VA_ARGS__
 
-template <record_of<UniformInfo> R, class V>
-void fields(R& u, V&& v) {
-  v("name", u.name), v("glsl_type", u.glsl_type), v("semantic", u.semantic), v("index", u.index);
-  v("array_size", u.array_size);
-}
+METER_PACKAGE_RECORD(AttributeInfo, name, semantic, index, location, components)
 
-template <record_of<SamplerInfo> R, class V>
-void fields(R& s, V&& v) {
-  v("name", s.name), v("slot", s.slot), v("unit", s.unit), v("index", s.index);
-}
+METER_PACKAGE_RECORD(UniformInfo, name, glsl_type, semantic, index, array_size)
+
+METER_PACKAGE_RECORD(SamplerInfo, name, slot, unit, index)
 
 // Everything a generated program is (the program cache's key describes a program by this list).
-template <record_of<Program> R, class V>
-void fields(R& p, V&& v) {
-  v("vertex_source", p.vertex_source), v("fragment_source", p.fragment_source);
-  v("attributes", p.attributes), v("uniforms", p.uniforms), v("samplers", p.samplers);
-  v("features", p.features), v("blend", p.blend), v("cull_back_faces", p.cull_back_faces);
-  v("optimized", p.optimized), v("uber", p.uber);
-}
+METER_PACKAGE_RECORD(Program, vertex_source, fragment_source, attributes, uniforms, samplers, features,
+                     blend, cull_back_faces, optimized, uber)
 
-template <record_of<OptimizeReport> R, class V>
-void fields(R& o, V&& v) {
-  v("source_bytes_before", o.source_bytes_before), v("source_bytes_after", o.source_bytes_after);
-  v("spirv_instructions_before", o.spirv_instructions_before);
-  v("spirv_instructions_after", o.spirv_instructions_after);
-  v("uniforms_before", o.uniforms_before), v("uniforms_after", o.uniforms_after);
-  v("varyings_before", o.varyings_before), v("varyings_after", o.varyings_after);
-  v("samplers_before", o.samplers_before), v("samplers_after", o.samplers_after), v("folded", o.folded);
-}
+METER_PACKAGE_RECORD(OptimizeReport, source_bytes_before, source_bytes_after, spirv_instructions_before,
+                     spirv_instructions_after, uniforms_before, uniforms_after, varyings_before,
+                     varyings_after, samplers_before, samplers_after, folded)
 
 // The name of a field, whichever list it comes from.
 inline const char* field_name(const char* name) { return name; }
@@ -79,5 +79,23 @@ inline const char* field_name(const FeatureField& f) { return f.name; }
 // Whether `T` is a record with a field list (visited member by member) rather than a value.
 template <class T>
 concept package_record = requires(T& t) { fields(t, [](const auto&, auto&) {}); };
+
+// Whether `T` is a run of floats (a glm vector, quaternion or matrix: package_fields.hpp).
+template <class T> inline constexpr bool is_float_run = false;
+
+// The one dispatch on the kinds of stored value, for every codec of the field lists (package
+// writer and reader, record dump, program cache key): calls codec.record(v) for a record,
+// codec.list(v) for a std::vector, codec.array(v) for a std::array, codec.text(v) for a string,
+// codec.floats(v) for a run of floats, codec.scalar(v) for a number, flag or enum.
+template <class Codec, class T>
+void visit_value(Codec& codec, T& v) {
+  using U = std::remove_const_t<T>;
+  if constexpr (package_record<U>) codec.record(v);
+  else if constexpr (is_vector<U>) codec.list(v);
+  else if constexpr (is_array<U>) codec.array(v);
+  else if constexpr (std::is_same_v<U, std::string>) codec.text(v);
+  else if constexpr (is_float_run<U>) codec.floats(v);
+  else codec.scalar(v);
+}
 
 }  // namespace meter::bridge
