@@ -1,15 +1,18 @@
 // The package's framing (meter/bridge/package_format.hpp): tagged, length-prefixed chunks. A chunk
 // the reader does not know is skipped and noted; a required one missing, a length past the end, a
 // chunk twice or a section with bytes left over is an error naming the chunk and offset; a package
-// of the older fixed-order formats is refused with the command that reconverts it.
+// of the older fixed-order formats, or a chunk written with other field lists, is refused with the
+// command that reconverts it.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "every_section_scene.hpp"
 #include "meter/bridge/package_format.hpp"
+#include "meter/bridge/package_schema.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/engine/package_reader.hpp"
 
@@ -23,15 +26,17 @@ using Bytes = std::vector<std::uint8_t>;
 struct RawChunk {
   std::string tag;
   Bytes body;
+  std::uint64_t schema = 0;
 };
 
 std::vector<RawChunk> chunks_of(const Bytes& package) {
   std::vector<RawChunk> out;
   for (std::size_t pos = kPackageHeaderSize; pos < package.size();) {
-    std::uint64_t n = 0;
-    std::memcpy(&n, package.data() + pos + 4, 8);
+    std::uint64_t schema = 0, n = 0;
+    std::memcpy(&schema, package.data() + pos + 4, 8);
+    std::memcpy(&n, package.data() + pos + 12, 8);
     out.push_back({std::string(package.begin() + long(pos), package.begin() + long(pos) + 4),
-                   Bytes(package.begin() + long(pos + kChunkHeaderSize), package.begin() + long(pos + kChunkHeaderSize + n))});
+                   Bytes(package.begin() + long(pos + kChunkHeaderSize), package.begin() + long(pos + kChunkHeaderSize + n)), schema});
     pos += kChunkHeaderSize + n;
   }
   return out;
@@ -49,6 +54,7 @@ Bytes package_of(const std::vector<RawChunk>& chunks, std::uint32_t version = kP
   Bytes payload;
   for (std::size_t i = 0; i < chunks.size(); ++i) {
     payload.insert(payload.end(), chunks[i].tag.begin(), chunks[i].tag.end());
+    put<std::uint64_t>(payload, chunks[i].schema);
     put<std::uint64_t>(payload, chunks[i].body.size() + (i + 1 == chunks.size() ? length_bias : 0));
     payload.insert(payload.end(), chunks[i].body.begin(), chunks[i].body.end());
   }
@@ -138,6 +144,29 @@ TEST(PackageChunks, ABadFieldIsNamedByItsPath) {
   s.programs[0].program.samplers[0].unit = 99;
   const std::string e = load_error(serialize_scene(s));
   EXPECT_NE(e.find("(chunk PROG): programs[0].program.samplers[0]: sampler unit out of range"), std::string::npos) << e;
+}
+
+// A chunk written with other field lists (a converter before a field was added to programs, say)
+// is refused with the reconvert command, never misread.
+TEST(PackageChunks, AChunkOfOtherFieldListsIsRefusedWithTheReconvertCommand) {
+  auto chunks = chunks_of(written());
+  ASSERT_EQ(chunks[10].tag, "PROG");
+  chunks[10].schema ^= 1;
+  const std::string e = load_error(package_of(chunks));
+  EXPECT_NE(e.find("p.msp: chunk PROG (programs, at byte "), std::string::npos) << e;
+  EXPECT_NE(e.find(") was written with other field lists than this build's"), std::string::npos) << e;
+  EXPECT_NE(e.find("reconvert it with this build's converter: meter-convert hand-built --config SCENE.json -o p.msp"),
+            std::string::npos) << e;
+}
+
+// A section's schema is that of its field lists: every list of records has its own (the two
+// texts, source name and config, share theirs), whatever the contents.
+TEST(PackageChunks, SchemasFollowTheFieldLists) {
+  std::set<std::uint64_t> schemas;
+  for (const auto& c : chunks_of(written()))
+    if (c.tag != "CONF") EXPECT_TRUE(schemas.insert(c.schema).second) << c.tag;
+  EXPECT_NE(bridge::section_schema(std::vector<bridge::DrawItem>{}), bridge::section_schema(std::vector<bridge::MergedGroup>{}));
+  EXPECT_EQ(bridge::section_schema(std::vector<bridge::DrawItem>{}), bridge::section_schema(std::vector<bridge::DrawItem>(3)));
 }
 
 // Formats up to 7 were one fixed-order layout behind the same header: refused, with the command

@@ -12,6 +12,7 @@
 #include <iterator>
 
 #include "meter/bridge/package_format.hpp"
+#include "meter/bridge/package_schema.hpp"
 #include "record_encoder.hpp"
 
 namespace meter::convert {
@@ -33,6 +34,7 @@ std::vector<std::uint8_t> serialize_scene(const Scene& s) {
     RecordEncoder body;
     body.value(member);
     payload.insert(payload.end(), section.tag, section.tag + 4);
+    append(payload, bridge::section_schema(member));
     append(payload, static_cast<std::uint64_t>(body.bytes.size()));
     payload.insert(payload.end(), body.bytes.begin(), body.bytes.end());
   });

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <map>
 
+#include "meter/bridge/package_schema.hpp"
 #include "record_decoder.hpp"
 #include "scene_references.hpp"
 
@@ -15,6 +16,7 @@ namespace meter::engine {
 namespace {
 
 struct Chunk {
+  std::uint64_t schema;
   std::span<const std::uint8_t> body;
   std::size_t offset;  // of the body, from the start of the file
 };
@@ -41,6 +43,10 @@ std::string old_source_name(std::span<const std::uint8_t> payload) {
   return std::string(reinterpret_cast<const char*>(payload.data() + 4), n);
 }
 
+std::string reconvert(const std::string& source, const std::string& origin) {
+  return "reconvert it with this build's converter: meter-convert " + source + " --config SCENE.json -o " + origin;
+}
+
 // The header checked (magic, version, size, checksum); returns the payload.
 std::span<const std::uint8_t> payload_of(std::span<const std::uint8_t> bytes, const std::string& origin) {
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kPackageMagic, 8) != 0) {
@@ -55,8 +61,7 @@ std::span<const std::uint8_t> payload_of(std::span<const std::uint8_t> bytes, co
   if (version < kPackageVersion) {
     throw SceneError(origin + ": scene package format version " + std::to_string(version) +
                      " is older than the tagged chunks this build reads (version " + std::to_string(kPackageVersion) +
-                     "); reconvert it with this build's converter: meter-convert " + old_source_name(payload) +
-                     " --config SCENE.json -o " + origin);
+                     "); " + reconvert(old_source_name(payload), origin));
   }
   if (version != kPackageVersion) {
     throw SceneError(origin + ": scene package format version " + std::to_string(version) +
@@ -82,13 +87,14 @@ std::map<std::string, Chunk> chunks_of(std::span<const std::uint8_t> payload, co
       throw SceneError(origin + ": corrupt package at byte " + std::to_string(at) + ": truncated chunk header (" +
                        std::to_string(payload.size() - pos) + " bytes left, a chunk header is " + std::to_string(kChunkHeaderSize) + ")");
     const auto tag = payload.subspan(pos, 4);
-    const auto length = load<std::uint64_t>(payload, pos + 4);
+    const auto schema = load<std::uint64_t>(payload, pos + 4);
+    const auto length = load<std::uint64_t>(payload, pos + 12);
     const std::size_t left = payload.size() - pos - kChunkHeaderSize;
     if (length > left)
       throw SceneError(origin + ": corrupt package at byte " + std::to_string(at) + ": chunk " + printable_tag(tag) + " says " +
                        std::to_string(length) + " bytes but " + std::to_string(left) + " follow it");
     const std::string key(tag.begin(), tag.end());
-    if (!chunks.emplace(key, Chunk{payload.subspan(pos + kChunkHeaderSize, length), at + kChunkHeaderSize}).second)
+    if (!chunks.emplace(key, Chunk{schema, payload.subspan(pos + kChunkHeaderSize, length), at + kChunkHeaderSize}).second)
       throw SceneError(origin + ": corrupt package at byte " + std::to_string(at) + ": chunk " + printable_tag(tag) + " appears twice");
     pos += kChunkHeaderSize + length;
   }
@@ -107,6 +113,11 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
         throw SceneError(origin + ": corrupt package: no chunk " + section.tag + " (" + section.name + "), which every package has");
       return;
     }
+    if (it->second.schema != bridge::section_schema(member))
+      throw SceneError(origin + ": chunk " + section.tag + " (" + section.name + ", at byte " +
+                       std::to_string(it->second.offset - kChunkHeaderSize) +
+                       ") was written with other field lists than this build's (a converter before or after a change of its "
+                       "records); " + reconvert(s.source_name.empty() ? "SCENE.glb" : s.source_name, origin));
     RecordDecoder in(it->second.body, it->second.offset, origin, section.tag);
     in.value(section.name, member);
     if (!in.at_end()) in.fail_at(section.name, "bytes left over after the section");

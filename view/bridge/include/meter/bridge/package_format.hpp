@@ -12,13 +12,15 @@
 //   u64          FNV-1a 64 of the payload (package_checksum; detects truncation and corruption)
 // Payload: chunks, each
 //   4 bytes      tag, four ASCII characters (SceneSection::tag: "NODE", "MESH", ...)
+//   u64          schema: the hash of the section's field lists (package_schema.hpp)
 //   u64          length of the chunk's body in bytes
 //   body         the section's value
 // A reader skips a chunk whose tag it does not know (and notes it for the caller: tag, size,
 // offset); a section marked required that has no chunk is an error naming it; a chunk longer than
 // what follows it, or a body not used up exactly by its section, is an error naming the chunk and
-// its offset. New content comes as a new chunk, so an older reader still reads a newer package's
-// sections it knows.
+// its offset; a chunk whose schema is not the reader's (written by a converter with other field
+// lists) is refused with the command that reconverts the package, never misread. New content
+// comes as a new chunk, so an older reader still reads a newer package's sections it knows.
 //
 // Value encodings, by type, for every field list: integers as their little-endian bytes (int i32,
 // unsigned u32, std::size_t u64), bool as one byte 0 / 1, an enum as the i32 of its value (at most
@@ -44,8 +46,8 @@ inline constexpr std::uint32_t kPackageVersion = 8;
 inline constexpr char kPackageMagic[8] = {'M', 'E', 'T', 'E', 'R', 'S', 'C', 'N'};
 // magic + version + reserved + payload size + payload checksum
 inline constexpr std::size_t kPackageHeaderSize = 8 + 4 + 4 + 8 + 8;
-// tag + body length
-inline constexpr std::size_t kChunkHeaderSize = 4 + 8;
+// tag + schema + body length
+inline constexpr std::size_t kChunkHeaderSize = 4 + 8 + 8;
 
 // FNV-1a 64 of the payload, stored in the header.
 inline std::uint64_t package_checksum(std::span<const std::uint8_t> payload) {
