@@ -1,21 +1,22 @@
 // The field list of every record the scene package holds: ONE list per record, in package order,
 // that drives the package writer (meter/convert), the package reader (meter/engine), the record
-// dump (meter-package dump) and the program cache key. `fields(record, visit)` calls
-// `visit(name, member)` for each stored member, in order; `record` may be const (writer, dump) or
-// not (reader). A member that is itself a record (or a list / array of records) is visited by its
-// own list. Runtime-only members (Texture::max_anisotropy, Scene::ambient, the parsed config) are
-// not listed: they are not stored.
+// dump (meter-package dump), each section's schema (package_schema.hpp) and the program cache key.
+// `fields(record, visit)` calls `visit(name, member)` for each stored member, in order; `record`
+// may be const (writer, dump) or not (reader). A member that is itself a record (or a list / array
+// of records) is visited by its own list. Runtime-only members (Texture::max_anisotropy,
+// Scene::ambient, the parsed config) are not listed: they are not stored.
 //
-// Adding a member to a record = one line here (plus the member); a material term is added in
-// material_feature_fields.hpp. How each kind of value is encoded is bridge/package_format.hpp's.
+// Adding a member to a record = its name in the record's line here (plus the member); a material
+// term is added in material_feature_fields.hpp. How each kind of value is encoded is
+// bridge/package_format.hpp's.
 #pragma once
-
 
 #include "meter/bridge/program_fields.hpp"
 #include "meter/bridge/scene.hpp"
 
 namespace meter::bridge {
 
+// The largest value of the scene's stored enums (program_fields.hpp has the program's).
 template <> inline constexpr int enum_last<Interpolation> = int(Interpolation::CubicSpline);
 template <> inline constexpr int enum_last<TargetPath> = int(TargetPath::Weights);
 template <> inline constexpr int enum_last<LightType> = int(LightType::Spot);
