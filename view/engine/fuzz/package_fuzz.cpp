@@ -1,12 +1,14 @@
 // Fuzzes the scene package (.msp) reader the way meter-view uses a package: deserialize the bytes
-// (header, checksum, every section, the embedded scene config, cross-references), then run the
-// loaded scene through the bindings and scene evaluation for a few frames (exercise_scene). A
+// (header, checksum, the chunks and every section in them, the embedded scene config,
+// cross-references), then run the loaded scene through the bindings and scene evaluation for a few
+// frames (exercise_scene). A
 // rejected package must be a SceneError (from the reader, or from the bindings resolving the
 // embedded config's names), and a package that loads must never index out of range.
 //
 // An input with the package magic gets its header's payload size and checksum rewritten to match
 // its payload first, or nearly every mutation would stop at the checksum and the sections behind it
-// would go unfuzzed (the checksum and size checks themselves are unit-tested).
+// would go unfuzzed (the checksum and size checks themselves are unit-tested). The seeds are written
+// by the build from the current writer (view/convert/fuzz/CMakeLists.txt).
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -33,8 +35,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::span<const std::uint8_t> bytes(input);
   Scene scene;
+  PackageNotes notes;  // skipped chunks: what meter-view would log
   try {
-    scene = deserialize_scene(bytes, "fuzz.msp");
+    scene = deserialize_scene(bytes, "fuzz.msp", &notes);
   } catch (const SceneError&) {
     return 0;
   }

@@ -1,6 +1,9 @@
-// Feature sets: validation, canonical form and the program-cache key (the names are the
-// vocabulary's, view/bridge/src/program_names.cpp).
+// Feature sets: validation, canonical form and the program key, the last two from the list of
+// material terms (meter/bridge/material_feature_fields.hpp; the names are the vocabulary's,
+// view/bridge/src/program_names.cpp).
 #include "features.hpp"
+
+#include "meter/bridge/material_feature_fields.hpp"
 
 #include <bit>
 #include <stdexcept>
@@ -10,22 +13,9 @@ namespace meter::shadergen {
 
 namespace detail {
 
-bool has_texture(const MaterialFeatures& f, TextureSlot slot) {
-  switch (slot) {
-    case TextureSlot::BaseColor: return f.base_color_texture;
-    case TextureSlot::MetallicRoughness: return f.metallic_roughness_texture;
-    case TextureSlot::Normal: return f.normal_texture;
-    case TextureSlot::Emissive: return f.emissive_texture;
-    case TextureSlot::Occlusion: return f.occlusion_texture;
-    case TextureSlot::Environment: return f.environment_map_2d;
-    case TextureSlot::ShadowMap: return f.lights.shadows != 0;
-  }
-  return false;
-}
+bool has_texture(const MaterialFeatures& f, TextureSlot slot) { return bridge::feature_terms::has(f, slot); }
 
-bool uses_texcoord1(const MaterialFeatures& f, TextureSlot slot) {
-  return (f.texcoord1_slots & (1u << static_cast<unsigned>(slot))) != 0;
-}
+bool uses_texcoord1(const MaterialFeatures& f, TextureSlot slot) { return bridge::feature_terms::texcoord1(f, slot); }
 
 bool any_material_texture(const MaterialFeatures& f) {
   return f.base_color_texture || f.metallic_roughness_texture || f.normal_texture ||
@@ -114,45 +104,23 @@ void validate(const MaterialFeatures& f) {
 
 }  // namespace detail
 
+// The canonical form and the key follow the one list of material terms
+// (meter/bridge/material_feature_fields.hpp): each term says whether the canonical form keeps it
+// and what it adds to the key.
 MaterialFeatures canonical(const MaterialFeatures& features) {
   detail::validate(features);
   MaterialFeatures c = features;
-  // Data the shading model never reads does not change the program: drop it so equal programs
-  // share one key (and one cache entry).
-  if (c.shading == ShadingModel::Unlit) c.lights = {};
-  // Shadow lookups exist in per-pixel light loops only (Gouraud lights per vertex: a cheaper
-  // quality level that drops shadows with the rest of the per-pixel work).
-  if (!detail::per_pixel_normal(c.shading) && c.shading != ShadingModel::Flat) c.lights.shadows = 0;
-  if (!c.normal_texture) c.has_tangents = false;
-  if (c.shading == ShadingModel::Unlit || c.shading == ShadingModel::Flat) c.morph_normals = false;
+  const MaterialFeatures defaults{};
+  bridge::feature_fields([&](const bridge::FeatureField& term, auto& value, const auto& initial) {
+    if (!term.kept(c)) value = initial;
+  }, c, defaults);
   return c;
 }
 
 std::string program_key(const MaterialFeatures& features) {
   const MaterialFeatures c = canonical(features);
-  std::string k = to_string(c.shading);
-  k += '|';
-  k += to_string(c.alpha);
-  k += c.precision == Precision::Highp ? "|highp" : "|mediump";
-  k += "|tex:";
-  const char* tex_codes[] = {"b", "m", "n", "e", "o", "env"};
-  for (int s = 0; s <= static_cast<int>(TextureSlot::Environment); ++s) {
-    const auto slot = static_cast<TextureSlot>(s);
-    if (!detail::has_texture(c, slot)) continue;
-    k += tex_codes[s];
-    if (detail::uses_texcoord1(c, slot)) k += '1';
-  }
-  if (c.texture_transform) k += "|tt";
-  if (c.vertex_colors) k += "|vc";
-  if (c.vertex_alpha) k += "|va";
-  if (c.double_sided) k += "|ds";
-  if (c.skin_joints) k += "|skin" + std::to_string(c.skin_joints);
-  if (c.morph_targets) k += "|morph" + std::to_string(c.morph_targets) + (c.morph_normals ? "n" : "");
-  if (c.lights.total())
-    k += "|L" + std::to_string(c.lights.directional) + "." + std::to_string(c.lights.point) + "." +
-         std::to_string(c.lights.spot);
-  if (c.lights.shadows) k += "|S" + std::to_string(c.lights.shadows);
-  if (c.has_tangents) k += "|tan";
+  std::string k;
+  bridge::feature_fields([&](const bridge::FeatureField& term, const auto&) { term.key(k, c); }, c);
   return k;
 }
 

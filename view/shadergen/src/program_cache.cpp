@@ -2,9 +2,12 @@
 // least recently used entries dropped past the capacity.
 #include "meter/shadergen/program_cache.hpp"
 
+#include "meter/bridge/program_fields.hpp"
+
 #include <bit>
 #include <cstdint>
 #include <cstdio>
+#include <type_traits>
 #include <utility>
 
 namespace meter::shadergen {
@@ -24,51 +27,34 @@ void text(std::string& out, const std::string& s) {
   out += '\x1f';
 }
 
-void features_text(std::string& out, const MaterialFeatures& f) {
-  for (const long long v : {static_cast<long long>(f.shading), static_cast<long long>(f.alpha),
-                            static_cast<long long>(f.precision), static_cast<long long>(f.base_color_texture),
-                            static_cast<long long>(f.metallic_roughness_texture), static_cast<long long>(f.normal_texture),
-                            static_cast<long long>(f.emissive_texture), static_cast<long long>(f.occlusion_texture),
-                            static_cast<long long>(f.texcoord1_slots), static_cast<long long>(f.texture_transform),
-                            static_cast<long long>(f.vertex_colors), static_cast<long long>(f.vertex_alpha),
-                            static_cast<long long>(f.double_sided), static_cast<long long>(f.skin_joints),
-                            static_cast<long long>(f.morph_targets), static_cast<long long>(f.morph_normals),
-                            static_cast<long long>(f.lights.directional), static_cast<long long>(f.lights.point),
-                            static_cast<long long>(f.lights.spot), static_cast<long long>(f.environment_map_2d),
-                            static_cast<long long>(f.has_tangents)}) {
-    field(out, v);
+// The program's field list (meter/bridge/program_fields.hpp) as text: texts with their length,
+// lists with their count, records field by field, numbers and flags as integers.
+struct KeyText {
+  std::string& out;
+  template <class T>
+  void record(const T& r) {
+    bridge::fields(r, [&](const auto&, const auto& member) { bridge::visit_value(*this, member); });
   }
-}
+  template <class T>
+  void list(const std::vector<T>& v) {
+    field(out, static_cast<long long>(v.size()));
+    for (const auto& x : v) bridge::visit_value(*this, x);
+  }
+  void text(const std::string& s) { shadergen::text(out, s); }
+  template <class T>
+  void scalar(const T& v) {
+    static_assert(std::is_integral_v<T> || std::is_enum_v<T>, "a program holds texts, lists, integers and flags");
+    field(out, static_cast<long long>(v));
+  }
+};
 
 }  // namespace
 
+// Every field of the program, by the program's field list (the material terms included).
 std::string describe(const Program& p) {
   std::string out = "program\x1f";
-  text(out, p.vertex_source);
-  text(out, p.fragment_source);
-  field(out, static_cast<long long>(p.attributes.size()));
-  for (const auto& a : p.attributes) {
-    text(out, a.name);
-    for (const long long v : {static_cast<long long>(a.semantic), static_cast<long long>(a.index),
-                              static_cast<long long>(a.location), static_cast<long long>(a.components)})
-      field(out, v);
-  }
-  field(out, static_cast<long long>(p.uniforms.size()));
-  for (const auto& u : p.uniforms) {
-    text(out, u.name);
-    text(out, u.glsl_type);
-    for (const long long v : {static_cast<long long>(u.semantic), static_cast<long long>(u.index),
-                              static_cast<long long>(u.array_size)})
-      field(out, v);
-  }
-  field(out, static_cast<long long>(p.samplers.size()));
-  for (const auto& s : p.samplers) {
-    text(out, s.name);
-    field(out, static_cast<long long>(s.slot));
-    field(out, static_cast<long long>(s.unit));
-  }
-  features_text(out, p.features);
-  for (const bool b : {p.blend, p.cull_back_faces, p.optimized, p.uber}) field(out, b ? 1 : 0);
+  KeyText key{out};
+  bridge::visit_value(key, p);
   return out;
 }
 
