@@ -50,8 +50,7 @@ struct Rig {
     return o;
   }
   void frame(const protocol::SignalTable& values, double dt, bool keep) {
-    evaluator.update(values, true, dt);
-    renderer.apply(evaluator.outputs());
+    if (evaluator.update(values, true, dt)) renderer.apply(evaluator.outputs());  // changes detected once
     // As meter-view's live loop: the monitor names what it will read before the frame renders
     // (the resolve of those boxes joins the frame's flush and is timed as render time), checks
     // after it.

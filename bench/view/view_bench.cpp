@@ -26,6 +26,7 @@
 #include "integrity_bench.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/package_reader.hpp"
+#include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/bridge/scene_config_parser.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
@@ -207,6 +208,7 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
       if (m.uber) o.uber_shader = &uber;
       engine::Renderer r(backend, cluster, o);
       engine::BindingEvaluator ev(cluster);
+      engine::FramePipeline pipeline(ev, r);
       protocol::SignalTable values;
       auto set = [&](std::string_view name, double v) {
         if (const auto* info = protocol::find_signal(name)) values.set(info->id, {v, protocol::SignalStatus::Valid, ""});
@@ -222,10 +224,9 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
         set("Vehicle.Powertrain.FuelSystem.RelativeLevel", 60.0 - 0.2 * t);
         set("Vehicle.Powertrain.CombustionEngine.ECT", 85.0 + t);
         set("Cluster.Telltale.TurnLeft", std::fmod(t, 0.666) < 0.333 ? 1.0 : 0.0);  // 1.5 Hz
-        ev.update(values, true, f == 0 ? -1.0 : 1.0 / 60.0);
-        r.apply(ev.outputs());
+        pipeline.evaluate(values, true, f == 0 ? -1.0 : 1.0 / 60.0);  // as meter-view's frame pipeline
         const auto t0 = Clock::now();
-        const engine::FrameTiming ft = r.render(false, false);
+        const engine::FrameTiming ft = pipeline.render(engine::FrameRequest{}).timing;
         if (f >= 2) {  // frames 0-1: JIT of every program (start-up, section 4)
           v.push_back(ms_since(t0));
           if (v.back() > worst_ms) worst_ms = v.back(), worst_fraction = ft.redrawn_fraction, worst_regions = ft.regions, worst = ft;

@@ -4,11 +4,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "meter/platform/flip_rows.hpp"
 #include "shader_resolve.hpp"
 
 namespace meter::platform {
@@ -315,16 +315,7 @@ Image RenderTarget::read_resolved() {
   gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
   check_gl(gl, "RenderTarget::read_resolved (" + description() + ")");
-  // GL rows are bottom-up; Image rows are top-down.
-  const std::size_t row = static_cast<std::size_t>(width_) * 4;
-  std::vector<std::uint8_t> tmp(row);
-  for (int y = 0; y < height_ / 2; ++y) {
-    std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
-    std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(height_ - 1 - y) * row;
-    std::memcpy(tmp.data(), a, row);
-    std::memcpy(a, b, row);
-    std::memcpy(b, tmp.data(), row);
-  }
+  flip_rows(image);  // GL rows are bottom-up; Image rows are top-down
   return image;
 }
 
@@ -342,7 +333,6 @@ std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegi
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  std::vector<std::uint8_t> tmp;
   for (std::size_t i = 0; i < regions.size(); ++i) {
     const PixelRegion r = clip(regions[i], width_, height_);
     if (r.empty()) continue;
@@ -350,16 +340,7 @@ std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegi
     image.width = r.width, image.height = r.height;
     image.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
     gl.ReadPixels(r.x, r.y, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-    // GL rows are bottom-up; Image rows are top-down: swapped in place.
-    const std::size_t row = static_cast<std::size_t>(r.width) * 4;
-    tmp.resize(row);
-    for (int y = 0; y < r.height / 2; ++y) {
-      std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
-      std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(r.height - 1 - y) * row;
-      std::memcpy(tmp.data(), a, row);
-      std::memcpy(a, b, row);
-      std::memcpy(b, tmp.data(), row);
-    }
+    flip_rows(image);  // GL rows are bottom-up; Image rows are top-down
     out[i] = std::move(image);
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());

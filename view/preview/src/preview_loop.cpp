@@ -10,6 +10,7 @@
 #include <ostream>
 
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/platform/program_cache.hpp"
@@ -36,10 +37,13 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-// The scene on screen with what draws it; the renderer and the evaluator refer to the scene.
+// The scene on screen with what draws it; the renderer and the evaluator refer to the scene. The
+// preview is a policy over the engine's frame pipeline with no sink: the state from the controls,
+// a playing values file or the link, a frame at every window event or tick; the window shows it.
 struct ShownScene {
   ShownScene(std::shared_ptr<const engine::Scene> s, platform::GpuBackend& gpu, int msaa, platform::ProgramCache& programs)
-      : scene(std::move(s)), evaluator(*scene), renderer(gpu, *scene, renderer_options(msaa, programs)) {}
+      : scene(std::move(s)), evaluator(*scene), renderer(gpu, *scene, renderer_options(msaa, programs)),
+        pipeline(evaluator, renderer) {}
   static engine::RendererOptions renderer_options(int msaa, platform::ProgramCache& programs) {
     engine::RendererOptions o;
     o.msaa = msaa;
@@ -49,6 +53,7 @@ struct ShownScene {
   std::shared_ptr<const engine::Scene> scene;
   engine::BindingEvaluator evaluator;
   engine::Renderer renderer;
+  engine::FramePipeline pipeline;
 };
 
 // The scene area 1:1 at the top left, the panel to its right; before any scene converted, the
@@ -244,9 +249,8 @@ class PreviewLoop {
     const bool link_up = subscriber_ ? subscriber_->link_up() : !input_.link_lost;
     // Set and played states are states, not motion: jump to them as meter-view --set does; the
     // link's values move with the bindings' smoothing, as in meter-view.
-    shown_->evaluator.update(values_, link_up, subscriber_ ? dt : -1.0);
-    shown_->renderer.apply(shown_->evaluator.outputs());
-    const auto timing = shown_->renderer.render(false, false);
+    shown_->pipeline.evaluate(values_, link_up, subscriber_ ? dt : -1.0);
+    const auto timing = shown_->pipeline.render(engine::FrameRequest{}).timing;
     if (!timing.drawn) return false;
     status_.render_ms = timing.update_ms + timing.submit_ms + timing.gpu_readback_ms;
     if (awaiting_screen_) first_frame_ms_ = status_.render_ms;

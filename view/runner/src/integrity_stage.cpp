@@ -65,8 +65,8 @@ bool FaultLogLimit::admit(const std::string& region, Clock::time_point now) {
   return false;
 }
 
-IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
-    : ctx_(ctx), log_(log),
+IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, ViewHealth& health, std::ostream& log)
+    : ctx_(ctx), health_(health), log_(log),
       monitor_(ctx.scene, ctx.renderer.width(), ctx.renderer.height(), options.integrity_monitor) {
   if (monitor_.on()) {
     log << "meter-view: integrity monitor on: " << monitor_.table().regions.size() << " safety regions\n";

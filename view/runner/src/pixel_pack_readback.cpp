@@ -8,18 +8,6 @@
 
 namespace meter::view {
 
-void flip_rows(platform::Image& image) {
-  const std::size_t row = static_cast<std::size_t>(image.width) * 4;
-  std::vector<std::uint8_t> tmp(row);
-  for (int y = 0; y < image.height / 2; ++y) {
-    std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
-    std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(image.height - 1 - y) * row;
-    std::memcpy(tmp.data(), a, row);
-    std::memcpy(a, b, row);
-    std::memcpy(b, tmp.data(), row);
-  }
-}
-
 PixelPackReadback::PixelPackReadback(const platform::Gl& gl, int width, int height, std::size_t depth,
                                      bool asynchronous)
     : gl_(gl), width_(width), height_(height), depth_(depth == 0 ? 1 : depth) {

@@ -1,5 +1,6 @@
 #include "meter/view/png_writer.hpp"
 
+#include "meter/platform/flip_rows.hpp"
 #include "meter/view/view_error.hpp"
 
 namespace meter::view {
@@ -72,7 +73,7 @@ void PngWriter::handle(Job& job) {
   const FrameInfo& info = job.frame.info;
   {
     BusyScope busy(check_meter_);
-    if (job.bottom_up) flip_rows(job.frame.image);
+    if (job.bottom_up) platform::flip_rows(job.frame.image);
   }
   if (info.png.empty()) return;
   BusyScope busy(encode_meter_);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/pipeline/frame_governor.hpp"
 
 namespace meter::view {
 
@@ -25,14 +26,9 @@ struct IntegrityCells {
   std::string first;
 };
 
-// The frame-rate governor's cells of one row (meter/view/governed_frame.hpp); also in the timing CSV.
-struct GovernorCells {
-  double predicted_ms = 0.0, measured_ms = 0.0;
-  std::size_t units_reduced = 0;
-  int msaa = 0;
-  float scale = 1.0f;
-  std::string reduced;
-};
+// The frame-rate governor's cells of one row (meter/engine/pipeline/frame_governor.hpp); also in the
+// timing CSV.
+using GovernorCells = engine::GovernorCells;
 inline constexpr const char* kGovernorColumns = "predicted_ms,measured_ms,units_reduced,msaa,scale,reduced";
 // ",<cells>" in kGovernorColumns' order.
 std::string governor_cells_text(const GovernorCells& cells);

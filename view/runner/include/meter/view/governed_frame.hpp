@@ -1,8 +1,8 @@
 // meter-view's frame-rate governor in its render loops (live and play; docs/uniform-frame-rate.md):
-// each frame drawn through Renderer::render(force, read, chooser) with the governor's choice made
-// between planning and drawing, then the frame's measured time handed back (Governor::observe);
-// or a fixed quality (--quality full | cheapest) for side-by-side runs. Also what the run shows of
-// it: the frames.csv / timing CSV cells, a trace slice per frame, the --stats line, the summary.
+// the frame pipeline's quality input (engine::FrameGovernor): asked with each frame's planned load
+// between planning and drawing, then handed the frame's measured time (Governor::observe); or a
+// fixed quality (--quality full | cheapest) for side-by-side runs. Also what the run shows of it:
+// the frames.csv / timing CSV cells, the --stats line, the summary.
 #pragma once
 
 #include <chrono>
@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "meter/engine/governor/governor.hpp"
+#include "meter/engine/pipeline/frame_governor.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/view/frames_csv.hpp"
-#include "meter/view/trace_ring.hpp"
 #include "meter/view/view_options.hpp"
 
 namespace meter::view {
@@ -32,7 +32,7 @@ struct CostInjection {
 // Throws ViewError naming the option, the text and what was expected.
 CostInjection parse_cost_injection(const std::string& text);
 
-class GovernedFrames {
+class GovernedFrames : public engine::FrameGovernor {
  public:
   using Clock = std::chrono::steady_clock;
 
@@ -44,15 +44,16 @@ class GovernedFrames {
   bool governing() const { return governor_.has_value(); }
   double target_ms() const { return target_ms_; }
 
-  // One frame, as Renderer::render(force, read) with the governor's choice (or the fixed one).
-  engine::FrameTiming render(bool force, bool read);
-
+  // The governor's choice for the planned frame; none for the start-up frame (the first drawn: it
+  // makes the targets and the static layer once, which no level makes fit the target; drawn at the
+  // quality the run starts with) and when the governor is off.
+  std::optional<engine::governor::QualityChoice> choose(const engine::governor::FrameLoad& planned) override;
+  // The frame's measured time (with --inject-cost's busy time) handed to the governor; after the
+  // start-up frame, every level the governor may take is drawn once (warm-up).
+  void rendered(const engine::FrameTiming& timing, Clock::time_point began) override;
   // The last frame's cells (the governor's prediction, the measured time, the choice); nullptr
   // when the governor is off.
-  const GovernorCells* cells() const { return governor_ ? &cells_ : nullptr; }
-  // A "governor <units below full | full quality>" slice over the frame's render span, args
-  // predicted_us, measured_us, units_reduced, msaa, scale_pct (only when the governor is on).
-  void trace(TraceEvents& events, std::uint64_t frame, std::int64_t begin_ns, std::int64_t end_ns) const;
+  const GovernorCells* cells() const override { return governor_ ? &cells_ : nullptr; }
   // With --stats: "meter-view: governor <t> s: ..." every interval (frames over the target,
   // measured p50 / max, the last prediction, the online scales, the units below full).
   void print_if_due(Clock::time_point now, std::ostream& log);
@@ -60,6 +61,9 @@ class GovernedFrames {
   void summary(std::ostream& log) const;
 
  private:
+  void warm_up(double start_up_ms);
+  void observe(double ms);
+
   engine::Renderer& renderer_;
   std::ostream* log_;  // the constructor's log: the warm-up after the start-up frame reports there
   double target_ms_ = 0.0;

@@ -1,4 +1,4 @@
-// The integrity monitor as a stage of meter-view's live loop: the injected test fault
+// The integrity monitor as a sink of meter-view's live frame pipeline: the injected test fault
 // (--inject-fault), the check after each frame, the fault raised in STATUS (kViewFaultIntegrity)
 // within the frame, the rate-limited log and the frames.csv cells. Docs: docs/integrity.md.
 #pragma once
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "meter/engine/integrity/fault_injection.hpp"
+#include "meter/engine/pipeline/frame_sink.hpp"
 #include "meter/view/frames_csv.hpp"
 #include "meter/view/integrity_monitor.hpp"
 #include "meter/view/render_context.hpp"
@@ -43,17 +44,20 @@ class FaultLogLimit {
   std::uint64_t suppressed_ = 0;
 };
 
-class IntegrityStage {
+class IntegrityStage : public engine::FrameSink {
  public:
   using Clock = std::chrono::steady_clock;
-  // Logs whether the monitor is on (and why not) and any injected fault.
-  IntegrityStage(RenderContext& ctx, const ViewOptions& options, std::ostream& log);
+  // Logs whether the monitor is on (and why not) and any injected fault. Faults are reported to
+  // `health` (which outlives the stage).
+  IntegrityStage(RenderContext& ctx, const ViewOptions& options, ViewHealth& health, std::ostream& log);
   bool on() const { return monitor_.on(); }
   // Before frame `frame` renders: the monitor names the boxes it will read (IntegrityMonitor::
   // prepare); the injected fault starts or ends.
-  void before_frame(std::uint64_t frame);
+  void before_frame(std::uint64_t frame) override;
   // After it rendered: checks it; a fault is logged and reported to `health` at `now`.
   void after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now);
+  // The frame pipeline's side: after_frame for every frame, reported to the constructor's health.
+  void on_frame(const engine::FrameRecord& frame) override { after_frame(frame.request.frame, health_, Clock::now()); }
   // The frames.csv cells of the frame last checked (nullptr when the monitor is off).
   const IntegrityCells* cells() const { return monitor_.on() ? &cells_ : nullptr; }
   void summary(std::ostream& log) const;
@@ -61,6 +65,7 @@ class IntegrityStage {
 
  private:
   RenderContext& ctx_;
+  ViewHealth& health_;
   std::ostream& log_;
   IntegrityMonitor monitor_;
   std::optional<FaultSchedule> schedule_;

@@ -12,9 +12,12 @@
 #include <mutex>
 #include <string>
 
+#include "meter/engine/pipeline/frame_sink.hpp"
+
 namespace meter::view {
 
-class LatencyTrace {
+// A frame sink: the "r" row of every frame.
+class LatencyTrace : public engine::FrameSink {
  public:
   // An empty path: no trace (every call does nothing).
   explicit LatencyTrace(const std::string& path);
@@ -26,6 +29,9 @@ class LatencyTrace {
   void applied(std::int64_t sender_ns, std::uint64_t seq);
   void frame(std::uint64_t n, std::int64_t t_update, std::int64_t t_rendered);
   void png_written(std::uint64_t n);
+  void on_frame(const engine::FrameRecord& f) override {
+    frame(f.request.frame, f.evaluate_began_realtime_ns, f.render_ended_realtime_ns);
+  }
 
  private:
   std::mutex mutex_;

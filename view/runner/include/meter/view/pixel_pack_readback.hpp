@@ -3,7 +3,7 @@
 // render loop does not wait for the copy (GLES 3.0 core on EGL; GL 3.2 core on OSMesa's desktop
 // profile: both backends have them). Synchronous fallback (`asynchronous = false`, or a context
 // without a PBO: GL error at creation): glReadPixels into client memory at issue time; collect()
-// then hands the frame on at once. Rows stay bottom-up: the output thread flips them (flip_rows).
+// then hands the frame on at once. Rows stay bottom-up: the writer thread flips them (platform::flip_rows).
 #pragma once
 
 #include <cstddef>
@@ -14,14 +14,9 @@
 
 #include "meter/platform/gl_api.hpp"
 #include "meter/platform/image.hpp"
-#include "meter/view/frame_check.hpp"
+#include "meter/view/readback_frame.hpp"
 
 namespace meter::view {
-
-struct ReadbackFrame {
-  FrameInfo info;
-  platform::Image image;  // bottom-up rows until flip_rows
-};
 
 class PixelPackReadback {
  public:

@@ -22,8 +22,7 @@
 
 #include "meter/platform/image.hpp"
 #include "meter/view/bounded_queue.hpp"
-#include "meter/view/frame_check.hpp"
-#include "meter/view/pixel_pack_readback.hpp"
+#include "meter/view/readback_frame.hpp"
 #include "meter/view/stage_meter.hpp"
 
 namespace meter::view {

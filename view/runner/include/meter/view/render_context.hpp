@@ -28,8 +28,8 @@ struct RenderContext {
   std::unique_ptr<platform::GpuBackend> backend;
   engine::Renderer renderer;
   engine::BindingEvaluator evaluator;
-  GovernedFrames governed;  // every frame of the live and play loops is rendered through it
-  TimingCsv timing;
+  GovernedFrames governed;  // the frame pipeline's quality input in the live and play modes
+  TimingCsv timing;         // a sink of every mode's frame pipeline
 };
 
 }  // namespace meter::view

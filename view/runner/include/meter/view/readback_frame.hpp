@@ -1,5 +1,5 @@
-// What travels with a read-back frame from the GL thread to the writer thread (frame number, its
-// time, where its PNG goes), and the row flip the writer does first (GL reads rows bottom-up).
+// A frame read back on the GL thread on its way to the writer thread: what travels with it (frame
+// number, its time, where its PNG goes) and its pixels.
 #pragma once
 
 #include <cstdint>
@@ -16,7 +16,9 @@ struct FrameInfo {
   std::filesystem::path png;   // where it is written
 };
 
-// Reverses the row order in place (GL's bottom-up rows -> Image's top-down).
-void flip_rows(platform::Image& image);
+struct ReadbackFrame {
+  FrameInfo info;
+  platform::Image image;  // rows bottom-up as GL reads them, until the writer flips them (platform::flip_rows)
+};
 
 }  // namespace meter::view
