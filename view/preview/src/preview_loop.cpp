@@ -25,8 +25,8 @@
 #include "meter/preview/values_player.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/link.hpp"
-#include "meter/view/process_signals.hpp"
-#include "meter/view/values_input.hpp"
+#include "meter/runner/process_signals.hpp"
+#include "meter/runner/values_input.hpp"
 
 namespace meter::preview {
 namespace {
@@ -75,7 +75,7 @@ class PreviewLoop {
         log_(log),
         reloader_({options.gltf, options.config}),
         watcher_({options.gltf, options.config}) {
-    for (const auto& s : options.sets) view::parse_set(s, values_, "--set");
+    for (const auto& s : options.sets) runner::parse_set(s, values_, "--set");
     if (!options.values_csv.empty()) player_.emplace(ValuesPlayer::load(options.values_csv));
     if (!options.link.empty()) {
       subscriber_.emplace(protocol::endpoint_from_option(options.link),
@@ -112,7 +112,7 @@ class PreviewLoop {
     const bool scripted = options_.exit_after_frames > 0 || options_.exit_after_playback;
     auto presented = Clock::now();
     int ui_frames = 0;  // window frames still to draw after an input event (UI hover, focus)
-    while (!window_->close_requested() && !view::stop_requested()) {
+    while (!window_->close_requested() && !runner::stop_requested()) {
       // A pending save is converted as soon as it settled; otherwise wait for events at the frame rate.
       window_->poll_events(frame == 0 ? 0.0 : reloader_.pending() || reloader_.converting() ? 0.005 : 1.0 / options_.fps);
       const auto now = Clock::now();
@@ -323,7 +323,7 @@ class PreviewLoop {
 }  // namespace
 
 int run_preview(const PreviewOptions& options, std::ostream& log) {
-  view::install_stop_handlers();
+  runner::install_stop_handlers();
   try {
     protocol::use_catalog_option(options.catalog);  // before the scene: its bindings name catalog signals
     PreviewLoop loop(options, log);

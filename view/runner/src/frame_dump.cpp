@@ -1,10 +1,10 @@
-#include "meter/view/frame_dump.hpp"
+#include "meter/runner/frame_dump.hpp"
 
 #include "meter/protocol/trace_events.hpp"
-#include "meter/view/dump_policy.hpp"
-#include "meter/view/stage_wait.hpp"
+#include "meter/runner/dump_policy.hpp"
+#include "meter/runner/stage_wait.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 FrameDump::FrameDump(RenderContext& ctx, PngWriter& writer, FramesCsv& csv, FrameDumpSetup setup)
     : ctx_(ctx), writer_(writer), csv_(csv), setup_(std::move(setup)),
@@ -75,4 +75,4 @@ void FrameDump::collect(bool wait) {
   setup_.readback->waited_input(readback_.collect(wait, [this](ReadbackFrame&& r) { hand_on(std::move(r)); }));
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

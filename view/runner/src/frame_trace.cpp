@@ -1,4 +1,4 @@
-#include "meter/view/frame_trace.hpp"
+#include "meter/runner/frame_trace.hpp"
 
 #include <cmath>
 #include <string>
@@ -7,7 +7,7 @@
 
 #include "meter/protocol/trace_events.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 void trace_frame_events(TraceEvents& events, const engine::FrameRecord& f) {
@@ -56,4 +56,4 @@ void FrameTrace::on_frame(const engine::FrameRecord& f) {
   }
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

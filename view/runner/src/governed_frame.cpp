@@ -1,4 +1,4 @@
-#include "meter/view/governed_frame.hpp"
+#include "meter/runner/governed_frame.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include "meter/engine/governor/cost_file.hpp"
 #include "meter/engine/governor/warm_up_choices.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace gov = engine::governor;
 namespace {
 
@@ -187,4 +187,4 @@ void GovernedFrames::summary(std::ostream& log) const {
   log << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

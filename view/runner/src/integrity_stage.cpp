@@ -1,12 +1,12 @@
-#include "meter/view/integrity_stage.hpp"
+#include "meter/runner/integrity_stage.hpp"
 
 #include <algorithm>
 #include <charconv>
 
 #include "meter/protocol/wire.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 namespace {
 
@@ -108,4 +108,4 @@ void IntegrityStage::summary(std::ostream& log) const {
   log << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -3,7 +3,7 @@
 // (sequential) or as soon as a change may be drawn (concurrent). Its sinks, in order: the timing
 // CSV, the latency trace, the integrity monitor, the PNG dump (frames.csv rows), the trace-json
 // slices.
-#include "meter/view/live_loop.hpp"
+#include "meter/runner/live_loop.hpp"
 
 #include <optional>
 
@@ -11,23 +11,23 @@
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "meter/protocol/wire.hpp"
-#include "meter/view/dump_policy.hpp"
-#include "meter/view/frame_dump.hpp"
-#include "meter/view/frame_pacing.hpp"
-#include "meter/view/frame_trace.hpp"
-#include "meter/view/frames_csv.hpp"
-#include "meter/view/integrity_stage.hpp"
-#include "meter/view/latency_trace.hpp"
-#include "meter/view/live_stats.hpp"
-#include "meter/view/png_writer.hpp"
-#include "meter/view/process_signals.hpp"
-#include "meter/view/script_log.hpp"
-#include "meter/view/stage_wait.hpp"
-#include "meter/view/trace_ring.hpp"
-#include "meter/view/view_error.hpp"
-#include "meter/view/view_health.hpp"
+#include "meter/runner/dump_policy.hpp"
+#include "meter/runner/frame_dump.hpp"
+#include "meter/runner/frame_pacing.hpp"
+#include "meter/runner/frame_trace.hpp"
+#include "meter/runner/frames_csv.hpp"
+#include "meter/runner/integrity_stage.hpp"
+#include "meter/runner/latency_trace.hpp"
+#include "meter/runner/live_stats.hpp"
+#include "meter/runner/png_writer.hpp"
+#include "meter/runner/process_signals.hpp"
+#include "meter/runner/script_log.hpp"
+#include "meter/runner/stage_wait.hpp"
+#include "meter/runner/trace_ring.hpp"
+#include "meter/runner/view_error.hpp"
+#include "meter/runner/view_health.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using Clock = FramePacer::Clock;
@@ -327,4 +327,4 @@ void run_live(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   loop.run();
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,13 +1,13 @@
-#include "meter/view/offline_render.hpp"
+#include "meter/runner/offline_render.hpp"
 
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/platform/image.hpp"
-#include "meter/view/frames_csv.hpp"
-#include "meter/view/option_units.hpp"
-#include "meter/view/script_log.hpp"
-#include "meter/view/values_input.hpp"
+#include "meter/runner/frames_csv.hpp"
+#include "meter/runner/option_units.hpp"
+#include "meter/runner/script_log.hpp"
+#include "meter/runner/values_input.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 // Offline mode: a policy over the engine's frame pipeline with one frame, forced and read back: the
 // state from --values / --set; its sink the timing CSV; the PNG and its frames.csv row written here.
@@ -34,4 +34,4 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
   }
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

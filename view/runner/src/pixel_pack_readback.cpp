@@ -1,12 +1,12 @@
-#include "meter/view/pixel_pack_readback.hpp"
+#include "meter/runner/pixel_pack_readback.hpp"
 
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
 
-#include "meter/view/stage_meter.hpp"
+#include "meter/runner/stage_meter.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 PixelPackReadback::PixelPackReadback(const platform::Gl& gl, int width, int height, std::size_t depth,
                                      bool asynchronous)
@@ -106,4 +106,4 @@ void PixelPackReadback::finish(Pending& p, const std::function<void(ReadbackFram
   done(std::move(out));
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

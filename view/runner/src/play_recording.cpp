@@ -1,4 +1,4 @@
-#include "meter/view/play_recording.hpp"
+#include "meter/runner/play_recording.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -7,13 +7,13 @@
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
 #include "meter/engine/pipeline/frame_pipeline.hpp"
-#include "meter/view/dump_policy.hpp"
-#include "meter/view/frame_dump.hpp"
-#include "meter/view/frames_csv.hpp"
-#include "meter/view/png_writer.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/dump_policy.hpp"
+#include "meter/runner/frame_dump.hpp"
+#include "meter/runner/frames_csv.hpp"
+#include "meter/runner/png_writer.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 const std::vector<protocol::SignalUpdate>* updates_of(const protocol::Frame& frame) {
@@ -138,4 +138,4 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   png_writer.check();
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,9 +1,9 @@
-#include "meter/view/png_writer.hpp"
+#include "meter/runner/png_writer.hpp"
 
 #include "meter/platform/flip_rows.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 PngWriter::PngWriter(OnWritten on_written, OnStarted on_started)
     : on_written_(std::move(on_written)),
@@ -82,4 +82,4 @@ void PngWriter::handle(Job& job) {
   if (on_written_) on_written_(info.frame);
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner
