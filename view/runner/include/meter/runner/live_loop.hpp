@@ -1,6 +1,7 @@
-// Live mode: subscribes to the controller's link and renders at --fps on the view's own clock
-// until --duration or SIGINT/SIGTERM, dumping frames by the DumpPolicy (PNG on the writer thread,
-// frames.csv row at once), with the timing CSV and the latency trace.
+// Live mode, a policy over the engine's frame pipeline: subscribes to the controller's link and
+// renders at --fps on the view's own clock until --duration or SIGINT/SIGTERM, dumping frames by
+// the DumpPolicy. Sinks: the timing CSV, the latency trace, the integrity monitor, the PNG dump
+// (writer thread, frames.csv rows) and the trace-json slices.
 #pragma once
 
 #include <ostream>

@@ -1,5 +1,5 @@
-// Offline mode: one state (values CSV at a time, then --set) rendered straight to
-// <out>/<png> with its frames.csv row.
+// Offline mode, a policy over the engine's frame pipeline: one state (values CSV at a time, then
+// --set) rendered as one forced frame straight to <out>/<png> with its frames.csv row.
 #pragma once
 
 #include <ostream>

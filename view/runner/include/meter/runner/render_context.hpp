@@ -1,5 +1,6 @@
-// What both modes render with: the scene package, the GL backend, the renderer, the binding
-// evaluator, the output directory and the timing CSV, set up from the options in that order.
+// What every mode renders with: the scene package, the GL backend, the renderer, the binding
+// evaluator, the governor, the output directory and the timing CSV, set up from the options in
+// that order. Each mode runs them through an engine::FramePipeline of its own.
 #pragma once
 
 #include <chrono>
