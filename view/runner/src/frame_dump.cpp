@@ -1,5 +1,8 @@
 #include "meter/runner/frame_dump.hpp"
 
+#include <stdexcept>
+#include <utility>
+
 #include "meter/protocol/trace_events.hpp"
 #include "meter/runner/dump_policy.hpp"
 #include "meter/runner/stage_wait.hpp"
@@ -8,7 +11,10 @@ namespace meter::runner {
 
 FrameDump::FrameDump(RenderContext& ctx, PngWriter& writer, FramesCsv& csv, FrameDumpSetup setup)
     : ctx_(ctx), writer_(writer), csv_(csv), setup_(std::move(setup)),
-      readback_(ctx.backend->gl(), ctx.renderer.width(), ctx.renderer.height(), 2, setup_.concurrent) {}
+      readback_(ctx.backend->gl(), ctx.renderer.width(), ctx.renderer.height(), 2, setup_.concurrent) {
+  if (setup_.concurrent && !setup_.readback)
+    throw std::invalid_argument("FrameDump: a concurrent dump needs the readback stage's meter (FrameDumpSetup::readback)");
+}
 
 void FrameDump::on_drawn(const engine::FrameRecord& f) {
   if (!setup_.concurrent || !f.request.output) return;

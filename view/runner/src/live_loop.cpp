@@ -56,6 +56,12 @@ bool concurrent_pipeline(const ViewOptions& options) {
   throw ViewError("--pipeline: expected concurrent or sequential, got \"" + options.pipeline + "\"");
 }
 
+// The link's endpoint, once SIGINT/SIGTERM end the loop (installed before the link connects).
+protocol::Endpoint live_endpoint(const ViewOptions& options) {
+  install_stop_handlers();
+  return protocol::endpoint_from_option(options.link);
+}
+
 class LiveLoop {
  public:
   LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream& log);
@@ -111,7 +117,7 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
       concurrent_(concurrent_pipeline(options)),
       overflow_(dump_overflow(options, concurrent_)),
       policy_(dump_policy(options)),
-      sub_((install_stop_handlers(), protocol::endpoint_from_option(options.link)), view_link_options(options)),
+      sub_(live_endpoint(options), view_link_options(options)),
       catalog_seen_(sub_.catalog_changes()),
       integrity_(ctx, options, health_, log),
       csv_(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), integrity_.on(), ctx.governed.governing()),

@@ -29,14 +29,15 @@ struct FrameDumpSetup {
   DumpOverflow overflow = DumpOverflow::Block;   // a periodic dump's; asked-for dumps always block
   const IntegrityStage* integrity = nullptr;     // its cells in each row (nullptr: none)
   const engine::FrameGovernor* governor = nullptr;  // its cells in a --dump-last row
-  StageMeter* readback = nullptr;                // live --stats: the readback stage (nullptr: none)
+  StageMeter* readback = nullptr;                // live --stats: the readback stage (nullptr: none; needed when concurrent)
   TraceEvents* events = nullptr;                 // waits for output space as slices (nullptr: none)
   std::function<void()> while_full;              // done while the writer's buffer is full
 };
 
 class FrameDump : public engine::FrameSink {
  public:
-  // `writer` and `csv` outlive the dump. The GL context must be current.
+  // `writer` and `csv` outlive the dump. The GL context must be current. Throws
+  // std::invalid_argument for a concurrent dump without the readback stage's meter.
   FrameDump(RenderContext& ctx, PngWriter& writer, FramesCsv& csv, FrameDumpSetup setup);
 
   bool asynchronous() const { return readback_.asynchronous(); }
