@@ -207,8 +207,7 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
       const shadergen::Program uber = shadergen::generate_uber();
       if (m.uber) o.uber_shader = &uber;
       engine::Renderer r(backend, cluster, o);
-      engine::BindingEvaluator ev(cluster);
-      engine::FramePipeline pipeline(ev, r);
+      engine::FramePipeline pipeline(cluster, r);
       protocol::SignalTable values;
       auto set = [&](std::string_view name, double v) {
         if (const auto* info = protocol::find_signal(name)) values.set(info->id, {v, protocol::SignalStatus::Valid, ""});

@@ -64,8 +64,7 @@ struct FixedGovernor : FrameGovernor {
 TEST(FramePipeline, SinksSeeEachFrameInOrderAfterItIsDrawn) {
   auto backend = platform::create_backend(platform::BackendKind::Egl);
   Renderer renderer(*backend, test::cluster_scene(), pipeline_options());
-  BindingEvaluator evaluator(test::cluster_scene());
-  FramePipeline pipeline(evaluator, renderer);
+  FramePipeline pipeline(test::cluster_scene(), renderer);
   std::vector<std::string> calls;
   Recorder a("a", calls), b("b", calls);
   pipeline.add_sink(a);
@@ -74,7 +73,7 @@ TEST(FramePipeline, SinksSeeEachFrameInOrderAfterItIsDrawn) {
   const FrameRecord& first = pipeline.render(FrameRequest{0, 0.0, false, true, true, false});
   EXPECT_TRUE(first.timing.drawn);
   EXPECT_TRUE(first.link_up);
-  EXPECT_EQ(first.states, &evaluator.states());
+  EXPECT_EQ(first.states, &pipeline.evaluator().states());
   EXPECT_EQ(first.governor, nullptr) << "no governor, no cells";
   EXPECT_LE(first.evaluate_began_ns, first.render_began_ns);
   EXPECT_LE(first.render_began_ns, first.render_ended_ns);
@@ -91,8 +90,7 @@ TEST(FramePipeline, SinksSeeEachFrameInOrderAfterItIsDrawn) {
 TEST(FramePipeline, AnUnchangedStateIsNotAppliedAndItsFrameIsSkipped) {
   auto backend = platform::create_backend(platform::BackendKind::Egl);
   Renderer renderer(*backend, test::cluster_scene(), pipeline_options());
-  BindingEvaluator evaluator(test::cluster_scene());
-  FramePipeline pipeline(evaluator, renderer);
+  FramePipeline pipeline(test::cluster_scene(), renderer);
   EXPECT_TRUE(pipeline.evaluate(speed_state(80), true, -1.0));
   EXPECT_TRUE(pipeline.render(FrameRequest{0}).timing.drawn);
   EXPECT_FALSE(pipeline.evaluate(speed_state(80), true, -1.0));
@@ -109,8 +107,8 @@ TEST(FramePipeline, AnUnchangedStateIsNotAppliedAndItsFrameIsSkipped) {
 TEST(FramePipeline, TheGovernorsChoiceOnThePlannedLoadIsDrawn) {
   auto backend = platform::create_backend(platform::BackendKind::Egl);
   Renderer renderer(*backend, test::cluster_scene(), pipeline_options()), direct(*backend, test::cluster_scene(), pipeline_options());
-  BindingEvaluator evaluator(test::cluster_scene()), direct_evaluator(test::cluster_scene());
-  FramePipeline pipeline(evaluator, renderer);
+  BindingEvaluator direct_evaluator(test::cluster_scene());
+  FramePipeline pipeline(test::cluster_scene(), renderer);
   FixedGovernor governor;
   governor::QualityChoice cheap;
   cheap.units.assign(renderer.draw_units().size(), governor::UnitLevel{});

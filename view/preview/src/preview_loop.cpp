@@ -37,13 +37,12 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-// The scene on screen with what draws it; the renderer and the evaluator refer to the scene. The
+// The scene on screen with what draws it; the renderer and the pipeline refer to the scene. The
 // preview is a policy over the engine's frame pipeline with no sink: the state from the controls,
 // a playing values file or the link, a frame at every window event or tick; the window shows it.
 struct ShownScene {
   ShownScene(std::shared_ptr<const engine::Scene> s, platform::GpuBackend& gpu, int msaa, platform::ProgramCache& programs)
-      : scene(std::move(s)), evaluator(*scene), renderer(gpu, *scene, renderer_options(msaa, programs)),
-        pipeline(evaluator, renderer) {}
+      : scene(std::move(s)), renderer(gpu, *scene, renderer_options(msaa, programs)), pipeline(*scene, renderer) {}
   static engine::RendererOptions renderer_options(int msaa, platform::ProgramCache& programs) {
     engine::RendererOptions o;
     o.msaa = msaa;
@@ -51,9 +50,8 @@ struct ShownScene {
     return o;
   }
   std::shared_ptr<const engine::Scene> scene;
-  engine::BindingEvaluator evaluator;
   engine::Renderer renderer;
-  engine::FramePipeline pipeline;
+  engine::FramePipeline pipeline;  // owns the binding evaluator
 };
 
 // The scene area 1:1 at the top left, the panel to its right; before any scene converted, the

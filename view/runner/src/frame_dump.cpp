@@ -52,7 +52,7 @@ void FrameDump::dump_standing(std::uint64_t n, double t, bool link_up) {
 // the file from the writer.
 void FrameDump::write(std::uint64_t n, double t, bool link_up, bool drawn, const GovernorCells* governor) {
   const std::string name = png_name(n);
-  csv_.row(n, t, name, link_up, drawn, ctx_.evaluator.states(), integrity_cells(), governor);
+  csv_.row(n, t, name, link_up, drawn, ctx_.pipeline.evaluator().states(), integrity_cells(), governor);
   const std::int64_t began = protocol::monotonic_now_ns();
   writer_.write(ctx_.renderer.last_image(), ctx_.out_dir / name, n, setup_.while_full);
   if (setup_.readback) note_wait(*setup_.readback, setup_.events, true, "wait for output space", began);

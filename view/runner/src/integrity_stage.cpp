@@ -80,7 +80,7 @@ IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, V
 }
 
 void IntegrityStage::before_frame(std::uint64_t frame) {
-  monitor_.prepare(ctx_.renderer, ctx_.evaluator);
+  monitor_.prepare(ctx_.renderer, ctx_.pipeline.evaluator());
   if (!schedule_) return;
   if (frame == schedule_->first) ctx_.renderer.inject(schedule_->fault);
   if (schedule_->last && frame == *schedule_->last + 1) ctx_.renderer.inject(std::nullopt);
@@ -88,7 +88,7 @@ void IntegrityStage::before_frame(std::uint64_t frame) {
 
 void IntegrityStage::after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now) {
   if (!monitor_.on()) return;
-  const auto& faults = monitor_.check(ctx_.renderer, ctx_.evaluator);
+  const auto& faults = monitor_.check(ctx_.renderer, ctx_.pipeline.evaluator());
   cells_.faults = faults.size();
   cells_.total = monitor_.faults();
   cells_.first = faults.empty() ? std::string() : faults.front().describe();

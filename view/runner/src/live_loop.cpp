@@ -103,7 +103,7 @@ class LiveLoop {
   LiveStats stats_;
   FrameDump dump_;
   FrameTrace frame_trace_;
-  engine::FramePipeline pipeline_;
+  engine::FramePipeline& pipeline_;
   std::uint64_t frame_ = 0;
   std::optional<Clock::time_point> changed_since_;
   std::uint64_t dump_failures_seen_ = 0, drops_logged_ = 0;
@@ -120,7 +120,7 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
       sub_(live_endpoint(options), view_link_options(options)),
       catalog_seen_(sub_.catalog_changes()),
       integrity_(ctx, options, health_, log),
-      csv_(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), integrity_.on(), ctx.governed.governing()),
+      csv_(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), integrity_.on(), ctx.governed.governing()),
       trace_(options.trace_csv),
       events_(options.trace_json, options.trace_on_overrun_ms, ctx.out_dir),
       pacer_(options.fps, Clock::now()),
@@ -136,7 +136,7 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
             FrameDumpSetup{concurrent_, overflow_, &integrity_, &ctx.governed, &stats_.readback, &events_,
                            [this] { poll(std::chrono::milliseconds(5)); }}),
       frame_trace_(events_, options.trace_on_overrun_ms, log),
-      pipeline_(ctx.evaluator, ctx.renderer) {
+      pipeline_(ctx.pipeline) {
   events_.thread_name(1, "render loop");
   events_.thread_name(2, "png writer");
   pipeline_.set_governor(&ctx.governed);  // docs/uniform-frame-rate.md
@@ -179,7 +179,7 @@ bool LiveLoop::drain() {
 void LiveLoop::follow_catalog() {
   if (sub_.catalog_changes() == catalog_seen_) return;
   catalog_seen_ = sub_.catalog_changes();
-  for (const auto& name : ctx_.evaluator.rebind(sub_.catalog())) {
+  for (const auto& name : ctx_.pipeline.evaluator().rebind(sub_.catalog())) {
     log_ << "meter-view: the controller's catalog " << sub_.catalog().source() << " has no signal " << name
          << "; its bindings show not-available\n";
   }
@@ -220,7 +220,7 @@ void LiveLoop::frame(const FramePacer::FrameTime& ft) {
   {
     BusyScope busy(stats_.evaluate);
     pipeline_.evaluate(sub_.signals(), sub_.link_up(), ft.dt);  // read in place, no copy
-    log_script_messages(ctx_.evaluator, log_);
+    log_script_messages(ctx_.pipeline.evaluator(), log_);
     const DumpChoice choice = policy_.decide(frame_, ft.t, take_dump_request());
     request.output = choice.write;
     request.output_asked = choice.asked;  // --dump-at, SIGUSR1: asked for, never dropped
@@ -312,7 +312,7 @@ void LiveLoop::summary() {
   }
   ctx_.governed.summary(log_);
   integrity_.summary(log_);
-  log_script_stats(ctx_.evaluator, log_);
+  log_script_stats(ctx_.pipeline.evaluator(), log_);
 }
 
 }  // namespace

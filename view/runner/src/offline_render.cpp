@@ -17,20 +17,20 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
     load_values_csv(options.values_csv, options.at.empty() ? 1e300 : parse_time(options.at, "--at"), values);
   }
   for (const auto& s : options.sets) parse_set(s, values, "--set");
-  engine::FramePipeline pipeline(ctx.evaluator, ctx.renderer);
+  engine::FramePipeline& pipeline = ctx.pipeline;
   pipeline.add_sink(ctx.timing);
   pipeline.evaluate(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
-  log_script_messages(ctx.evaluator, log);
+  log_script_messages(ctx.pipeline.evaluator(), log);
   pipeline.render(engine::FrameRequest{0, 0.0, true, true, true, false});
   pipeline.finish();
   const auto png = ctx.out_dir / options.png_name;
   platform::write_png(ctx.renderer.last_image(), png);
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
-  csv.row(0, 0.0, png.filename().string(), !options.link_lost, true, ctx.evaluator.states());
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings());
+  csv.row(0, 0.0, png.filename().string(), !options.link_lost, true, ctx.pipeline.evaluator().states());
   if (options.info) {
     log << "meter-view: wrote " << png.string() << " in "
         << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ctx.started).count() << " ms\n";
-    log_script_stats(ctx.evaluator, log);
+    log_script_stats(ctx.pipeline.evaluator(), log);
   }
 }
 

@@ -110,13 +110,13 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   const auto times = play_frame_times(options.fps, options.duration_s > 0 ? options.duration_s : span.span_s);
   DumpPolicy policy = dump_policy(options);
   RecordingState state(frames, log);
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), false, ctx.governed.governing());
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), false, ctx.governed.governing());
   PngWriter png_writer;
   FrameDumpSetup setup;
   setup.governor = &ctx.governed;
   setup.while_full = [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); };
   FrameDump dump(ctx, png_writer, csv, std::move(setup));
-  engine::FramePipeline pipeline(ctx.evaluator, ctx.renderer);
+  engine::FramePipeline& pipeline = ctx.pipeline;
   pipeline.set_governor(&ctx.governed);
   pipeline.add_sink(ctx.timing);
   pipeline.add_sink(dump);

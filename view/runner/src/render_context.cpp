@@ -30,7 +30,7 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
       scene(engine::read_package(options.scene_path)),
       backend(backend_named(options.backend)),
       renderer(*backend, scene, renderer_options(options)),
-      evaluator(scene),
+      pipeline(scene, renderer),
       governed(renderer, options, log) {
   if (options.info) {
     log << "meter-view: " << renderer.backend_info() << "; " << scene.draws.size() << " draws, "

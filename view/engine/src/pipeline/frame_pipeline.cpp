@@ -16,8 +16,7 @@ std::int64_t realtime_now_ns() {
 
 }  // namespace
 
-FramePipeline::FramePipeline(BindingEvaluator& evaluator, Renderer& renderer)
-    : evaluator_(evaluator), renderer_(renderer) {}
+FramePipeline::FramePipeline(const Scene& scene, Renderer& renderer) : evaluator_(scene), renderer_(renderer) {}
 
 void FramePipeline::add_sink(FrameSink& sink) { sinks_.push_back(&sink); }
 

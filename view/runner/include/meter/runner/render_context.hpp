@@ -1,6 +1,6 @@
-// What every mode renders with: the scene package, the GL backend, the renderer, the binding
-// evaluator, the governor, the output directory and the timing CSV, set up from the options in
-// that order. Each mode runs them through an engine::FramePipeline of its own.
+// What every mode renders with: the scene package, the GL backend, the renderer, the engine's frame
+// pipeline (which owns the binding evaluator), the governor, the output directory and the timing
+// CSV, set up from the options in that order.
 #pragma once
 
 #include <chrono>
@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
@@ -28,7 +29,9 @@ struct RenderContext {
   engine::Scene scene;
   std::unique_ptr<platform::GpuBackend> backend;
   engine::Renderer renderer;
-  engine::BindingEvaluator evaluator;
+  // The engine's frame pipeline over the renderer, with the binding evaluator it owns; each mode
+  // adds its sinks (and, live and play, the governor) and runs it.
+  engine::FramePipeline pipeline;
   GovernedFrames governed;  // the frame pipeline's quality input in the live and play modes
   TimingCsv timing;         // a sink of every mode's frame pipeline
 };

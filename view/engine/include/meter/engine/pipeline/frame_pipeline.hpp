@@ -20,10 +20,11 @@ namespace meter::engine {
 
 class FramePipeline {
  public:
-  // Both outlive the pipeline.
-  FramePipeline(BindingEvaluator& evaluator, Renderer& renderer);
+  // The pipeline owns the binding step (bindings, display features, scripts) of `scene`; the
+  // renderer owns the scene step (evaluation, plan, GL execution). Both outlive the pipeline.
+  FramePipeline(const Scene& scene, Renderer& renderer);
 
-  // Observers and outputs, called in this order. Each outlives the pipeline.
+  // Observers and outputs, called in this order. Each outlives its use (the mode adding it).
   void add_sink(FrameSink& sink);
   // The quality input; nullptr (the default): the renderer keeps its quality.
   void set_governor(FrameGovernor* governor) { governor_ = governor; }
@@ -39,11 +40,12 @@ class FramePipeline {
   void finish();
 
   BindingEvaluator& evaluator() { return evaluator_; }
+  const BindingEvaluator& evaluator() const { return evaluator_; }
   Renderer& renderer() { return renderer_; }
   const FrameGovernor* governor() const { return governor_; }
 
  private:
-  BindingEvaluator& evaluator_;
+  BindingEvaluator evaluator_;
   Renderer& renderer_;
   FrameGovernor* governor_ = nullptr;
   std::vector<FrameSink*> sinks_;
