@@ -1,4 +1,4 @@
-// view_bench --integrity: the display-integrity monitor's cost (meter/view/integrity_monitor.hpp)
+// view_bench --integrity: the display-integrity monitor's cost (meter/runner/integrity_monitor.hpp)
 // against the frame it checks, measured side by side in one run: the cluster at 1280x480 MSAA 4
 // on llvmpipe (EGL) through the 3b drive (needles moving, an indicator blinking, partial redraw as
 // meter-view draws), each frame's render and the monitor's check timed apart; and the same scene
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "meter/engine/evaluation/bindings.hpp"
-#include "meter/view/integrity_monitor.hpp"
+#include "meter/runner/integrity_monitor.hpp"
 #include "bench_stats.hpp"
 
 namespace meter::bench {
@@ -50,8 +50,7 @@ struct Rig {
     return o;
   }
   void frame(const protocol::SignalTable& values, double dt, bool keep) {
-    evaluator.update(values, true, dt);
-    renderer.apply(evaluator.outputs());
+    if (evaluator.update(values, true, dt)) renderer.apply(evaluator.outputs());  // changes detected once
     // As meter-view's live loop: the monitor names what it will read before the frame renders
     // (the resolve of those boxes joins the frame's flush and is timed as render time), checks
     // after it.
@@ -78,7 +77,7 @@ struct Rig {
   const engine::Scene& scene;
   engine::Renderer renderer;
   engine::BindingEvaluator evaluator;
-  view::IntegrityMonitor monitor;
+  runner::IntegrityMonitor monitor;
   std::vector<double> frame_ms, monitor_ms, frame_cpu_ms;
 };
 

@@ -27,6 +27,7 @@
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "meter/config/scene_config_parser.hpp"
+#include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
 #include "meter/engine/renderer.hpp"
@@ -206,7 +207,7 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
       const shadergen::Program uber = shadergen::generate_uber();
       if (m.uber) o.uber_shader = &uber;
       engine::Renderer r(backend, cluster, o);
-      engine::BindingEvaluator ev(cluster);
+      engine::FramePipeline pipeline(cluster, r);
       protocol::SignalTable values;
       auto set = [&](std::string_view name, double v) {
         if (const auto* info = protocol::find_signal(name)) values.set(info->id, {v, protocol::SignalStatus::Valid, ""});
@@ -222,10 +223,9 @@ void drive(platform::GpuBackend& backend, const engine::Scene& cluster, double f
         set("Vehicle.Powertrain.FuelSystem.RelativeLevel", 60.0 - 0.2 * t);
         set("Vehicle.Powertrain.CombustionEngine.ECT", 85.0 + t);
         set("Cluster.Telltale.TurnLeft", std::fmod(t, 0.666) < 0.333 ? 1.0 : 0.0);  // 1.5 Hz
-        ev.update(values, true, f == 0 ? -1.0 : 1.0 / 60.0);
-        r.apply(ev.outputs());
+        pipeline.evaluate(values, true, f == 0 ? -1.0 : 1.0 / 60.0);  // as meter-view's frame pipeline
         const auto t0 = Clock::now();
-        const engine::FrameTiming ft = r.render(false, false);
+        const engine::FrameTiming ft = pipeline.render(engine::FrameRequest{}).timing;
         if (f >= 2) {  // frames 0-1: JIT of every program (start-up, section 4)
           v.push_back(ms_since(t0));
           if (v.back() > worst_ms) worst_ms = v.back(), worst_fraction = ft.redrawn_fraction, worst_regions = ft.regions, worst = ft;
@@ -258,45 +258,12 @@ engine::Scene cluster_package(const fs::path& dir) {
   return engine::read_package(pkg);
 }
 
-}  // namespace
+using Converted = std::map<std::string, std::pair<engine::Scene, engine::Scene>>;  // off, on
+using CompileMs = std::map<std::string, std::vector<double>>;  // key scene/program -> off..., on...
 
-int main(int argc, char** argv) {
-  // --drive: only the fill floor and section 3b (the 60-fps frame-time goal: p99 under 16.7 ms), about 30 s.
-  const bool drive_only = argc > 1 && std::string(argv[1]) == "--drive";
-  // --integrity: only section 5 (the integrity monitor's cost), about 20 s.
-  const bool integrity_only = argc > 1 && std::string(argv[1]) == "--integrity";
-  if (argc > 1 && !drive_only && !integrity_only) {
-    std::fprintf(stderr, "usage: view_bench [--drive | --integrity]\n");
-    return 2;
-  }
-  std::printf("view_bench: llvmpipe, %s build\n", METER_BUILD_TYPE);
-  auto egl = platform::create_backend(platform::BackendKind::Egl);
-  std::printf("EGL: %s\n", egl->renderer_info().c_str());
-  const fs::path integrity_dir = fs::temp_directory_path() / ("view_bench_integrity_" + std::to_string(::getpid()));
-  if (integrity_only) {
-    bench::integrity_cost(*egl, cluster_package(integrity_dir));
-    fs::remove_all(integrity_dir);
-    return 0;
-  }
-  if (drive_only) {
-    const auto s = scenes().front();
-    const auto cluster = convert::convert_gltf(s.glb, load_config(s.config), {true}).scene;
-    const std::vector<double> fill = fill_floor(*egl);
-    std::printf("fill floor median %.2f ms  p99 %.2f ms\n", percentile(fill, 0.5), percentile(fill, 0.99));
-    drive(*egl, cluster, percentile(fill, 0.99));
-    layer_memory(*egl, cluster);
-    return 0;
-  }
-  std::map<std::string, std::pair<engine::Scene, engine::Scene>> converted;  // off, on
-  std::map<std::string, engine::SceneConfig> configs;
-  for (const auto& s : scenes()) {
-    configs[s.name] = load_config(s.config);
-    converted[s.name] = {convert::convert_gltf(s.glb, configs[s.name], {false}).scene,
-                         convert::convert_gltf(s.glb, configs[s.name], {true}).scene};
-  }
-
-  // 1. Per program (EGL compile+link here; OSMesa below).
-  std::map<std::string, std::vector<double>> egl_ms;  // key scene/program -> off..., on...
+// 1. Per program (EGL compile+link here; OSMesa below).
+CompileMs program_compiles(platform::GpuBackend& egl, Converted& converted) {
+  CompileMs egl_ms;
   std::printf("\n## 1. per program: generated -> optimized\n");
   std::printf("%-10s %-44s %13s %11s %8s %8s %8s %15s\n", "scene", "program (key)", "src bytes",
               "SPIR-V", "unif", "vary", "samp", "EGL c+l ms");
@@ -306,8 +273,8 @@ int main(int argc, char** argv) {
       const auto& r = e.optimize_report;
       // The generated program with the same features (what --optimize=off stores for it).
       const shadergen::Program gen = shadergen::generate(e.program.features);
-      const double before = median_compile_ms(egl->gl(), gen);
-      const double after = median_compile_ms(egl->gl(), e.program);
+      const double before = median_compile_ms(egl.gl(), gen);
+      const double after = median_compile_ms(egl.gl(), e.program);
       egl_ms[s.name + "/" + meter::shadergen::program_key(e.program.features)] = {before, after};
       std::printf("%-10s %-44s %6zu->%-6zu %5zu->%-5zu %3zu->%-3zu %3zu->%-3zu %3zu->%-3zu %6.2f->%-6.2f\n",
                   s.name.c_str(), meter::shadergen::program_key(e.program.features).substr(0, 44).c_str(),
@@ -316,10 +283,12 @@ int main(int argc, char** argv) {
                   r.varyings_before, r.varyings_after, r.samplers_before, r.samplers_after, before, after);
     }
   }
-  const shadergen::Program uber = shadergen::generate_uber();
-  const double uber_egl = median_compile_ms(egl->gl(), uber);
+  return egl_ms;
+}
 
-  // 2. Per scene frame times on EGL.
+// 2. Per scene frame times on EGL.
+void scene_frames(platform::GpuBackend& egl, Converted& converted, std::map<std::string, engine::SceneConfig>& configs,
+                  CompileMs& egl_ms, double uber_egl) {
   std::printf("\n## 2. per scene on EGL (MSAA 4, config size): off vs on\n");
   std::printf("%-10s %6s %22s %22s %20s %16s\n", "scene", "progs", "startup+1st frame ms",
               "median frame ms", "sum c+l ms (EGL)", "uber c+l x progs");
@@ -327,8 +296,8 @@ int main(int argc, char** argv) {
   for (const auto& s : scenes()) {
     const auto& [off, on] = converted[s.name];
     const int n = s.name == "cluster" ? 20 : 30;
-    const FrameStats a = frames(*egl, off, configs[s.name], n);
-    const FrameStats b = frames(*egl, on, configs[s.name], n);
+    const FrameStats a = frames(egl, off, configs[s.name], n);
+    const FrameStats b = frames(egl, on, configs[s.name], n);
     double sum_off = 0, sum_on = 0;
     for (const auto& e : on.programs) {
       sum_off += egl_ms[s.name + "/" + meter::shadergen::program_key(e.program.features)][0];
@@ -340,40 +309,28 @@ int main(int argc, char** argv) {
                 uber_egl * double(on.programs.size()));
   }
   std::printf("uber shader compile+link on EGL: %.2f ms per program (one program, all switches)\n", uber_egl);
+}
 
-  // 3. Cluster 1280x480 vs the fill floor, same backend, same run.
-  std::printf("\n## 3. cluster 1280x480 MSAA 4 on EGL, 200 forced frames\n");
-  const auto& cluster = converted["cluster"].second;
-  const FrameStats c = frames(*egl, cluster, configs["cluster"], 200, 1280, 480);
-  const std::vector<double> fill = fill_floor(*egl);
-  const double fill_med = percentile(fill, 0.5), fill_p99 = percentile(fill, 0.99);
-  std::printf("cluster  median %.2f ms  p99 %.2f ms\n", c.median_ms, c.p99_ms);
-  std::printf("fill     median %.2f ms  p99 %.2f ms\n", fill_med, fill_p99);
-  std::printf("ratio    median %.2fx     p99 %.2fx   (goal p99 < 16.7 ms)\n", c.median_ms / fill_med,
-              c.p99_ms / fill_p99);
+// 1b. OSMesa compile+link, same programs (the backend pays its own JIT).
+void osmesa_compiles(Converted& converted, const shadergen::Program& uber) {
+  auto osm = platform::create_backend(platform::BackendKind::OSMesa);
+  std::printf("\n## 1b. compile+link on OSMesa (%s)\n", osm->renderer_info().c_str());
+  double sum_gen = 0, sum_opt = 0, sum_desktop = 0;
+  int count = 0;
+  for (const auto& s : scenes())
+    for (const auto& e : converted[s.name].second.programs) {
+      sum_gen += median_compile_ms(osm->gl(), shadergen::generate(e.program.features));
+      sum_opt += median_compile_ms(osm->gl(), e.program);
+      sum_desktop += median_compile_ms(osm->gl(), shadergen::to_desktop_glsl(e.program, 330));
+      ++count;
+    }
+  std::printf("%d programs: generated %.1f ms, optimized ES 3.00 %.1f ms, optimized GLSL 330 %.1f ms; "
+              "uber %.2f ms each\n", count, sum_gen, sum_opt, sum_desktop, median_compile_ms(osm->gl(), uber));
+}
 
-  drive(*egl, cluster, fill_p99);
-  layer_memory(*egl, cluster);
-  egl.reset();
-
-  // 1b. OSMesa compile+link, same programs (the backend pays its own JIT).
-  {
-    auto osm = platform::create_backend(platform::BackendKind::OSMesa);
-    std::printf("\n## 1b. compile+link on OSMesa (%s)\n", osm->renderer_info().c_str());
-    double sum_gen = 0, sum_opt = 0, sum_desktop = 0;
-    int count = 0;
-    for (const auto& s : scenes())
-      for (const auto& e : converted[s.name].second.programs) {
-        sum_gen += median_compile_ms(osm->gl(), shadergen::generate(e.program.features));
-        sum_opt += median_compile_ms(osm->gl(), e.program);
-        sum_desktop += median_compile_ms(osm->gl(), shadergen::to_desktop_glsl(e.program, 330));
-        ++count;
-      }
-    std::printf("%d programs: generated %.1f ms, optimized ES 3.00 %.1f ms, optimized GLSL 330 %.1f ms; "
-                "uber %.2f ms each\n", count, sum_gen, sum_opt, sum_desktop, median_compile_ms(osm->gl(), uber));
-  }
-
-  // 4. Start-up of the real process: start -> first PNG on disk, and its peak RSS.
+// 4. Start-up of the real process: start -> first PNG on disk, and its peak RSS. Returns false when
+// meter-view failed.
+bool process_startup(Converted& converted) {
   const fs::path dir = fs::temp_directory_path() / ("meter_view_bench_" + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string pkg = (dir / "cluster.msp").string();
@@ -403,7 +360,7 @@ int main(int argc, char** argv) {
       rss_kb = std::max(rss_kb, ru.ru_maxrss);
       if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || first_png < 0) {
         std::printf("%s: meter-view failed (status %d)\n", backend, status);
-        return 1;
+        return false;
       }
       v.push_back(first_png);
     }
@@ -411,6 +368,70 @@ int main(int argc, char** argv) {
                 percentile(v, 0.5), double(rss_kb) / 1024.0);
   }
   fs::remove_all(dir);
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // --drive: only the fill floor and section 3b (the 60-fps frame-time goal: p99 under 16.7 ms), about 30 s.
+  const bool drive_only = argc > 1 && std::string(argv[1]) == "--drive";
+  // --integrity: only section 5 (the integrity monitor's cost), about 20 s.
+  const bool integrity_only = argc > 1 && std::string(argv[1]) == "--integrity";
+  if (argc > 1 && !drive_only && !integrity_only) {
+    std::fprintf(stderr, "usage: view_bench [--drive | --integrity]\n");
+    return 2;
+  }
+  std::printf("view_bench: llvmpipe, %s build\n", METER_BUILD_TYPE);
+  auto egl = platform::create_backend(platform::BackendKind::Egl);
+  std::printf("EGL: %s\n", egl->renderer_info().c_str());
+  const fs::path integrity_dir = fs::temp_directory_path() / ("view_bench_integrity_" + std::to_string(::getpid()));
+  if (integrity_only) {
+    bench::integrity_cost(*egl, cluster_package(integrity_dir));
+    fs::remove_all(integrity_dir);
+    return 0;
+  }
+  if (drive_only) {
+    const auto s = scenes().front();
+    const auto cluster = convert::convert_gltf(s.glb, load_config(s.config), {true}).scene;
+    const std::vector<double> fill = fill_floor(*egl);
+    std::printf("fill floor median %.2f ms  p99 %.2f ms\n", percentile(fill, 0.5), percentile(fill, 0.99));
+    drive(*egl, cluster, percentile(fill, 0.99));
+    layer_memory(*egl, cluster);
+    return 0;
+  }
+  Converted converted;
+  std::map<std::string, engine::SceneConfig> configs;
+  for (const auto& s : scenes()) {
+    configs[s.name] = load_config(s.config);
+    converted[s.name] = {convert::convert_gltf(s.glb, configs[s.name], {false}).scene,
+                         convert::convert_gltf(s.glb, configs[s.name], {true}).scene};
+  }
+
+  CompileMs egl_ms = program_compiles(*egl, converted);
+  const shadergen::Program uber = shadergen::generate_uber();
+  const double uber_egl = median_compile_ms(egl->gl(), uber);
+
+  scene_frames(*egl, converted, configs, egl_ms, uber_egl);
+
+  // 3. Cluster 1280x480 vs the fill floor, same backend, same run.
+  std::printf("\n## 3. cluster 1280x480 MSAA 4 on EGL, 200 forced frames\n");
+  const auto& cluster = converted["cluster"].second;
+  const FrameStats c = frames(*egl, cluster, configs["cluster"], 200, 1280, 480);
+  const std::vector<double> fill = fill_floor(*egl);
+  const double fill_med = percentile(fill, 0.5), fill_p99 = percentile(fill, 0.99);
+  std::printf("cluster  median %.2f ms  p99 %.2f ms\n", c.median_ms, c.p99_ms);
+  std::printf("fill     median %.2f ms  p99 %.2f ms\n", fill_med, fill_p99);
+  std::printf("ratio    median %.2fx     p99 %.2fx   (goal p99 < 16.7 ms)\n", c.median_ms / fill_med,
+              c.p99_ms / fill_p99);
+
+  drive(*egl, cluster, fill_p99);
+  layer_memory(*egl, cluster);
+  egl.reset();
+
+  osmesa_compiles(converted, uber);
+
+  if (!process_startup(converted)) return 1;
   egl->make_current();
   bench::integrity_cost(*egl, cluster_package(integrity_dir));
   fs::remove_all(integrity_dir);

@@ -12,7 +12,7 @@
 
 #include "live_run.hpp"
 #include "meter/platform/image.hpp"
-#include "meter/view/dump_policy.hpp"
+#include "meter/runner/dump_policy.hpp"
 #include "process.hpp"
 
 namespace {
@@ -121,7 +121,7 @@ TEST(GovernorRun, StepsDownUnderAnInjectedCostAndComesBackToTheUngovernedImage) 
   for (std::size_t k = rows.size() - 30; k < rows.size(); ++k)
     EXPECT_TRUE(at_full(rows[k])) << "frame " << k << " units_reduced " << rows[k].at("units_reduced") << " msaa "
                                   << rows[k].at("msaa") << " scale " << rows[k].at("scale");
-  const std::string last = meter::view::png_name(rows.size() - 1);
+  const std::string last = meter::runner::png_name(rows.size() - 1);
   const auto a = meter::platform::read_png(gov / last), b = meter::platform::read_png(ref / last);
   ASSERT_EQ(a.width, b.width);
   ASSERT_EQ(a.height, b.height);

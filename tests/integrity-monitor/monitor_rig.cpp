@@ -36,10 +36,10 @@ MonitorRig::MonitorRig(const fs::path& package, platform::BackendKind kind, int 
   ro.msaa = msaa;
   renderer = std::make_unique<engine::Renderer>(*backend, scene, ro);
   evaluator = std::make_unique<engine::BindingEvaluator>(scene);
-  monitor = std::make_unique<view::IntegrityMonitor>(scene, renderer->width(), renderer->height());
+  monitor = std::make_unique<runner::IntegrityMonitor>(scene, renderer->width(), renderer->height());
 }
 
-std::vector<view::IntegrityFault> MonitorRig::frame(const protocol::SignalTable& table, double dt) {
+std::vector<runner::IntegrityFault> MonitorRig::frame(const protocol::SignalTable& table, double dt) {
   evaluator->update(table, true, dt);
   renderer->apply(evaluator->outputs());
   renderer->render();

@@ -13,7 +13,7 @@
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/protocol/signal_table.hpp"
-#include "meter/view/integrity_monitor.hpp"
+#include "meter/runner/integrity_monitor.hpp"
 
 namespace meter::testing {
 
@@ -24,7 +24,7 @@ struct MonitorRig {
   MonitorRig(const std::filesystem::path& package, platform::BackendKind backend, int msaa);
   // One frame: the table's values applied (dt < 0: straight to the targets, no smoothing), the
   // frame rendered and checked. Returns that frame's faults.
-  std::vector<view::IntegrityFault> frame(const protocol::SignalTable& table, double dt = -1.0);
+  std::vector<runner::IntegrityFault> frame(const protocol::SignalTable& table, double dt = -1.0);
   // The frame's state at `fraction` of every binding's range (bound_signals_at; every needle at
   // that fraction of its own dial).
   protocol::SignalTable at(double fraction) const;
@@ -34,7 +34,7 @@ struct MonitorRig {
   std::unique_ptr<platform::GpuBackend> backend;
   std::unique_ptr<engine::Renderer> renderer;
   std::unique_ptr<engine::BindingEvaluator> evaluator;
-  std::unique_ptr<view::IntegrityMonitor> monitor;
+  std::unique_ptr<runner::IntegrityMonitor> monitor;
 };
 
 // The first region of that kind in the table (nullptr when none).

@@ -13,10 +13,10 @@
 
 #include <CLI/CLI.hpp>
 
-#include "meter/view/run_view.hpp"
+#include "meter/runner/run_view.hpp"
 
 int main(int argc, char** argv) {
-  using namespace meter::view;
+  using namespace meter::runner;
   CLI::App app{"meter-view: instrument-cluster view (graphics MCU). Renders a scene package offscreen with EGL or OSMesa.\n"
                "Offline: --set/--values/--at render one state to <out>/frame.png. Live: --link ENDPOINT renders at --fps."};
   ViewOptions o;

@@ -6,8 +6,8 @@
 
 #include "meter/calibrate/calibration.hpp"
 #include "meter/engine/package_reader.hpp"
-#include "meter/view/governed_frame.hpp"
-#include "meter/view/option_units.hpp"
+#include "meter/runner/governed_frame.hpp"
+#include "meter/runner/option_units.hpp"
 
 namespace meter::calibrate {
 
@@ -44,11 +44,11 @@ int run_calibrate_tool(const CalibrateToolOptions& options, std::ostream& out, s
     CalibrationOptions co;
     co.frames = options.frames;
     co.msaa = options.msaa;
-    if (!options.size.empty()) std::tie(co.width, co.height) = view::parse_size(options.size);
+    if (!options.size.empty()) std::tie(co.width, co.height) = runner::parse_size(options.size);
     CostMeasurements m = measure_costs(*backend, scene, co, &out);
     m.package = std::filesystem::path(options.package).filename().string();
     if (!options.samples.empty()) write_samples(options.samples, m, co);
-    const std::string path = options.out.empty() ? view::default_costs_path(options.package) : options.out;
+    const std::string path = options.out.empty() ? runner::default_costs_path(options.package) : options.out;
     const std::string text = engine::governor::write_costs(cost_file(m));
     // Checked as meter-view will read it: a file this tool cannot parse back is never left behind.
     engine::governor::parse_costs(text, path);

@@ -56,8 +56,6 @@ Renderer::~Renderer() {
 std::string Renderer::backend_info() const { return backend_.renderer_info(); }
 
 void Renderer::apply(const BindingOutputs& outputs) {
-  // Equal outputs draw the same frame: an idle display costs this comparison and nothing more.
-  if (outputs == evaluator_.outputs()) return;
   evaluator_.apply(outputs);
   stats_.animation_samples = evaluator_.animation_samples();
   dirty_ = true;
@@ -139,50 +137,68 @@ void Renderer::resolve_pending() {
 
 platform::RenderTarget& Renderer::output_target() { return output_ ? *output_ : *target_; }
 
-FrameTiming Renderer::render(bool force, bool read_back) { return render(force, read_back, LevelChooser{}); }
+FrameTiming Renderer::render(bool force, bool read_back) {
+  plan(force, read_back);
+  return draw();
+}
 
-FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& choose) {
-  FrameTiming t;
+const governor::FrameLoad& Renderer::plan(bool force, bool read_back) {
+  planned_ = PlannedFrame{};
+  planned_.read = read_back;
   ++stats_.frames;
   auto t0 = Clock::now();
   if (evaluator_.update_world()) ++stats_.world_updates;
-  t.update_ms = ms_since(t0);
-  // A skipped frame still answers a read with the frame that stands.
-  auto skip = [&] {
-    ++stats_.skipped;
-    watched_.clear();
-    if (read_back) {
-      auto t2 = Clock::now();
-      read();
-      t.gpu_readback_ms = ms_since(t2);
-    }
-    return t;
-  };
-  force = force || std::exchange(redraw_all_, false);
-  bool asked = false;  // the chooser is asked once per frame
-  if (!dirty_ && !force && !global_changed_) {
-    // Nothing to evaluate: the chooser still sees the (empty) load and may change the quality,
+  planned_.timing.update_ms = ms_since(t0);
+  planned_.force = force || std::exchange(redraw_all_, false);
+  if (!dirty_ && !planned_.force && !global_changed_) {
+    // Nothing to evaluate: the governor still sees the (empty) load and may change the quality,
     // which then draws what the change damages.
+    planned_.idle = true;
     last_load_ = governor::FrameLoad{};
     last_load_.unit_pixels.assign(units_.ladders.size(), 0.0);
     last_load_.read_back = read_back;
-    std::optional<governor::QualityChoice> c;
-    if (choose) c = choose(last_load_), asked = true;
-    if (c) set_quality(*c);
-    if (!dirty_ && !global_changed_) return skip();
+    return last_load_;
   }
-  auto t1 = Clock::now();
+  planned_.plan_began = Clock::now();
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
-  FrameState now;
-  const FramePlan plan = plan_at_quality(force, read_back, now, choose && !asked ? &choose : nullptr);
-  t.plan_ms = ms_since(t1);
+  planned_.plan = plan_at_quality(planned_.force, read_back, planned_.now);
+  return last_load_;
+}
+
+// A skipped frame still answers a read with the frame that stands.
+FrameTiming Renderer::skip(bool read_back, FrameTiming t) {
+  ++stats_.skipped;
+  watched_.clear();
+  if (read_back) {
+    auto t2 = Clock::now();
+    read();
+    t.gpu_readback_ms = ms_since(t2);
+  }
+  return t;
+}
+
+FrameTiming Renderer::draw(const std::optional<governor::QualityChoice>& choice) {
+  PlannedFrame& f = planned_;
+  FrameTiming& t = f.timing;
+  if (f.idle) {
+    if (choice) set_quality(*choice);
+    if (!dirty_ && !global_changed_) return skip(f.read, t);
+    f.plan_began = Clock::now();
+    f.plan = plan_at_quality(f.force, f.read, f.now);
+  } else if (choice && !(checked_choice(units_, *choice, quality_.global.msaa) == quality_)) {
+    // The choice is planned, not asked about again.
+    set_quality(*choice);
+    f.plan = plan_at_quality(f.force, f.read, f.now);
+  }
+  const FramePlan& plan = f.plan;
+  t.plan_ms = ms_since(f.plan_began);
   dirty_ = false;
   if (!plan.draw) {
-    t.submit_ms = ms_since(t1);
-    return skip();
+    t.submit_ms = ms_since(f.plan_began);
+    return skip(f.read, t);
   }
-  if (fault_) execute_faulty(plan, now);
-  else execute(plan, now);
+  if (fault_) execute_faulty(plan, f.now);
+  else execute(plan, f.now);
   note_written(plan);
   resolve_watched(plan);
   if (plan.full) {
@@ -194,11 +210,11 @@ FrameTiming Renderer::render(bool force, bool read_back, const LevelChooser& cho
     t.regions = static_cast<int>(plan.regions.size());
     ++stats_.partial_frames;
   }
-  drawn_ = drawn_frame(std::move(now));
-  t.submit_ms = ms_since(t1);
+  drawn_ = drawn_frame(std::move(f.now));
+  t.submit_ms = ms_since(f.plan_began);
   auto t2 = Clock::now();
   gl_.Finish();
-  if (read_back) read();
+  if (f.read) read();
   t.gpu_readback_ms = ms_since(t2);
   platform::check_gl(gl_, scene_.source_name + ": drawing a frame");
   t.drawn = true;

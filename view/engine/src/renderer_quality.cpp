@@ -1,4 +1,4 @@
-// The Renderer's quality levels (set_quality, the chooser's re-plan, the global rungs' targets):
+// The Renderer's quality levels (set_quality, the frame planned at a quality, the global rungs' targets):
 // see renderer.hpp and docs/engine.md, "Quality levels".
 #include <algorithm>
 #include <cmath>
@@ -119,40 +119,34 @@ PlanSettings Renderer::plan_settings(bool force) const {
   return settings;
 }
 
-FramePlan Renderer::plan_at_quality(bool force, bool read_back, FrameState& now, const LevelChooser* choose) {
-  for (int round = 0;; ++round) {
-    if (global_changed_) {
-      make_targets();
-      if (draw_height_ != text_height_) {  // text sizes follow the draw height (an MSAA rung keeps it)
-        text_by_height_[text_height_] = std::move(text_);
-        auto it = text_by_height_.find(draw_height_);
-        if (it != text_by_height_.end()) {
-          text_ = std::move(it->second);
-          text_by_height_.erase(it);
-        } else {
-          text_ = std::make_unique<TextDrawing>(backend_, options_.font_file, scene_.config.size[1], draw_height_);
-        }
-        text_height_ = draw_height_;
+FramePlan Renderer::plan_at_quality(bool force, bool read_back, FrameState& now) {
+  if (global_changed_) {
+    make_targets();
+    if (draw_height_ != text_height_) {  // text sizes follow the draw height (an MSAA rung keeps it)
+      text_by_height_[text_height_] = std::move(text_);
+      auto it = text_by_height_.find(draw_height_);
+      if (it != text_by_height_.end()) {
+        text_ = std::move(it->second);
+        text_by_height_.erase(it);
+      } else {
+        text_ = std::make_unique<TextDrawing>(backend_, options_.font_file, scene_.config.size[1], draw_height_);
       }
-      written_ = {platform::PixelRegion{0, 0, width_, height_}};  // every pixel is drawn anew
-      global_changed_ = false;
+      text_height_ = draw_height_;
     }
-    now = evaluator_.evaluate(draw_width_, draw_height_, *text_);
-    if (subpixel_offset_ != glm::vec2(0.0f)) {
-      // A clip-space translation by 2 d / size moves every vertex d pixels after the divide by w.
-      const glm::vec3 ndc(2.0f * subpixel_offset_.x / float(draw_width_), 2.0f * subpixel_offset_.y / float(draw_height_), 0.0f);
-      now.view_projection = glm::translate(glm::mat4(1.0f), ndc) * now.view_projection;
-    }
-    apply_levels(scene_, units_, quality_, now);
-    FramePlan plan = plan_frame(scene_, classes_, now, drawn_, layer_drawn_, plan_settings(force));
-    last_load_ = frame_load(scene_, classes_, units_, now, plan, draw_width_, draw_height_, quality_.global.scale);
-    last_load_.read_back = read_back;
-    // The chooser is asked once per frame; its choice is planned, not asked about again.
-    if (round > 0 || !choose || !*choose) return plan;
-    const std::optional<governor::QualityChoice> c = (*choose)(last_load_);
-    if (!c || checked_choice(units_, *c, quality_.global.msaa) == quality_) return plan;
-    set_quality(*c);
+    written_ = {platform::PixelRegion{0, 0, width_, height_}};  // every pixel is drawn anew
+    global_changed_ = false;
   }
+  now = evaluator_.evaluate(draw_width_, draw_height_, *text_);
+  if (subpixel_offset_ != glm::vec2(0.0f)) {
+    // A clip-space translation by 2 d / size moves every vertex d pixels after the divide by w.
+    const glm::vec3 ndc(2.0f * subpixel_offset_.x / float(draw_width_), 2.0f * subpixel_offset_.y / float(draw_height_), 0.0f);
+    now.view_projection = glm::translate(glm::mat4(1.0f), ndc) * now.view_projection;
+  }
+  apply_levels(scene_, units_, quality_, now);
+  FramePlan plan = plan_frame(scene_, classes_, now, drawn_, layer_drawn_, plan_settings(force));
+  last_load_ = frame_load(scene_, classes_, units_, now, plan, draw_width_, draw_height_, quality_.global.scale);
+  last_load_.read_back = read_back;
+  return plan;
 }
 
 void Renderer::set_subpixel_offset(glm::vec2 pixels) {

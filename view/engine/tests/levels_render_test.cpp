@@ -1,4 +1,4 @@
-// Quality levels drawn (Renderer::set_quality, the level chooser, the global rungs) on the cluster
+// Quality levels drawn (Renderer::set_quality, a choice between plan() and draw(), the global rungs) on the cluster
 // converted with its levels, on both backends: every changed level draws a different image, a
 // level change redrawn partially gives the image a full redraw at that level gives, and back at
 // level 0 the frame is bit for bit the one a renderer that never changed level draws.
@@ -222,7 +222,9 @@ TEST_P(LevelsRender, GlobalRungKeepsTheOutputSize) {
   EXPECT_EQ(differing_pixels(a.last_image(), never.last_image()), 0u) << "back at full quality after a change, the frame differs";
 }
 
-TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
+// The governor's choice is a plain input between the frame's two halves: plan() gives the planned
+// load, draw(choice) draws at the choice.
+TEST_P(LevelsRender, ChoiceMadeOnThePlannedLoadIsDrawn) {
   const Scene& scene = cluster();
   const BindingOutputs outputs = driving(scene);
   Renderer a(*backend_, scene, options()), direct(*backend_, scene, options());
@@ -234,8 +236,9 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
     seen.push_back(load);
     return choice;
   };
+  auto render_choosing = [](Renderer& r, bool read, const auto& choose) { return r.draw(choose(r.plan(false, read))); };
   a.apply(outputs);
-  EXPECT_TRUE(a.render(false, true, chooser).drawn);
+  EXPECT_TRUE(render_choosing(a, true, chooser).drawn);
   ASSERT_EQ(seen.size(), 1u);
   const governor::FrameLoad& first = seen[0];
   EXPECT_TRUE(first.drawn);
@@ -256,7 +259,7 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
   direct.render(false, true);
   EXPECT_EQ(differing_pixels(a.last_image(), direct.last_image()), 0u) << "the chooser's choice was not what was drawn";
   // Nothing changed: the frame is skipped, the chooser still sees an empty load.
-  EXPECT_FALSE(a.render(false, false, chooser).drawn);
+  EXPECT_FALSE(render_choosing(a, false, chooser).drawn);
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_FALSE(seen[1].drawn);
   EXPECT_FALSE(seen[1].read_back);
@@ -265,7 +268,7 @@ TEST_P(LevelsRender, ChooserIsAskedBeforeDrawingAndItsChoiceIsDrawn) {
     seen.push_back(load);
     return governor::QualityChoice{};
   };
-  EXPECT_TRUE(a.render(false, true, back_to_full).drawn);
+  EXPECT_TRUE(render_choosing(a, true, back_to_full).drawn);
   EXPECT_EQ(seen.size(), 3u) << "the chooser was asked more than once in one frame";
   Renderer full(*backend_, scene, options());
   full.apply(outputs);

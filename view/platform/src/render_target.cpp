@@ -4,11 +4,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "meter/platform/flip_rows.hpp"
 #include "shader_resolve.hpp"
 
 namespace meter::platform {
@@ -41,8 +41,24 @@ std::string status_name(GLenum status) {
 RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions& options)
     : gl_(&backend.gl()), width_(options.width), height_(options.height), srgb_(options.srgb),
       depth_(options.depth) {
-  const Gl& gl = *gl_;
-  const GlInfo& info = gl.info;
+  check_size(backend);
+  const bool by_shader = settle_samples(backend, options);
+  const GLenum color_format = srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8;
+  const GLenum depth_format = depth_ == DepthFormat::Depth32F ? GL_DEPTH_COMPONENT32F : GL_DEPTH_COMPONENT24;
+  try {
+    make_single_sample(color_format, depth_format);
+    if (samples_ > 1) make_multisample(color_format, depth_format, by_shader, options.programs);
+    gl_->BindRenderbuffer(GL_RENDERBUFFER, 0);
+    check_gl(*gl_, "RenderTarget (" + description() + ")");
+  } catch (...) {
+    release();
+    throw;
+  }
+  bind();
+}
+
+void RenderTarget::check_size(const GpuBackend& backend) const {
+  const GlInfo& info = gl_->info;
   if (width_ <= 0 || height_ <= 0) {
     throw std::invalid_argument("RenderTarget: size " + std::to_string(width_) + "x" +
                                 std::to_string(height_) + " must be positive");
@@ -53,6 +69,12 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
                                 std::to_string(info.max_texture_size) + " of " +
                                 std::string(backend.name()));
   }
+}
+
+// The samples, resolve filter and sample format this context can give (a downgrade is a warning,
+// an impossible request an error). Returns whether a shader pass resolves.
+bool RenderTarget::settle_samples(const GpuBackend& backend, const RenderTargetOptions& options) {
+  const GlInfo& info = gl_->info;
   const int requested = options.samples;
   if (requested != 1 && requested != 2 && requested != 4 && requested != 8) {
     throw std::invalid_argument("RenderTarget: samples " + std::to_string(requested) +
@@ -104,75 +126,69 @@ RenderTarget::RenderTarget(const GpuBackend& backend, const RenderTargetOptions&
   // runs each glBlitFramebuffer as a rasterizer pass of its own, with a fixed cost (0.05-0.2 ms of
   // CPU, meter_readback_bench), where the shader pass draws every region in one pass, to the same
   // bytes. The box is a blit without multisample textures, or when asked (the benchmarks' baseline).
-  const bool by_shader =
-      reads_samples || (samples_ > 1 && info.has_multisample_texture && !options.box_resolve_by_blit);
+  return reads_samples || (samples_ > 1 && info.has_multisample_texture && !options.box_resolve_by_blit);
+}
 
-  const GLenum color_format = srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8;
-  const GLenum depth_format = depth_ == DepthFormat::Depth32F ? GL_DEPTH_COMPONENT32F : GL_DEPTH_COMPONENT24;
-  try {
-    // Single-sample framebuffer: the resolve destination (and the draw target without MSAA).
-    gl.GenTextures(1, &color_tex_);
-    gl.BindTexture(GL_TEXTURE_2D, color_tex_);
-    gl.TexStorage2D(GL_TEXTURE_2D, 1, color_format, width_, height_);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    gl.BindTexture(GL_TEXTURE_2D, 0);
-    gl.GenFramebuffers(1, &fbo_);
-    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_tex_, 0);
-    if (samples_ == 1 && depth_ != DepthFormat::None) {
-      gl.GenRenderbuffers(1, &depth_rb_);
-      gl.BindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
-      gl.RenderbufferStorage(GL_RENDERBUFFER, depth_format, width_, height_);
-      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb_);
-    }
-    GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-      throw GlError("RenderTarget (" + describe(width_, height_, 1, srgb_, depth_, SampleFormat::Srgb8) +
-                    "): framebuffer incomplete: " + status_name(status));
-    }
-    if (samples_ > 1) {
-      gl.GenFramebuffers(1, &msaa_fbo_);
-      if (by_shader) {
-        // A texture, so the resolve pass can read each sample. Fixed sample locations: required
-        // beside a renderbuffer depth attachment, and the filter's weights assume them.
-        gl.GenTextures(1, &msaa_color_tex_);
-        gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_);
-        gl.TexStorage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples_,
-                                   sample_format_ == SampleFormat::Rgba16f ? GL_RGBA16F : color_format, width_, height_,
-                                   GL_TRUE);
-        gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
-        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_, 0);
-      } else {
-        gl.GenRenderbuffers(1, &msaa_color_rb_);
-        gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_color_rb_);
-        gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, color_format, width_, height_);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
-        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color_rb_);
-      }
-      if (depth_ != DepthFormat::None) {
-        gl.GenRenderbuffers(1, &msaa_depth_rb_);
-        gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_depth_rb_);
-        gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, depth_format, width_, height_);
-        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_depth_rb_);
-      }
-      status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
-      if (status != GL_FRAMEBUFFER_COMPLETE) {
-        throw GlError("RenderTarget (" + description() +
-                      "): multisample framebuffer incomplete: " + status_name(status));
-      }
-      if (by_shader) shader_resolve_ = std::make_unique<ShaderResolve>(gl, resolve_, samples_, msaa_fbo_, options.programs);
-    }
-    gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
-    check_gl(gl, "RenderTarget (" + description() + ")");
-  } catch (...) {
-    release();
-    throw;
+// Single-sample framebuffer: the resolve destination (and the draw target without MSAA).
+void RenderTarget::make_single_sample(GLenum color_format, GLenum depth_format) {
+  const Gl& gl = *gl_;
+  gl.GenTextures(1, &color_tex_);
+  gl.BindTexture(GL_TEXTURE_2D, color_tex_);
+  gl.TexStorage2D(GL_TEXTURE_2D, 1, color_format, width_, height_);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl.BindTexture(GL_TEXTURE_2D, 0);
+  gl.GenFramebuffers(1, &fbo_);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_tex_, 0);
+  if (samples_ == 1 && depth_ != DepthFormat::None) {
+    gl.GenRenderbuffers(1, &depth_rb_);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
+    gl.RenderbufferStorage(GL_RENDERBUFFER, depth_format, width_, height_);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb_);
   }
-  bind();
+  const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    throw GlError("RenderTarget (" + describe(width_, height_, 1, srgb_, depth_, SampleFormat::Srgb8) +
+                  "): framebuffer incomplete: " + status_name(status));
+  }
+}
+
+void RenderTarget::make_multisample(GLenum color_format, GLenum depth_format, bool by_shader, ProgramCache* programs) {
+  const Gl& gl = *gl_;
+  gl.GenFramebuffers(1, &msaa_fbo_);
+  if (by_shader) {
+    // A texture, so the resolve pass can read each sample. Fixed sample locations: required
+    // beside a renderbuffer depth attachment, and the filter's weights assume them.
+    gl.GenTextures(1, &msaa_color_tex_);
+    gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_);
+    gl.TexStorage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples_,
+                               sample_format_ == SampleFormat::Rgba16f ? GL_RGBA16F : color_format, width_, height_,
+                               GL_TRUE);
+    gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE, msaa_color_tex_, 0);
+  } else {
+    gl.GenRenderbuffers(1, &msaa_color_rb_);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_color_rb_);
+    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, color_format, width_, height_);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo_);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color_rb_);
+  }
+  if (depth_ != DepthFormat::None) {
+    gl.GenRenderbuffers(1, &msaa_depth_rb_);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, msaa_depth_rb_);
+    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, depth_format, width_, height_);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_depth_rb_);
+  }
+  const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    throw GlError("RenderTarget (" + description() +
+                  "): multisample framebuffer incomplete: " + status_name(status));
+  }
+  if (by_shader) shader_resolve_ = std::make_unique<ShaderResolve>(gl, resolve_, samples_, msaa_fbo_, programs);
 }
 
 RenderTarget::~RenderTarget() { release(); }
@@ -315,16 +331,7 @@ Image RenderTarget::read_resolved() {
   gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());
   check_gl(gl, "RenderTarget::read_resolved (" + description() + ")");
-  // GL rows are bottom-up; Image rows are top-down.
-  const std::size_t row = static_cast<std::size_t>(width_) * 4;
-  std::vector<std::uint8_t> tmp(row);
-  for (int y = 0; y < height_ / 2; ++y) {
-    std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
-    std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(height_ - 1 - y) * row;
-    std::memcpy(tmp.data(), a, row);
-    std::memcpy(a, b, row);
-    std::memcpy(b, tmp.data(), row);
-  }
+  flip_rows(image);  // GL rows are bottom-up; Image rows are top-down
   return image;
 }
 
@@ -342,7 +349,6 @@ std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegi
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  std::vector<std::uint8_t> tmp;
   for (std::size_t i = 0; i < regions.size(); ++i) {
     const PixelRegion r = clip(regions[i], width_, height_);
     if (r.empty()) continue;
@@ -350,16 +356,7 @@ std::vector<Image> RenderTarget::read_resolved_regions(std::span<const PixelRegi
     image.width = r.width, image.height = r.height;
     image.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
     gl.ReadPixels(r.x, r.y, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-    // GL rows are bottom-up; Image rows are top-down: swapped in place.
-    const std::size_t row = static_cast<std::size_t>(r.width) * 4;
-    tmp.resize(row);
-    for (int y = 0; y < r.height / 2; ++y) {
-      std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
-      std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(r.height - 1 - y) * row;
-      std::memcpy(tmp.data(), a, row);
-      std::memcpy(a, b, row);
-      std::memcpy(b, tmp.data(), row);
-    }
+    flip_rows(image);  // GL rows are bottom-up; Image rows are top-down
     out[i] = std::move(image);
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer());

@@ -10,6 +10,7 @@
 #include <ostream>
 
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/platform/program_cache.hpp"
@@ -24,8 +25,8 @@
 #include "meter/preview/values_player.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/link.hpp"
-#include "meter/view/process_signals.hpp"
-#include "meter/view/values_input.hpp"
+#include "meter/runner/process_signals.hpp"
+#include "meter/runner/values_input.hpp"
 
 namespace meter::preview {
 namespace {
@@ -36,10 +37,12 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-// The scene on screen with what draws it; the renderer and the evaluator refer to the scene.
+// The scene on screen with what draws it; the renderer and the pipeline refer to the scene. The
+// preview is a policy over the engine's frame pipeline with no sink: the state from the controls,
+// a playing values file or the link, a frame at every window event or tick; the window shows it.
 struct ShownScene {
   ShownScene(std::shared_ptr<const engine::Scene> s, platform::GpuBackend& gpu, int msaa, platform::ProgramCache& programs)
-      : scene(std::move(s)), evaluator(*scene), renderer(gpu, *scene, renderer_options(msaa, programs)) {}
+      : scene(std::move(s)), renderer(gpu, *scene, renderer_options(msaa, programs)), pipeline(*scene, renderer) {}
   static engine::RendererOptions renderer_options(int msaa, platform::ProgramCache& programs) {
     engine::RendererOptions o;
     o.msaa = msaa;
@@ -47,8 +50,8 @@ struct ShownScene {
     return o;
   }
   std::shared_ptr<const engine::Scene> scene;
-  engine::BindingEvaluator evaluator;
   engine::Renderer renderer;
+  engine::FramePipeline pipeline;  // owns the binding evaluator
 };
 
 // The scene area 1:1 at the top left, the panel to its right; before any scene converted, the
@@ -70,7 +73,7 @@ class PreviewLoop {
         log_(log),
         reloader_({options.gltf, options.config}),
         watcher_({options.gltf, options.config}) {
-    for (const auto& s : options.sets) view::parse_set(s, values_, "--set");
+    for (const auto& s : options.sets) runner::parse_set(s, values_, "--set");
     if (!options.values_csv.empty()) player_.emplace(ValuesPlayer::load(options.values_csv));
     if (!options.link.empty()) {
       subscriber_.emplace(protocol::endpoint_from_option(options.link),
@@ -107,7 +110,7 @@ class PreviewLoop {
     const bool scripted = options_.exit_after_frames > 0 || options_.exit_after_playback;
     auto presented = Clock::now();
     int ui_frames = 0;  // window frames still to draw after an input event (UI hover, focus)
-    while (!window_->close_requested() && !view::stop_requested()) {
+    while (!window_->close_requested() && !runner::stop_requested()) {
       // A pending save is converted as soon as it settled; otherwise wait for events at the frame rate.
       window_->poll_events(frame == 0 ? 0.0 : reloader_.pending() || reloader_.converting() ? 0.005 : 1.0 / options_.fps);
       const auto now = Clock::now();
@@ -244,9 +247,8 @@ class PreviewLoop {
     const bool link_up = subscriber_ ? subscriber_->link_up() : !input_.link_lost;
     // Set and played states are states, not motion: jump to them as meter-view --set does; the
     // link's values move with the bindings' smoothing, as in meter-view.
-    shown_->evaluator.update(values_, link_up, subscriber_ ? dt : -1.0);
-    shown_->renderer.apply(shown_->evaluator.outputs());
-    const auto timing = shown_->renderer.render(false, false);
+    shown_->pipeline.evaluate(values_, link_up, subscriber_ ? dt : -1.0);
+    const auto timing = shown_->pipeline.render(engine::FrameRequest{}).timing;
     if (!timing.drawn) return false;
     status_.render_ms = timing.update_ms + timing.submit_ms + timing.gpu_readback_ms;
     if (awaiting_screen_) first_frame_ms_ = status_.render_ms;
@@ -319,7 +321,7 @@ class PreviewLoop {
 }  // namespace
 
 int run_preview(const PreviewOptions& options, std::ostream& log) {
-  view::install_stop_handlers();
+  runner::install_stop_handlers();
   try {
     protocol::use_catalog_option(options.catalog);  // before the scene: its bindings name catalog signals
     PreviewLoop loop(options, log);

@@ -8,11 +8,11 @@
 
 namespace meter::preview::testing {
 
-using view::testing::scratch_dir;
+using runner::testing::scratch_dir;
 
 // Writes in place (truncate + write + close), as a plain editor does.
 inline void save_in_place(const std::filesystem::path& file, const std::string& text) {
-  view::testing::write_text(file, text);
+  runner::testing::write_text(file, text);
 }
 
 // Writes a temporary file beside `file` and renames it over `file`, as most editors and Blender's

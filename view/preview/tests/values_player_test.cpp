@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "meter/protocol/catalog.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
 namespace meter::preview {
 namespace {
@@ -51,11 +51,11 @@ TEST(ValuesPlayer, ABadRowIsRefusedBeforePlaying) {
   try {
     ValuesPlayer p("time,signal,value\n0,Vehicle.Speed,1\n9,Vehicle.Sped,2\n", "drive.csv");
     FAIL() << "a row naming no catalog signal was accepted";
-  } catch (const view::ViewError& e) {
+  } catch (const runner::ViewError& e) {
     EXPECT_THAT(e.what(), HasSubstr("drive.csv:3"));
     EXPECT_THAT(e.what(), HasSubstr("Vehicle.Sped"));
   }
-  EXPECT_THROW(ValuesPlayer::load("/nonexistent/drive.csv"), view::ViewError);
+  EXPECT_THROW(ValuesPlayer::load("/nonexistent/drive.csv"), runner::ViewError);
 }
 
 }  // namespace

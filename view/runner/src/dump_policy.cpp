@@ -1,12 +1,12 @@
-#include "meter/view/dump_policy.hpp"
+#include "meter/runner/dump_policy.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "meter/view/option_units.hpp"
-#include "meter/view/view_options.hpp"
+#include "meter/runner/option_units.hpp"
+#include "meter/runner/view_options.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 DumpPolicy::DumpPolicy(int every, std::vector<double> at_times, bool dump_last)
     : every_(every), at_(std::move(at_times)), dump_last_(dump_last) {
@@ -33,4 +33,4 @@ std::string png_name(std::uint64_t frame) {
   return name;
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,9 +1,9 @@
-#include "meter/view/frame_pacing.hpp"
+#include "meter/runner/frame_pacing.hpp"
 
 #include <algorithm>
 #include <thread>
 
-namespace meter::view {
+namespace meter::runner {
 
 FramePacer::FramePacer(double fps, Clock::time_point start)
     : period_(std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps))),
@@ -66,4 +66,4 @@ void wait_for_change_or_frame(const FramePacer& pacer, std::optional<FramePacer:
   }
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,4 +1,4 @@
-#include "meter/view/frames_csv.hpp"
+#include "meter/runner/frames_csv.hpp"
 
 #include <iomanip>
 #include <set>
@@ -7,7 +7,7 @@
 #include "meter/protocol/catalog.hpp"
 #include "output_file.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 std::string csv_quoted(const std::string& text) {
   std::string q = "\"";
@@ -75,4 +75,4 @@ void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool 
   out_.flush();
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

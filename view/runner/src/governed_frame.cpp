@@ -1,4 +1,4 @@
-#include "meter/view/governed_frame.hpp"
+#include "meter/runner/governed_frame.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include "meter/engine/governor/cost_file.hpp"
 #include "meter/engine/governor/warm_up_choices.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace gov = engine::governor;
 namespace {
 
@@ -100,19 +100,14 @@ GovernedFrames::GovernedFrames(engine::Renderer& renderer, const ViewOptions& op
       << " draw units, costs " << path << "\n";
 }
 
-engine::FrameTiming GovernedFrames::render(bool force, bool read) {
+std::optional<gov::QualityChoice> GovernedFrames::choose(const gov::FrameLoad& planned) {
+  if (!governor_ || drawn_ == 0) return std::nullopt;  // off, or the start-up frame
+  return governor_->choose(planned);
+}
+
+void GovernedFrames::rendered(const engine::FrameTiming& timing, Clock::time_point began) {
   const std::uint64_t frame = frame_++;
-  const auto t0 = Clock::now();
-  // The first drawn frame is the start-up frame: it makes the targets and the static layer once,
-  // which no level makes fit the target. It is drawn at the quality the run starts with and not
-  // shown to the governor: a rung lowered for it would cost a second full frame to come back.
   const bool start_up = drawn_ == 0;
-  const engine::FrameTiming timing =
-      governor_ && !start_up ? renderer_.render(force, read,
-                                                [this](const gov::FrameLoad& load) -> std::optional<gov::QualityChoice> {
-                                                  return governor_->choose(load);
-                                                })
-                             : renderer_.render(force, read);
   if (inject_ && timing.drawn && frame >= inject_->first && frame <= inject_->last) {
     const float s = renderer_.quality().global.scale;
     const double pixels = renderer_.last_load().redrawn_pixels * double(s) * double(s);
@@ -120,47 +115,38 @@ engine::FrameTiming GovernedFrames::render(bool force, bool read) {
     while (Clock::now() < until) {
     }
   }
-  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  if (governor_ && start_up && timing.drawn) {
-    // Every level the governor may take drawn once now, with the outputs the display shows, so
-    // none costs its first-use work (program compiles, the driver's shader variants, a rung's
-    // targets and static layer) on a governed frame.
-    const auto w0 = Clock::now();
-    const int frames = renderer_.warm_up(gov::warm_up_choices(governor_->model()));
-    *log_ << "meter-view: governor warm-up after the start-up frame: " << frames << " frames at its levels in "
-          << ms_text(std::chrono::duration<double, std::milli>(Clock::now() - w0).count()) << " ms\n";
-    // Its frames.csv / trace cells: drawn at the run's starting quality, no prediction made.
-    cells_.predicted_ms = 0.0, cells_.measured_ms = ms;
-    cells_.msaa = renderer_.quality().global.msaa, cells_.scale = renderer_.quality().global.scale;
-  }
-  if (!timing.drawn) return timing;
+  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
+  if (governor_ && start_up && timing.drawn) warm_up(ms);
+  if (!timing.drawn) return;
   ++drawn_;
   if (interval_ != Clock::duration::zero()) window_ms_.push_back(ms);
   if (target_ms_ > 0 && ms > target_ms_) ++over_, ++window_over_;
-  if (governor_ && !start_up) {
-    governor_->observe(renderer_.last_load(), renderer_.quality(), ms);
-    const gov::QualityChoice& now = governor_->current();
-    cells_.predicted_ms = governor_->predicted_ms(), cells_.measured_ms = ms;
-    cells_.msaa = now.global.msaa, cells_.scale = now.global.scale;
-    if (described_ != now) {  // the units below full quality, named only when the choice changed
-      const gov::GovernorState st = governor_->state();
-      cells_.units_reduced = st.reduced.size(), cells_.reduced = gov::reduced_summary(st);
-      described_ = now;
-    }
-  }
-  return timing;
+  if (governor_ && !start_up) observe(ms);
 }
 
-void GovernedFrames::trace(TraceEvents& events, std::uint64_t frame, std::int64_t begin_ns, std::int64_t end_ns) const {
-  if (!governor_ || !events.on()) return;
-  events.complete("governor " + (cells_.reduced.empty() ? std::string("full quality") : cells_.reduced), "governor", begin_ns,
-                  end_ns, 1,
-                  {{"frame", static_cast<std::int64_t>(frame)},
-                   {"predicted_us", std::llround(cells_.predicted_ms * 1000)},
-                   {"measured_us", std::llround(cells_.measured_ms * 1000)},
-                   {"units_reduced", static_cast<std::int64_t>(cells_.units_reduced)},
-                   {"msaa", cells_.msaa},
-                   {"scale_pct", std::llround(cells_.scale * 100)}});
+// Every level the governor may take drawn once now, with the outputs the display shows, so none
+// costs its first-use work (program compiles, the driver's shader variants, a rung's targets and
+// static layer) on a governed frame.
+void GovernedFrames::warm_up(double start_up_ms) {
+  const auto w0 = Clock::now();
+  const int frames = renderer_.warm_up(gov::warm_up_choices(governor_->model()));
+  *log_ << "meter-view: governor warm-up after the start-up frame: " << frames << " frames at its levels in "
+        << ms_text(std::chrono::duration<double, std::milli>(Clock::now() - w0).count()) << " ms\n";
+  // Its frames.csv / trace cells: drawn at the run's starting quality, no prediction made.
+  cells_.predicted_ms = 0.0, cells_.measured_ms = start_up_ms;
+  cells_.msaa = renderer_.quality().global.msaa, cells_.scale = renderer_.quality().global.scale;
+}
+
+void GovernedFrames::observe(double ms) {
+  governor_->observe(renderer_.last_load(), renderer_.quality(), ms);
+  const gov::QualityChoice& now = governor_->current();
+  cells_.predicted_ms = governor_->predicted_ms(), cells_.measured_ms = ms;
+  cells_.msaa = now.global.msaa, cells_.scale = now.global.scale;
+  if (described_ != now) {  // the units below full quality, named only when the choice changed
+    const gov::GovernorState st = governor_->state();
+    cells_.units_reduced = st.reduced.size(), cells_.reduced = gov::reduced_summary(st);
+    described_ = now;
+  }
 }
 
 void GovernedFrames::print_if_due(Clock::time_point now, std::ostream& log) {
@@ -201,4 +187,4 @@ void GovernedFrames::summary(std::ostream& log) const {
   log << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,4 +1,4 @@
-#include "meter/view/integrity_monitor.hpp"
+#include "meter/runner/integrity_monitor.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "meter/platform/render_target.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 namespace {
 
@@ -287,4 +287,4 @@ void IntegrityMonitor::redraw_safe(engine::Renderer& renderer, std::size_t regio
   ++safe_redraws_;
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,12 +1,12 @@
-#include "meter/view/integrity_stage.hpp"
+#include "meter/runner/integrity_stage.hpp"
 
 #include <algorithm>
 #include <charconv>
 
 #include "meter/protocol/wire.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 namespace {
 
@@ -65,8 +65,8 @@ bool FaultLogLimit::admit(const std::string& region, Clock::time_point now) {
   return false;
 }
 
-IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
-    : ctx_(ctx), log_(log),
+IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, ViewHealth& health, std::ostream& log)
+    : ctx_(ctx), health_(health), log_(log),
       monitor_(ctx.scene, ctx.renderer.width(), ctx.renderer.height(), options.integrity_monitor) {
   if (monitor_.on()) {
     log << "meter-view: integrity monitor on: " << monitor_.table().regions.size() << " safety regions\n";
@@ -80,7 +80,7 @@ IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, s
 }
 
 void IntegrityStage::before_frame(std::uint64_t frame) {
-  monitor_.prepare(ctx_.renderer, ctx_.evaluator);
+  monitor_.prepare(ctx_.renderer, ctx_.pipeline.evaluator());
   if (!schedule_) return;
   if (frame == schedule_->first) ctx_.renderer.inject(schedule_->fault);
   if (schedule_->last && frame == *schedule_->last + 1) ctx_.renderer.inject(std::nullopt);
@@ -88,7 +88,7 @@ void IntegrityStage::before_frame(std::uint64_t frame) {
 
 void IntegrityStage::after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now) {
   if (!monitor_.on()) return;
-  const auto& faults = monitor_.check(ctx_.renderer, ctx_.evaluator);
+  const auto& faults = monitor_.check(ctx_.renderer, ctx_.pipeline.evaluator());
   cells_.faults = faults.size();
   cells_.total = monitor_.faults();
   cells_.first = faults.empty() ? std::string() : faults.front().describe();
@@ -108,4 +108,4 @@ void IntegrityStage::summary(std::ostream& log) const {
   log << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

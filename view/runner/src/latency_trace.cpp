@@ -1,10 +1,10 @@
-#include "meter/view/latency_trace.hpp"
+#include "meter/runner/latency_trace.hpp"
 
 #include <time.h>
 
 #include "output_file.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 LatencyTrace::LatencyTrace(const std::string& path) {
   if (path.empty()) return;
@@ -36,4 +36,4 @@ void LatencyTrace::png_written(std::uint64_t n) {
   out_ << "w," << now() << "," << n << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

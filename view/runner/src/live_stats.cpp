@@ -1,8 +1,8 @@
-#include "meter/view/live_stats.hpp"
+#include "meter/runner/live_stats.hpp"
 
 #include <cstdio>
 
-namespace meter::view {
+namespace meter::runner {
 
 LiveStats::LiveStats(const PngWriter& writer, double interval_s, Clock::time_point start)
     : writer_(writer),
@@ -48,4 +48,4 @@ void LiveStats::print(const PipelineWindow& w, double t, std::ostream& log) {
   log << "meter-view: stats " << when << " s: " << format_stage_shares(w) << "; " << find_bottleneck(w).text << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,33 +1,37 @@
-#include "meter/view/offline_render.hpp"
+#include "meter/runner/offline_render.hpp"
 
+#include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/platform/image.hpp"
-#include "meter/view/frames_csv.hpp"
-#include "meter/view/option_units.hpp"
-#include "meter/view/script_log.hpp"
-#include "meter/view/values_input.hpp"
+#include "meter/runner/frames_csv.hpp"
+#include "meter/runner/option_units.hpp"
+#include "meter/runner/script_log.hpp"
+#include "meter/runner/values_input.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
+// Offline mode: a policy over the engine's frame pipeline with one frame, forced and read back: the
+// state from --values / --set; its sink the timing CSV; the PNG and its frames.csv row written here.
 void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
   protocol::SignalTable values;
   if (!options.values_csv.empty()) {
     load_values_csv(options.values_csv, options.at.empty() ? 1e300 : parse_time(options.at, "--at"), values);
   }
   for (const auto& s : options.sets) parse_set(s, values, "--set");
-  ctx.evaluator.update(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
-  log_script_messages(ctx.evaluator, log);
-  ctx.renderer.apply(ctx.evaluator.outputs());
-  const auto ft = ctx.renderer.render(true, true);
-  ctx.timing.row(0, 0.0, ft);
+  engine::FramePipeline& pipeline = ctx.pipeline;
+  pipeline.add_sink(ctx.timing);
+  pipeline.evaluate(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
+  log_script_messages(ctx.pipeline.evaluator(), log);
+  pipeline.render(engine::FrameRequest{0, 0.0, true, true, true, false});
+  pipeline.finish();
   const auto png = ctx.out_dir / options.png_name;
   platform::write_png(ctx.renderer.last_image(), png);
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings());
-  csv.row(0, 0.0, png.filename().string(), !options.link_lost, true, ctx.evaluator.states());
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings());
+  csv.row(0, 0.0, png.filename().string(), !options.link_lost, true, ctx.pipeline.evaluator().states());
   if (options.info) {
     log << "meter-view: wrote " << png.string() << " in "
         << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ctx.started).count() << " ms\n";
-    log_script_stats(ctx.evaluator, log);
+    log_script_stats(ctx.pipeline.evaluator(), log);
   }
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

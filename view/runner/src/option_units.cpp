@@ -1,11 +1,11 @@
-#include "meter/view/option_units.hpp"
+#include "meter/runner/option_units.hpp"
 
 #include <cmath>
 #include <cstdio>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 double parse_time(const std::string& text, const std::string& option) {
   std::size_t used = 0;
@@ -32,4 +32,4 @@ std::pair<int, int> parse_size(const std::string& text) {
   return {w, h};
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,8 +1,8 @@
 #include "output_file.hpp"
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 std::ofstream create_output_file(const std::filesystem::path& path, const std::string& failure) {
   std::ofstream out(path);
@@ -10,4 +10,4 @@ std::ofstream create_output_file(const std::filesystem::path& path, const std::s
   return out;
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -5,9 +5,9 @@
 #include <fstream>
 #include <string>
 
-namespace meter::view {
+namespace meter::runner {
 
 // `path` truncated for writing; throws ViewError "<path>: <failure>" when it cannot be.
 std::ofstream create_output_file(const std::filesystem::path& path, const std::string& failure = "cannot write");
 
-}  // namespace meter::view
+}  // namespace meter::runner

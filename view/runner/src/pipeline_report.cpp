@@ -1,11 +1,11 @@
-#include "meter/view/pipeline_report.hpp"
+#include "meter/runner/pipeline_report.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 // Whole percent of the window, at most 100: a slice is counted in the window where it ends, so a
@@ -87,4 +87,4 @@ Bottleneck find_bottleneck(const PipelineWindow& w) {
   return b;
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,24 +1,12 @@
-#include "meter/view/pixel_pack_readback.hpp"
+#include "meter/runner/pixel_pack_readback.hpp"
 
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
 
-#include "meter/view/stage_meter.hpp"
+#include "meter/runner/stage_meter.hpp"
 
-namespace meter::view {
-
-void flip_rows(platform::Image& image) {
-  const std::size_t row = static_cast<std::size_t>(image.width) * 4;
-  std::vector<std::uint8_t> tmp(row);
-  for (int y = 0; y < image.height / 2; ++y) {
-    std::uint8_t* a = image.rgba.data() + static_cast<std::size_t>(y) * row;
-    std::uint8_t* b = image.rgba.data() + static_cast<std::size_t>(image.height - 1 - y) * row;
-    std::memcpy(tmp.data(), a, row);
-    std::memcpy(a, b, row);
-    std::memcpy(b, tmp.data(), row);
-  }
-}
+namespace meter::runner {
 
 PixelPackReadback::PixelPackReadback(const platform::Gl& gl, int width, int height, std::size_t depth,
                                      bool asynchronous)
@@ -118,4 +106,4 @@ void PixelPackReadback::finish(Pending& p, const std::function<void(ReadbackFram
   done(std::move(out));
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

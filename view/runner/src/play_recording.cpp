@@ -1,4 +1,4 @@
-#include "meter/view/play_recording.hpp"
+#include "meter/runner/play_recording.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -6,12 +6,14 @@
 
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
-#include "meter/view/dump_policy.hpp"
-#include "meter/view/frames_csv.hpp"
-#include "meter/view/png_writer.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/engine/pipeline/frame_pipeline.hpp"
+#include "meter/runner/dump_policy.hpp"
+#include "meter/runner/frame_dump.hpp"
+#include "meter/runner/frames_csv.hpp"
+#include "meter/runner/png_writer.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 const std::vector<protocol::SignalUpdate>* updates_of(const protocol::Frame& frame) {
@@ -60,52 +62,73 @@ PlaySpan play_span(const std::vector<protocol::RecordedFrame>& frames, const std
   return PlaySpan{first, static_cast<double>(last - first) / 1e9};
 }
 
+namespace {
+
+// The recording's lines stamped at or before `now_ns` (from `next` on) applied to `table`; the
+// controller's faults logged as they rise and clear, on the recording's clock.
+class RecordingState {
+ public:
+  RecordingState(const std::vector<protocol::RecordedFrame>& frames, std::ostream& log) : frames_(frames), log_(log) {}
+  const protocol::SignalTable& at(std::int64_t now_ns, double t) {
+    for (; next_ < frames_.size() && frames_[next_].frame.timestamp_ns <= now_ns; ++next_) {
+      const auto& frame = frames_[next_].frame;
+      if (const auto* list = updates_of(frame)) {
+        for (const auto& u : *list) {
+          if (table_.index_of(u.id)) table_.set(u.id, protocol::SignalState{u.value, u.status, u.has_text ? u.text : std::string()});
+        }
+      } else if (const auto* st = std::get_if<protocol::Status>(&frame.message)) {
+        note_faults(st->fault_flags, t);
+      }
+    }
+    return table_;
+  }
+
+ private:
+  void note_faults(std::uint32_t flags, double t) {
+    if (const std::uint32_t raised = flags & ~faults_)
+      log_ << "meter-view: t=" << t << " s: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
+    if (const std::uint32_t cleared = faults_ & ~flags)
+      log_ << "meter-view: t=" << t << " s: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+    faults_ = flags;
+  }
+
+  const std::vector<protocol::RecordedFrame>& frames_;
+  std::ostream& log_;
+  protocol::SignalTable table_;
+  std::size_t next_ = 0;
+  std::uint32_t faults_ = 0;
+};
+
+}  // namespace
+
+// Play mode: a policy over the engine's frame pipeline. The state comes from the recording, frame
+// k at k/fps after its first update on a simulated clock (no waiting); sinks: the timing CSV and
+// the PNG dump (frames.csv rows).
 void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
   const auto frames = read_recording(options.play);
   const PlaySpan span = play_span(frames, options.play);
   const auto times = play_frame_times(options.fps, options.duration_s > 0 ? options.duration_s : span.span_s);
   DumpPolicy policy = dump_policy(options);
-  protocol::SignalTable table;
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.evaluator.bindings(), false, ctx.governed.governing());
+  RecordingState state(frames, log);
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), false, ctx.governed.governing());
   PngWriter png_writer;
-  auto dump = [&](std::uint64_t n, double t, bool drawn) {
-    const std::string name = png_name(n);
-    csv.row(n, t, name, true, drawn, ctx.evaluator.states(), nullptr, ctx.governed.cells());
-    png_writer.write(ctx.renderer.last_image(), ctx.out_dir / name, n,
-                     [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); });
-  };
-  std::size_t next = 0;
-  std::uint32_t faults = 0;
+  FrameDumpSetup setup;
+  setup.governor = &ctx.governed;
+  setup.while_full = [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); };
+  FrameDump dump(ctx, png_writer, csv, std::move(setup));
+  engine::FramePipeline& pipeline = ctx.pipeline;
+  pipeline.set_governor(&ctx.governed);
+  pipeline.add_sink(ctx.timing);
+  pipeline.add_sink(dump);
   const double dt = 1.0 / options.fps;
   for (std::uint64_t k = 0; k < times.size(); ++k) {
     const double t = times[k];
-    const std::int64_t now_ns = span.first_ns + std::llround(t * 1e9);
-    for (; next < frames.size() && frames[next].frame.timestamp_ns <= now_ns; ++next) {
-      const auto& frame = frames[next].frame;
-      if (const auto* list = updates_of(frame)) {
-        for (const auto& u : *list) {
-          if (table.index_of(u.id)) table.set(u.id, protocol::SignalState{u.value, u.status, u.has_text ? u.text : std::string()});
-        }
-      } else if (const auto* st = std::get_if<protocol::Status>(&frame.message)) {
-        // The controller's faults as they rise and clear, on the recording's clock.
-        if (const std::uint32_t raised = st->fault_flags & ~faults)
-          log << "meter-view: t=" << t << " s: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
-        if (const std::uint32_t cleared = faults & ~st->fault_flags)
-          log << "meter-view: t=" << t << " s: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
-        faults = st->fault_flags;
-      }
-    }
-    ctx.evaluator.update(table, true, k == 0 ? -1.0 : dt);
-    ctx.renderer.apply(ctx.evaluator.outputs());
+    pipeline.evaluate(state.at(span.first_ns + std::llround(t * 1e9), t), true, k == 0 ? -1.0 : dt);
     const bool want = policy.decide(k, t, false).write;
-    const auto timing = ctx.governed.render(false, want);
-    ctx.timing.row(k, t, timing, ctx.governed.cells());
-    if (want) dump(k, t, timing.drawn);
+    pipeline.render(engine::FrameRequest{k, t, false, want, want, false});
   }
-  if (policy.dump_on_exit(times.size())) {
-    ctx.renderer.read();
-    dump(times.size() - 1, times.back(), false);
-  }
+  pipeline.finish();
+  if (policy.dump_on_exit(times.size())) dump.dump_standing(times.size() - 1, times.back(), true);
   png_writer.finish();
   const auto& st = ctx.renderer.stats();
   log << "meter-view: played " << options.play << ": " << times.size() << " frames over " << times.back()
@@ -115,4 +138,4 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   png_writer.check();
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

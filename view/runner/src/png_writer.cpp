@@ -1,8 +1,9 @@
-#include "meter/view/png_writer.hpp"
+#include "meter/runner/png_writer.hpp"
 
-#include "meter/view/view_error.hpp"
+#include "meter/platform/flip_rows.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 PngWriter::PngWriter(OnWritten on_written, OnStarted on_started)
     : on_written_(std::move(on_written)),
@@ -72,7 +73,7 @@ void PngWriter::handle(Job& job) {
   const FrameInfo& info = job.frame.info;
   {
     BusyScope busy(check_meter_);
-    if (job.bottom_up) flip_rows(job.frame.image);
+    if (job.bottom_up) platform::flip_rows(job.frame.image);
   }
   if (info.png.empty()) return;
   BusyScope busy(encode_meter_);
@@ -81,4 +82,4 @@ void PngWriter::handle(Job& job) {
   if (on_written_) on_written_(info.frame);
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,8 +1,8 @@
-#include "meter/view/process_signals.hpp"
+#include "meter/runner/process_signals.hpp"
 
 #include <csignal>
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -28,4 +28,4 @@ bool take_dump_request() {
   return true;
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,11 +1,11 @@
-#include "meter/view/render_context.hpp"
+#include "meter/runner/render_context.hpp"
 
 #include <system_error>
 
-#include "meter/view/option_units.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/option_units.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 std::unique_ptr<platform::GpuBackend> backend_named(const std::string& name) {
@@ -30,7 +30,7 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
       scene(engine::read_package(options.scene_path)),
       backend(backend_named(options.backend)),
       renderer(*backend, scene, renderer_options(options)),
-      evaluator(scene),
+      pipeline(scene, renderer),
       governed(renderer, options, log) {
   if (options.info) {
     log << "meter-view: " << renderer.backend_info() << "; " << scene.draws.size() << " draws, "
@@ -42,4 +42,4 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
   timing = TimingCsv(options.timing_csv, governed.governing());
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,13 +1,13 @@
-#include "meter/view/run_view.hpp"
+#include "meter/runner/run_view.hpp"
 
 #include "meter/protocol/catalog.hpp"
-#include "meter/view/live_loop.hpp"
-#include "meter/view/offline_render.hpp"
-#include "meter/view/play_recording.hpp"
-#include "meter/view/process_signals.hpp"
-#include "meter/view/render_context.hpp"
+#include "meter/runner/live_loop.hpp"
+#include "meter/runner/offline_render.hpp"
+#include "meter/runner/play_recording.hpp"
+#include "meter/runner/process_signals.hpp"
+#include "meter/runner/render_context.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 int run_view(const ViewOptions& options, std::ostream& log) {
   install_dump_request_handler();
@@ -31,4 +31,4 @@ int run_view(const ViewOptions& options, std::ostream& log) {
   }
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,8 +1,8 @@
-#include "meter/view/script_log.hpp"
+#include "meter/runner/script_log.hpp"
 
 #include "meter/engine/logic/scripts.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 void log_script_messages(engine::BindingEvaluator& evaluator, std::ostream& log) {
   if (auto* scripts = evaluator.scripts())
@@ -14,4 +14,4 @@ void log_script_stats(const engine::BindingEvaluator& evaluator, std::ostream& l
     for (const auto& st : scripts->stats()) log << "meter-view: script " << engine::describe(st) << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

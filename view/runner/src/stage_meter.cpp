@@ -1,6 +1,6 @@
-#include "meter/view/stage_meter.hpp"
+#include "meter/runner/stage_meter.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 StageTimes since(const StageTimes& now, const StageTimes& before) {
   StageTimes d = now;
@@ -26,4 +26,4 @@ std::int64_t ns_since(std::chrono::steady_clock::time_point began) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - began).count();
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

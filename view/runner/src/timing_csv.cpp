@@ -1,10 +1,10 @@
-#include "meter/view/timing_csv.hpp"
+#include "meter/runner/timing_csv.hpp"
 
 #include <iomanip>
 
 #include "output_file.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 TimingCsv::TimingCsv(const std::string& path, bool governor) : governor_(governor) {
   if (path.empty()) return;
@@ -22,4 +22,4 @@ void TimingCsv::row(std::uint64_t frame, double t, const engine::FrameTiming& ti
   out_ << "\n";
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

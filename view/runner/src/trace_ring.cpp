@@ -1,13 +1,13 @@
-#include "meter/view/trace_ring.hpp"
+#include "meter/runner/trace_ring.hpp"
 
 #include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 TraceRing::TraceRing(std::int64_t keep_ns, std::size_t max_events) : keep_ns_(keep_ns), max_(max_events) {}
 
@@ -72,4 +72,4 @@ std::string TraceEvents::frame_ended(std::uint64_t frame, std::int64_t frame_ns)
   return path.string();
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,4 +1,4 @@
-#include "meter/view/values_input.hpp"
+#include "meter/runner/values_input.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "meter/protocol/catalog.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 const protocol::SignalInfo& signal_named(const std::string& name, const std::string& where) {
@@ -152,4 +152,4 @@ void load_values_csv(const std::string& path, double t, protocol::SignalTable& v
   read_values_csv(in, path, t, values);
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,10 +1,10 @@
-#include "meter/view/view_health.hpp"
+#include "meter/runner/view_health.hpp"
 
 #include <bit>
 
 #include "meter/protocol/wire.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 
 namespace {
 int bit_of(std::uint32_t fault) { return fault == 0 ? -1 : std::countr_zero(fault); }
@@ -30,4 +30,4 @@ std::uint64_t ViewHealth::count(std::uint32_t fault) const {
   return b < 0 ? 0 : counts_[static_cast<std::size_t>(b)];
 }
 
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,13 +1,13 @@
 // The bounded buffer between pipeline stages: its bound, drops, waits measured on both sides,
 // closing, and held items counting against the bound.
-#include "meter/view/bounded_queue.hpp"
+#include "meter/runner/bounded_queue.hpp"
 
 #include <future>
 #include <thread>
 
 #include <gtest/gtest.h>
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using std::chrono::milliseconds;
@@ -100,4 +100,4 @@ TEST(BoundedQueue, AHeldItemKeepsItsSlotUntilReleased) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

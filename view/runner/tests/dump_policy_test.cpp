@@ -1,12 +1,12 @@
 // Which live frames are dumped: every Nth, the first at or after each time, on request, the last.
-#include "meter/view/dump_policy.hpp"
+#include "meter/runner/dump_policy.hpp"
 
 #include <algorithm>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 // The frames dumped over `frames` frames at `fps`, with requests before the listed frames.
@@ -60,4 +60,4 @@ TEST(DumpPolicy, TheLastFrameOnExitOnlyWhenAskedAndAFrameExists) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

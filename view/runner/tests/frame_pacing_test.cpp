@@ -1,6 +1,6 @@
 // The frame clock: period, the view's clock, no burst after a late frame, and the wait that
 // services the link until the next frame is due.
-#include "meter/view/frame_pacing.hpp"
+#include "meter/runner/frame_pacing.hpp"
 
 #include <algorithm>
 #include <thread>
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using Clock = FramePacer::Clock;
@@ -137,4 +137,4 @@ TEST(WaitForChangeOrFrame, WithoutChangesItWaitsForTheTick) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,15 +1,15 @@
 // The frame-rate governor's runner side without GL: the test-only cost injection's option text,
 // the cost file's default place, and the governor's columns in frames.csv and the timing CSV
 // (present only when the governor is on).
-#include "meter/view/governed_frame.hpp"
-#include "meter/view/timing_csv.hpp"
+#include "meter/runner/governed_frame.hpp"
+#include "meter/runner/timing_csv.hpp"
 
 #include <gtest/gtest.h>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 #include "scratch_files.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 TEST(CostInjection, ReadsNanosecondsPerPixelAndAFrameRange) {
@@ -64,4 +64,4 @@ TEST(GovernedFrame, GovernorColumnsOnlyWhenTheGovernorIsOn) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

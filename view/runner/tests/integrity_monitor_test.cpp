@@ -1,15 +1,15 @@
 // The integrity monitor's judgement on plain data (no GL): faults name region, expected and
 // seen; frozen regions (expected look changed, pixels did not); what counts as a change of look;
 // the --inject-fault text; the log limit; the frames.csv columns.
-#include "meter/view/integrity_monitor.hpp"
-#include "meter/view/integrity_stage.hpp"
+#include "meter/runner/integrity_monitor.hpp"
+#include "meter/runner/integrity_stage.hpp"
 
 #include <gtest/gtest.h>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 #include "scratch_files.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using bridge::SafetyKind;
@@ -190,4 +190,4 @@ TEST(FramesCsv, IntegrityColumnsComeLastOnlyWhenTheMonitorIsOn) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,15 +1,15 @@
 // The latency trace rows bench/latency reads, on CLOCK_REALTIME.
-#include "meter/view/latency_trace.hpp"
+#include "meter/runner/latency_trace.hpp"
 
 #include <thread>
 #include <time.h>
 
 #include <gtest/gtest.h>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 #include "scratch_files.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 std::vector<std::string> fields(const std::string& line) {
@@ -77,4 +77,4 @@ TEST(LatencyTrace, AnUnwritableFileIsNamed) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,11 +1,11 @@
 // Times with units and render sizes, and the errors naming the flag.
-#include "meter/view/option_units.hpp"
+#include "meter/runner/option_units.hpp"
 
 #include <gtest/gtest.h>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 std::string time_error(const std::string& text) {
@@ -58,4 +58,4 @@ TEST(ParseSize, RejectsOtherShapesAndRanges) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

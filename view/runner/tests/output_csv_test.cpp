@@ -1,14 +1,14 @@
 // frames.csv (values as drawn, per-signal and per-text columns) and the timing CSV.
-#include "meter/view/frames_csv.hpp"
-#include "meter/view/timing_csv.hpp"
+#include "meter/runner/frames_csv.hpp"
+#include "meter/runner/timing_csv.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 #include "scratch_files.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using protocol::SignalStatus;
@@ -132,4 +132,4 @@ TEST(TimingCsv, AnUnwritableFileIsNamed) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

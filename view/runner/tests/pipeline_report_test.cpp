@@ -1,9 +1,9 @@
 // --stats: stage shares and the bottleneck named by CUBE's rule, on synthetic windows.
-#include "meter/view/pipeline_report.hpp"
+#include "meter/runner/pipeline_report.hpp"
 
 #include <gtest/gtest.h>
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
@@ -83,4 +83,4 @@ TEST(StageMeter, ReadsAndDifferencesItsCounters) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

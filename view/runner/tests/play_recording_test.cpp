@@ -5,10 +5,10 @@
 
 #include <sstream>
 
-#include "meter/view/play_recording.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/play_recording.hpp"
+#include "meter/runner/view_error.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 TEST(PlayFrameTimes, ExactMultiplesOfTheFramePeriodOverTheSpan) {
@@ -51,4 +51,4 @@ TEST(PlaySpan, ARecordingWithoutUpdatesIsNamed) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

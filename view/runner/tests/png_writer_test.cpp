@@ -1,6 +1,6 @@
 // The PNG writer thread: files written with the right pixels, the queue bound, draining on
 // finish, and write errors counted and reported to the render thread without stopping it.
-#include "meter/view/png_writer.hpp"
+#include "meter/runner/png_writer.hpp"
 
 #include <atomic>
 #include <future>
@@ -8,10 +8,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 #include "scratch_files.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using ::testing::HasSubstr;
@@ -148,4 +148,4 @@ TEST(PngWriter, BottomUpRowsAreWrittenTopDown) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-namespace meter::view::testing {
+namespace meter::runner::testing {
 
 // An empty directory named for the running test.
 inline std::filesystem::path scratch_dir() {
@@ -32,4 +32,4 @@ inline std::vector<std::string> read_lines(const std::filesystem::path& file) {
   return lines;
 }
 
-}  // namespace meter::view::testing
+}  // namespace meter::runner::testing

@@ -1,6 +1,6 @@
 // --trace-on-overrun: the ring keeps the last seconds of slices, an overrunning frame writes them
 // as a trace-event document, and a view that overruns every frame does not write every frame.
-#include "meter/view/trace_ring.hpp"
+#include "meter/runner/trace_ring.hpp"
 
 #include <fstream>
 #include <sstream>
@@ -10,7 +10,7 @@
 
 #include "scratch_files.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using ::testing::HasSubstr;
@@ -72,4 +72,4 @@ TEST(TraceEvents, WithoutTheOptionNothingIsKept) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -1,5 +1,5 @@
 // --set and the values CSV: the state they give and the errors they raise (file:line, field).
-#include "meter/view/values_input.hpp"
+#include "meter/runner/values_input.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -8,10 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "meter/protocol/catalog.hpp"
-#include "meter/view/view_error.hpp"
+#include "meter/runner/view_error.hpp"
 #include "scratch_files.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using protocol::SignalState;
@@ -190,4 +190,4 @@ TEST(ParseSet, ReplacesTheWholeStateNotOnlyTheValue) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

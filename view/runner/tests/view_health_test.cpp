@@ -1,12 +1,12 @@
 // The view's faults as STATUS flags: held for the hold time after the last report, then cleared;
 // counted; several faults at once; unknown bits kept.
-#include "meter/view/view_health.hpp"
+#include "meter/runner/view_health.hpp"
 
 #include <gtest/gtest.h>
 
 #include "meter/protocol/wire.hpp"
 
-namespace meter::view {
+namespace meter::runner {
 namespace {
 
 using namespace std::chrono_literals;
@@ -41,4 +41,4 @@ TEST(ViewHealth, FaultNamesForTheLog) {
 }
 
 }  // namespace
-}  // namespace meter::view
+}  // namespace meter::runner

@@ -18,7 +18,7 @@
 //                 frame-wide MSAA and scale, drawn from the next render(); see "Quality levels".
 #pragma once
 
-#include <functional>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -106,11 +106,6 @@ struct RendererStats {
   double redrawn_fraction_sum = 0.0;    // sum over drawn frames of FrameTiming::redrawn_fraction
 };
 
-// Called by Renderer::render(force, read, choose) once the frame is evaluated and planned, before it
-// is drawn, with the frame's planned load; a returned choice other than the current one is applied
-// (set_quality) and the frame planned again before drawing. nullopt: keep the current choice.
-using LevelChooser = std::function<std::optional<governor::QualityChoice>(const governor::FrameLoad&)>;
-
 class GpuScene;
 class DrawSubmission;
 class ShadowMaps;
@@ -125,16 +120,26 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Applies binding outputs to the pose/overrides and marks the frame dirty when they differ from
-  // the last applied ones. render() then compares the evaluated frame with the last drawn one only
-  // to find where pixels changed (the damaged regions), and skips a frame where none can have.
+  // Applies new binding outputs to the pose/overrides and marks the frame dirty. The caller applies
+  // only outputs that changed (BindingEvaluator::update says so: changes are detected once, there).
+  // render() then compares the evaluated frame with the last drawn one only to find where pixels
+  // changed (the damaged regions), and skips a frame where none can have.
   void apply(const BindingOutputs& outputs);
   // True when changed outputs were applied since the last drawn or skipped frame.
   bool dirty() const { return dirty_; }
 
   // Draws when dirty (or `force`), then waits for the GPU; with `read` also resolves and reads the
   // frame into last_image(). Returns the frame's timing; FrameTiming::drawn says whether it drew.
+  // The same as plan(force, read) then draw() with no choice.
   FrameTiming render(bool force = false, bool read = false);
+  // A frame in two halves, with the frame-rate governor's choice between them as a plain input
+  // (the frame pipeline, meter/engine/pipeline/frame_pipeline.hpp). plan(): the frame evaluated and
+  // planned at the current quality; returns its planned load (last_load()): empty (drawn = false)
+  // when nothing changed, so a choice made while the display is idle is still drawn at once.
+  const governor::FrameLoad& plan(bool force = false, bool read = false);
+  // draw(): `choice` (nullopt: keep the quality) applied, the frame planned again when it changed
+  // the quality, then drawn (or skipped) and waited for, as render() does. Once after each plan().
+  FrameTiming draw(const std::optional<governor::QualityChoice>& choice = std::nullopt);
   const platform::Image& last_image() const { return image_; }
   // Resolves and reads the current contents of the target (the last drawn frame).
   const platform::Image& read();
@@ -177,7 +182,6 @@ class Renderer {
 
   // Quality levels (the frame-rate governor's side; meter/engine/governor/quality_choice.hpp and
   // docs/engine.md "Quality levels").
-  using LevelChooser = engine::LevelChooser;
   // One ladder per draw unit, fixed at construction. Order: Scene::draws order, one entry per draw
   // drawn on its own and one per merged group at its first member's (representative's) place
   // (with RendererOptions::concatenate off every draw is a unit). A safety unit has one shading and
@@ -203,10 +207,6 @@ class Renderer {
   // shader variants for each MSAA rung, a rung's targets and text sizes) is so made before any
   // frame is timed, not on the first frame that uses it. Returns the frames drawn.
   int warm_up(std::span<const governor::QualityChoice> choices);
-  // As render(force, read), with `choose` asked once per frame between planning and drawing (see
-  // LevelChooser). A frame with nothing to redraw asks it too, with an empty load (drawn = false),
-  // so a choice made while the display is idle is drawn at once.
-  FrameTiming render(bool force, bool read, const LevelChooser& choose);
   // Moves the drawn image by `pixels` (x right, y up, in the drawn target's pixels) from the next
   // render() on, by translating the projection after it: the whole scene is sampled that far from
   // the pixel centres. A film that averages passes at jittered offsets (what EEVEE's temporal
@@ -235,9 +235,9 @@ class Renderer {
   // What every rung's targets hold forgotten: the next frame at each is drawn in full (with
   // `layers`, its static layer rebuilt too).
   void forget_drawn(bool layers);
-  // The frame evaluated at the current quality and planned; with `choose`, re-planned once after
-  // the chooser changed the quality.
-  FramePlan plan_at_quality(bool force, bool read_back, FrameState& now, const LevelChooser* choose);
+  // The frame evaluated at the current quality and planned (its load in last_load_).
+  FramePlan plan_at_quality(bool force, bool read_back, FrameState& now);
+  FrameTiming skip(bool read_back, FrameTiming t);
   PlanSettings plan_settings(bool force) const;
   platform::PixelRegion to_output(const platform::PixelRegion& r) const;
   platform::PixelRegion to_drawn(const platform::PixelRegion& r) const;
@@ -260,6 +260,15 @@ class Renderer {
   std::map<int, std::unique_ptr<TextDrawing>> text_by_height_;
   int text_height_ = 0;
   bool dirty_ = true;
+  // The frame between plan() and draw(): planned (or idle: nothing to evaluate), its timing so far.
+  struct PlannedFrame {
+    bool idle = false, force = false, read = false;
+    FrameTiming timing;
+    std::chrono::steady_clock::time_point plan_began;
+    FramePlan plan;
+    FrameState now;
+  };
+  PlannedFrame planned_;
   glm::vec2 subpixel_offset_{0.0f};  // see set_subpixel_offset()
   platform::Image image_;
   RendererStats stats_;

@@ -150,6 +150,13 @@ class RenderTarget {
   const std::string& warning() const { return warning_; }
 
  private:
+  // The constructor's parts: the size checked against the context; the samples, resolve filter and
+  // sample format settled (returns whether a shader pass resolves); the single-sample framebuffer
+  // (the resolve destination); the multisample one.
+  void check_size(const GpuBackend& backend) const;
+  bool settle_samples(const GpuBackend& backend, const RenderTargetOptions& options);
+  void make_single_sample(GLenum color_format, GLenum depth_format);
+  void make_multisample(GLenum color_format, GLenum depth_format, bool by_shader, ProgramCache* programs);
   void release() noexcept;
   // Size, samples and formats, for messages ("1280x480, 4 sample(s), SRGB8_ALPHA8, ...").
   std::string description() const;

@@ -7,14 +7,14 @@
 #include <vector>
 
 #include "meter/protocol/signal_table.hpp"
-#include "meter/view/values_input.hpp"
+#include "meter/runner/values_input.hpp"
 
 namespace meter::preview {
 
 class ValuesPlayer {
  public:
   // `text` is the file's content, `name` where it came from (errors say "name:line"). Every row is
-  // checked here, so a bad file is refused before playing (meter::view::ViewError).
+  // checked here, so a bad file is refused before playing (meter::runner::ViewError).
   ValuesPlayer(const std::string& text, std::string name);
   // Reads the file (ViewError when it cannot be opened or a row is bad).
   static ValuesPlayer load(const std::string& path);
@@ -27,7 +27,7 @@ class ValuesPlayer {
   void state_at(double t, protocol::SignalTable& values) const;
 
  private:
-  std::vector<view::ValuesRow> rows_;
+  std::vector<runner::ValuesRow> rows_;
   std::string name_;
   double duration_ = 0.0;
 };

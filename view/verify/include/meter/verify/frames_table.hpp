@@ -1,4 +1,4 @@
-// A run folder's frames.csv as meter-view writes it (meter/view/frames_csv.hpp), read back for
+// A run folder's frames.csv as meter-view writes it (meter/runner/frames_csv.hpp), read back for
 // meter-verify: one row per dumped PNG with the bound signals as drawn.
 #pragma once
 

@@ -1,0 +1,27 @@
+// --trace-json's slices of each frame as a frame sink (docs/tracing.md): evaluate (bindings,
+// outputs applied), render, and inside render the renderer's measured parts laid end to end
+// (update, submit, readback); with the frame-rate governor on, a "governor <units below full |
+// full quality>" slice over the render span. Then --trace-on-overrun: a frame that took longer
+// than its limit writes the last seconds of trace (logged with the file's name).
+#pragma once
+
+#include <ostream>
+
+#include "meter/engine/pipeline/frame_sink.hpp"
+#include "meter/runner/trace_ring.hpp"
+
+namespace meter::runner {
+
+class FrameTrace : public engine::FrameSink {
+ public:
+  // `events` and `log` outlive the sink; `overrun_ms` is --trace-on-overrun's (for the log line).
+  FrameTrace(TraceEvents& events, double overrun_ms, std::ostream& log);
+  void on_frame(const engine::FrameRecord& frame) override;
+
+ private:
+  TraceEvents& events_;
+  double overrun_ms_;
+  std::ostream& log_;
+};
+
+}  // namespace meter::runner

@@ -1,0 +1,77 @@
+// The integrity monitor as a sink of meter-view's live frame pipeline: the injected test fault
+// (--inject-fault), the check after each frame, the fault raised in STATUS (kViewFaultIntegrity)
+// within the frame, the rate-limited log and the frames.csv cells. Docs: docs/integrity.md.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "meter/engine/integrity/fault_injection.hpp"
+#include "meter/engine/pipeline/frame_sink.hpp"
+#include "meter/runner/frames_csv.hpp"
+#include "meter/runner/integrity_monitor.hpp"
+#include "meter/runner/render_context.hpp"
+#include "meter/runner/view_health.hpp"
+#include "meter/runner/view_options.hpp"
+
+namespace meter::runner {
+
+// --inject-fault KIND[:REGION]@FIRST[-LAST]: KIND as engine::parse_fault_kind, REGION a safety
+// region's name (every kind but stuck needs one), frames FIRST..LAST (the live loop's numbers; no
+// LAST: to the end).
+struct FaultSchedule {
+  engine::FaultInjection fault;
+  std::uint64_t first = 0;
+  std::optional<std::uint64_t> last;
+};
+// Throws ViewError naming the option, the text and what was expected.
+FaultSchedule parse_fault_schedule(const std::string& text, const engine::Scene& scene, int height);
+
+// Log lines of faults: the first of each region always, then at most one line per second; the
+// ones left out are counted.
+class FaultLogLimit {
+ public:
+  using Clock = std::chrono::steady_clock;
+  bool admit(const std::string& region, Clock::time_point now);
+  std::uint64_t suppressed() const { return suppressed_; }
+
+ private:
+  std::vector<std::string> seen_;
+  std::optional<Clock::time_point> last_;
+  std::uint64_t suppressed_ = 0;
+};
+
+class IntegrityStage : public engine::FrameSink {
+ public:
+  using Clock = std::chrono::steady_clock;
+  // Logs whether the monitor is on (and why not) and any injected fault. Faults are reported to
+  // `health` (which outlives the stage).
+  IntegrityStage(RenderContext& ctx, const ViewOptions& options, ViewHealth& health, std::ostream& log);
+  bool on() const { return monitor_.on(); }
+  // Before frame `frame` renders: the monitor names the boxes it will read (IntegrityMonitor::
+  // prepare); the injected fault starts or ends.
+  void before_frame(std::uint64_t frame) override;
+  // After it rendered: checks it; a fault is logged and reported to `health` at `now`.
+  void after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now);
+  // The frame pipeline's side: after_frame for every frame, reported to the constructor's health.
+  void on_frame(const engine::FrameRecord& frame) override { after_frame(frame.request.frame, health_, Clock::now()); }
+  // The frames.csv cells of the frame last checked (nullptr when the monitor is off).
+  const IntegrityCells* cells() const { return monitor_.on() ? &cells_ : nullptr; }
+  void summary(std::ostream& log) const;
+  const IntegrityMonitor& monitor() const { return monitor_; }
+
+ private:
+  RenderContext& ctx_;
+  ViewHealth& health_;
+  std::ostream& log_;
+  IntegrityMonitor monitor_;
+  std::optional<FaultSchedule> schedule_;
+  IntegrityCells cells_;
+  FaultLogLimit limit_;
+  std::optional<std::uint64_t> first_fault_frame_;
+};
+
+}  // namespace meter::runner

@@ -1,0 +1,39 @@
+// What every mode renders with: the scene package, the GL backend, the renderer, the engine's frame
+// pipeline (which owns the binding evaluator), the governor, the output directory and the timing
+// CSV, set up from the options in that order.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <ostream>
+
+#include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/pipeline/frame_pipeline.hpp"
+#include "meter/engine/package_reader.hpp"
+#include "meter/engine/renderer.hpp"
+#include "meter/platform/backend.hpp"
+#include "meter/runner/governed_frame.hpp"
+#include "meter/runner/timing_csv.hpp"
+#include "meter/runner/view_options.hpp"
+
+namespace meter::runner {
+
+struct RenderContext {
+  // Throws (ViewError, engine or platform errors) with a message naming what failed. With
+  // options.info, prints the GL renderer line and scene statistics to `log`.
+  RenderContext(const ViewOptions& options, std::ostream& log);
+
+  std::chrono::steady_clock::time_point started;  // before the package was read
+  std::filesystem::path out_dir;
+  engine::Scene scene;
+  std::unique_ptr<platform::GpuBackend> backend;
+  engine::Renderer renderer;
+  // The engine's frame pipeline over the renderer, with the binding evaluator it owns; each mode
+  // adds its sinks (and, live and play, the governor) and runs it.
+  engine::FramePipeline pipeline;
+  GovernedFrames governed;  // the frame pipeline's quality input in the live and play modes
+  TimingCsv timing;         // a sink of every mode's frame pipeline
+};
+
+}  // namespace meter::runner
