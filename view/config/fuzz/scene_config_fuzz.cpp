@@ -18,7 +18,7 @@ namespace {
 const meter::bridge::Scene& gauge_scene() {
   static const meter::bridge::Scene scene = [] {
     const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/minimal-gauge/";
-    const auto config = meter::bridge::load_scene_config(dir + "minimal-gauge.scene.json");
+    const auto config = meter::config::load_scene_config(dir + "minimal-gauge.scene.json");
     return meter::convert::convert_gltf(dir + "minimal-gauge.glb", config, {.optimize = false}).scene;
   }();
   return scene;
@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   meter::bridge::Scene scene = gauge_scene();
   try {
-    scene.config = meter::bridge::parse_scene_config(text, "fuzz.scene.json");
+    scene.config = meter::config::parse_scene_config(text, "fuzz.scene.json");
     meter::convert::resolve_config(scene, scene.config, "fuzz.scene.json");
   } catch (const std::invalid_argument& e) {
     if (!std::strstr(e.what(), "fuzz.scene.json")) std::abort();

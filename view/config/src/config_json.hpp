@@ -14,7 +14,7 @@
 #include "meter/bridge/scene_config.hpp"
 #include "meter/protocol/catalog.hpp"
 
-namespace meter::bridge::config_json {
+namespace meter::config::config_json {
 
 using nlohmann::json;
 
@@ -107,4 +107,4 @@ inline std::vector<std::string> strings(const Ctx& c, const json& j, const std::
   return out;
 }
 
-}  // namespace meter::bridge::config_json
+}  // namespace meter::config::config_json

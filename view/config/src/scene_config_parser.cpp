@@ -17,7 +17,8 @@
 #include "config_json.hpp"
 #include "scene_features_parser.hpp"
 
-namespace meter::bridge {
+namespace meter::config {
+using namespace meter::bridge;  // the vocabulary the parsers fill
 namespace {
 
 using nlohmann::json;
@@ -315,4 +316,4 @@ SceneConfig load_scene_config(const std::string& path, const protocol::Catalog& 
 
 SceneConfig load_scene_config(const std::string& path) { return load_scene_config(path, *protocol::active_catalog()); }
 
-}  // namespace meter::bridge
+}  // namespace meter::config

@@ -4,7 +4,8 @@
 
 #include <set>
 
-namespace meter::bridge {
+namespace meter::config {
+using namespace meter::bridge;  // the vocabulary the parsers fill
 namespace {
 
 using namespace config_json;
@@ -184,4 +185,4 @@ BindingUnits parse_binding_units(const Ctx& c, const json& b, const std::string&
   return out;
 }
 
-}  // namespace meter::bridge
+}  // namespace meter::config

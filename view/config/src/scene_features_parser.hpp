@@ -7,7 +7,8 @@
 #include "config_json.hpp"
 #include "meter/bridge/scene_features.hpp"
 
-namespace meter::bridge {
+namespace meter::config {
+using namespace meter::bridge;  // the vocabulary the parsers fill
 
 // The top-level feature keys of `root` (the other keys are the main parser's); the sweep's
 // animation names are checked against the animation bindings in root["bindings"].
@@ -16,4 +17,4 @@ SceneFeaturesConfig parse_scene_features(const config_json::Ctx& c, const nlohma
 BindingUnits parse_binding_units(const config_json::Ctx& c, const nlohmann::json& binding, const std::string& path,
                                  BindingKind kind);
 
-}  // namespace meter::bridge
+}  // namespace meter::config

@@ -4,6 +4,7 @@
 #include "scene_scripts_parser.hpp"
 
 #include "config_json.hpp"
+#include "meter/config/lua_syntax.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -13,9 +14,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <lua.hpp>
 
-namespace meter::bridge {
+namespace meter::config {
+using namespace meter::bridge;  // the vocabulary the parsers fill
 namespace {
 
 using nlohmann::json;
@@ -211,55 +212,4 @@ std::vector<Script> parse_scripts(json& scripts, const protocol::Catalog& catalo
   return out;
 }
 
-const char* to_string(ScriptOutputKind kind) {
-  switch (kind) {
-    case ScriptOutputKind::Animation: return "time";
-    case ScriptOutputKind::Visible: return "visible";
-    case ScriptOutputKind::Translation: return "translation";
-    case ScriptOutputKind::Rotation: return "rotation";
-    case ScriptOutputKind::Morph: return "morph";
-    case ScriptOutputKind::Color: return "color";
-    case ScriptOutputKind::Emissive: return "emissive";
-    case ScriptOutputKind::Text: return "text";
-  }
-  return "?";
-}
-
-int value_components(ScriptOutputKind kind) {
-  switch (kind) {
-    case ScriptOutputKind::Animation:
-    case ScriptOutputKind::Morph: return 1;
-    case ScriptOutputKind::Translation:
-    case ScriptOutputKind::Rotation:
-    case ScriptOutputKind::Emissive: return 3;
-    case ScriptOutputKind::Color: return 4;
-    case ScriptOutputKind::Visible:
-    case ScriptOutputKind::Text: return 0;
-  }
-  return 0;
-}
-
-bool targets_node(ScriptOutputKind kind) {
-  return kind == ScriptOutputKind::Visible || kind == ScriptOutputKind::Translation || kind == ScriptOutputKind::Rotation ||
-         kind == ScriptOutputKind::Morph || kind == ScriptOutputKind::Text;
-}
-
-bool targets_material(ScriptOutputKind kind) { return kind == ScriptOutputKind::Color || kind == ScriptOutputKind::Emissive; }
-
-std::string lua_syntax_error(std::string_view code, const std::string& chunk_name) {
-  lua_State* L = luaL_newstate();
-  if (!L) return chunk_name + ": cannot create a Lua state to check the script";
-  const std::string chunk = "=" + chunk_name;
-  // Mode "t": a precompiled (binary) chunk is refused, never loaded.
-  const int rc = luaL_loadbufferx(L, code.data(), code.size(), chunk.c_str(), "t");
-  std::string why;
-  if (rc != LUA_OK) {
-    const char* m = lua_tostring(L, -1);
-    why = m ? m : "the script does not compile";
-    if (why.rfind(chunk_name + ":", 0) != 0) why = chunk_name + ": " + why;  // e.g. a binary chunk
-  }
-  lua_close(L);
-  return why;
-}
-
-}  // namespace meter::bridge
+}  // namespace meter::config

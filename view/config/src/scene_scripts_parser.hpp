@@ -10,7 +10,8 @@
 #include "meter/bridge/scene_scripts.hpp"
 #include "meter/protocol/catalog.hpp"
 
-namespace meter::bridge {
+namespace meter::config {
+using namespace meter::bridge;  // the vocabulary the parsers fill
 
 // Parses and checks `scripts` (the value of $.scripts): names, inputs against `catalog`, outputs'
 // shapes, limits, and each script's Lua syntax (text mode). A script given as "file" is read
@@ -21,4 +22,4 @@ namespace meter::bridge {
 std::vector<Script> parse_scripts(nlohmann::json& scripts, const protocol::Catalog& catalog, const std::string& origin,
                                   bool* inlined);
 
-}  // namespace meter::bridge
+}  // namespace meter::config

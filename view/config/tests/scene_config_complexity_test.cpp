@@ -50,9 +50,9 @@ std::string generated_config(int bindings) {
 TEST(SceneConfigComplexity, DeepConfigParsesInLinearTime) {
   const std::string large = generated_config(20000);
   const std::string small = generated_config(2000);
-  ASSERT_EQ(parse_scene_config(large).bindings.size(), 20000u);
-  const double ratio = meter::test::scaling_ratio([&] { (void)parse_scene_config(small); },
-                                                  [&] { (void)parse_scene_config(large); });
+  ASSERT_EQ(meter::config::parse_scene_config(large).bindings.size(), 20000u);
+  const double ratio = meter::test::scaling_ratio([&] { (void)meter::config::parse_scene_config(small); },
+                                                  [&] { (void)meter::config::parse_scene_config(large); });
   std::cout << "5-level config: " << ratio << "x the time of a 10x smaller one\n";
   EXPECT_LT(ratio, kLinearRatioBound) << kScaleFactor << "x the config took " << ratio << "x the time";
 }

@@ -8,7 +8,7 @@ using namespace meter::bridge;
 namespace {
 std::string error_of(const std::string& json) {
   try {
-    parse_scene_config(json, "t.json");
+    meter::config::parse_scene_config(json, "t.json");
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -17,7 +17,7 @@ std::string error_of(const std::string& json) {
 }  // namespace
 
 TEST(SceneConfig, ParsesTheDocumentedShape) {
-  auto c = parse_scene_config(meter::engine::test::dial_config_json(), "dial.json");
+  auto c = meter::config::parse_scene_config(meter::engine::test::dial_config_json(), "dial.json");
   EXPECT_EQ(c.size[0], 320);
   EXPECT_EQ(c.camera, "Camera");
   ASSERT_EQ(c.bindings.size(), 4u);
@@ -66,11 +66,11 @@ TEST(SceneConfig, BindingsAreCheckedAgainstTheCatalogGiven) {
              "Displayed": {"type": "sensor", "datatype": "float", "min": 0, "max": 100, "meter_id": 100}}}}}}}}}})",
       "ev.vss.json");
   ASSERT_TRUE(ev.catalog) << ev.error;
-  const auto c = parse_scene_config(config, *ev.catalog, "ev.scene.json");
+  const auto c = meter::config::parse_scene_config(config, *ev.catalog, "ev.scene.json");
   ASSERT_EQ(c.bindings.size(), 1u);
   EXPECT_EQ(c.bindings[0].signal_id, 100);
   try {
-    parse_scene_config(config, *meter::protocol::default_catalog(), "ev.scene.json");
+    meter::config::parse_scene_config(config, *meter::protocol::default_catalog(), "ev.scene.json");
     ADD_FAILURE() << "the shipped catalog has no state of charge";
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(e.what(), "ev.scene.json: $.bindings[0].signal: \"Vehicle.Powertrain.TractionBattery.StateOfCharge."
@@ -83,7 +83,7 @@ TEST(SceneConfig, BindingsAreCheckedAgainstTheCatalogGiven) {
 // parser's std::invalid_argument nor a message naming the file.
 TEST(SceneConfig, FuzzNumberOverflowIsAnErrorNamingTheFile) {
   try {
-    parse_scene_config(R"({"format": "meter-scene-config/1", "size": [-1e308480, 480]})", "overflow.json");
+    meter::config::parse_scene_config(R"({"format": "meter-scene-config/1", "size": [-1e308480, 480]})", "overflow.json");
     FAIL() << "a number overflow was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("overflow.json: not valid JSON: "), std::string::npos) << e.what();
@@ -95,13 +95,13 @@ TEST(SceneConfig, FuzzNumberOverflowIsAnErrorNamingTheFile) {
 
 TEST(SceneConfig, ResolveFilterDefaultsToTheBoxAndIsChecked) {
   const std::string head = R"({"format": "meter-scene-config/1")";
-  EXPECT_EQ(parse_scene_config(head + "}", "t.json").resolve, ResolveConfig{});
+  EXPECT_EQ(meter::config::parse_scene_config(head + "}", "t.json").resolve, ResolveConfig{});
   EXPECT_EQ(ResolveConfig{}.filter, ResolveConfig::Filter::Box);
   const ResolveConfig film =
-      parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris", "width_px": 2.0}})", "t.json").resolve;
+      meter::config::parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris", "width_px": 2.0}})", "t.json").resolve;
   EXPECT_EQ(film.filter, ResolveConfig::Filter::BlackmanHarris);
   EXPECT_EQ(film.width_px, 2.0);
-  EXPECT_EQ(parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris"}})", "t.json").resolve.width_px, 1.5);
+  EXPECT_EQ(meter::config::parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris"}})", "t.json").resolve.width_px, 1.5);
   EXPECT_NE(error_of(head + R"(, "resolve": {"filter": "gauss"}})").find("t.json: $.resolve.filter: unknown filter \"gauss\""),
             std::string::npos);
   EXPECT_NE(error_of(head + R"(, "resolve": {"filter": "box", "width_px": 4}})").find("$.resolve.width_px: expected 0.5 .. 3"),
@@ -112,12 +112,12 @@ TEST(SceneConfig, ResolveFilterDefaultsToTheBoxAndIsChecked) {
 
 TEST(SceneConfig, SampleFormatDefaultsToEightBitAndIsChecked) {
   const std::string head = R"({"format": "meter-scene-config/1")";
-  EXPECT_EQ(parse_scene_config(head + "}", "t.json").resolve.sample_format, ResolveConfig::SampleFormat::Srgb8);
+  EXPECT_EQ(meter::config::parse_scene_config(head + "}", "t.json").resolve.sample_format, ResolveConfig::SampleFormat::Srgb8);
   const ResolveConfig half =
-      parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris", "sample_format": "rgba16f"}})", "t.json").resolve;
+      meter::config::parse_scene_config(head + R"(, "resolve": {"filter": "blackman-harris", "sample_format": "rgba16f"}})", "t.json").resolve;
   EXPECT_EQ(half.sample_format, ResolveConfig::SampleFormat::Rgba16f);
   EXPECT_EQ(half.filter, ResolveConfig::Filter::BlackmanHarris);
-  EXPECT_EQ(parse_scene_config(head + R"(, "resolve": {"sample_format": "srgb8"}})", "t.json").resolve, ResolveConfig{});
+  EXPECT_EQ(meter::config::parse_scene_config(head + R"(, "resolve": {"sample_format": "srgb8"}})", "t.json").resolve, ResolveConfig{});
   EXPECT_NE(error_of(head + R"(, "resolve": {"sample_format": "rgba32f"}})")
                 .find("t.json: $.resolve.sample_format: unknown sample format \"rgba32f\" (expected srgb8 or rgba16f)"),
             std::string::npos);
@@ -127,9 +127,9 @@ TEST(SceneConfig, SampleFormatDefaultsToEightBitAndIsChecked) {
 TEST(SceneConfig, SampleShadingDefaultsToOffAndIsChecked) {
   const std::string head = R"({"format": "meter-scene-config/1")";
   const auto kinds = [&](const std::string& value) {
-    return parse_scene_config(head + R"(, "sample_shading": )" + value + "}", "t.json").sample_shading;
+    return meter::config::parse_scene_config(head + R"(, "sample_shading": )" + value + "}", "t.json").sample_shading;
   };
-  EXPECT_FALSE(parse_scene_config(head + "}", "t.json").sample_shading.any());
+  EXPECT_FALSE(meter::config::parse_scene_config(head + "}", "t.json").sample_shading.any());
   EXPECT_FALSE(kinds(R"("off")").any());
   EXPECT_EQ(kinds(R"("normal-maps")"), (SampleShading{.normal_maps = true, .mirrors = false}));
   EXPECT_EQ(kinds(R"("mirrors")"), (SampleShading{.normal_maps = false, .mirrors = true}));

@@ -39,7 +39,7 @@ const std::filesystem::path& scratch_dir() {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const meter::bridge::SceneConfig config =
-      meter::bridge::parse_scene_config(R"({"format": "meter-scene-config/1", "size": [64, 32]})", "fuzz-config");
+      meter::config::parse_scene_config(R"({"format": "meter-scene-config/1", "size": [64, 32]})", "fuzz-config");
   const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
   const std::string path = (scratch_dir() / (binary ? "fuzz.glb" : "fuzz.gltf")).string();
   {

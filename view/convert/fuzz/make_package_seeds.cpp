@@ -25,8 +25,8 @@ namespace {
 
 meter::bridge::SceneConfig config_beside(const fs::path& gltf) {
   for (const fs::path& c : {fs::path(gltf).replace_extension(".scene.json"), gltf.parent_path() / "scene.json"})
-    if (fs::exists(c)) return meter::bridge::load_scene_config(c.string());
-  return meter::bridge::parse_scene_config(R"({"format": "meter-scene-config/1"})");
+    if (fs::exists(c)) return meter::config::load_scene_config(c.string());
+  return meter::config::parse_scene_config(R"({"format": "meter-scene-config/1"})");
 }
 
 }  // namespace

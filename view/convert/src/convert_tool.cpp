@@ -12,7 +12,7 @@ namespace meter::convert {
 int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err) {
   try {
     const auto catalog = protocol::use_catalog_option(o.catalog);
-    const auto config = load_scene_config(o.config, *catalog);
+    const auto config = meter::config::load_scene_config(o.config, *catalog);
     ConvertOptions opt;
     opt.optimize = o.optimize == "on";
     opt.propose_groups = o.propose_groups;

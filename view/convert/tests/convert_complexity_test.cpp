@@ -54,7 +54,7 @@ TEST(ConvertComplexity, HundredThousandNodesConvertInLinearTime) {
   const std::string dir = meter::engine::test::scratch_dir("convert_complexity");
   const std::string large = write_node_tree(dir, "large", 100000);
   const std::string small = write_node_tree(dir, "small", 10000);
-  const SceneConfig config = parse_scene_config(R"({"format": "meter-scene-config/1"})");
+  const SceneConfig config = meter::config::parse_scene_config(R"({"format": "meter-scene-config/1"})");
   const ConvertOptions options{.optimize = false};
   ASSERT_EQ(convert_gltf(large, config, options).scene.nodes.size(), 100000u);
   const double ratio = meter::test::scaling_ratio([&] { (void)convert_gltf(small, config, options); },

@@ -23,7 +23,7 @@ namespace {
 
 const fs::path kGltf = fs::path(METER_SHARED_DIR) / "data" / "gltf";
 
-SceneConfig empty_config() { return parse_scene_config(R"({"format": "meter-scene-config/1"})"); }
+SceneConfig empty_config() { return meter::config::parse_scene_config(R"({"format": "meter-scene-config/1"})"); }
 
 // "/meshes/0/primitives/0/attributes/NORMAL" -> "meshes[0].primitives[0].attributes.NORMAL"
 std::string pointer_to_path(const std::string& pointer) {
@@ -151,7 +151,7 @@ TEST(ConverterSamples, SkinAndVertexColourFeaturesReachThePrograms) {
 
 TEST(ConverterDial, FeaturesPerMaterialAndOnlyWhatIsUsed) {
   auto dir = test::scratch_dir("converter_dial");
-  auto r = convert_gltf(test::write_dial_scene(dir), parse_scene_config(test::dial_config_json()), ConvertOptions{false});
+  auto r = convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(test::dial_config_json()), ConvertOptions{false});
   const auto& s = r.scene;
   std::set<std::string> keys;
   bool morph = false, lit = false;
@@ -176,7 +176,7 @@ TEST(ConverterDial, FeaturesPerMaterialAndOnlyWhatIsUsed) {
 TEST(ConverterDial, ConfigNamesMustExistInTheScene) {
   auto dir = test::scratch_dir("converter_names");
   auto gltf = test::write_dial_scene(dir);
-  auto cfg = parse_scene_config(R"({"format": "meter-scene-config/1", "bindings": [
+  auto cfg = meter::config::parse_scene_config(R"({"format": "meter-scene-config/1", "bindings": [
       {"signal": "Vehicle.Speed", "kind": "animation", "animation": "RpmNeedle", "input": [0, 1], "time": [0, 1]}]})");
   try {
     convert_gltf(gltf, cfg, ConvertOptions{false});
@@ -188,7 +188,7 @@ TEST(ConverterDial, ConfigNamesMustExistInTheScene) {
 
 TEST(ConverterDial, OptimizeFoldsConstants) {
   auto dir = test::scratch_dir("converter_opt");
-  auto r = convert_gltf(test::write_dial_scene(dir), parse_scene_config(test::dial_config_json()), ConvertOptions{true});
+  auto r = convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(test::dial_config_json()), ConvertOptions{true});
   for (const auto& p : r.scene.programs) {
     EXPECT_TRUE(p.program.optimized);
     EXPECT_LE(p.optimize_report.uniforms_after, p.optimize_report.uniforms_before);
@@ -221,7 +221,7 @@ TEST(ConverterLights, ShadowFlagComesFromTheLightExtras) {
     std::ofstream(path) << j.dump();
     return path;
   };
-  const SceneConfig cfg = parse_scene_config(test::dial_config_json());
+  const SceneConfig cfg = meter::config::parse_scene_config(test::dial_config_json());
   auto shadow_masks = [](const Scene& s) {
     std::set<unsigned> masks;
     for (const auto& p : s.programs)

@@ -49,7 +49,7 @@ void write_two_tone(const fs::path& file) {
 }
 
 Scene convert_dial(const std::string& gltf) {
-  return convert_gltf(gltf, parse_scene_config(test::dial_config_json()), ConvertOptions{false}).scene;
+  return convert_gltf(gltf, meter::config::parse_scene_config(test::dial_config_json()), ConvertOptions{false}).scene;
 }
 
 // The diagnostics of a conversion that must fail validation.

@@ -18,7 +18,7 @@ Scene dial_with_table() {
   convert::ConvertOptions o;
   o.optimize = false;
   Scene s = convert::convert_gltf(engine::test::write_dial_scene(engine::test::scratch_dir("integrity_package")),
-                                  bridge::parse_scene_config(engine::test::dial_config_json()), o).scene;
+                                  meter::config::parse_scene_config(engine::test::dial_config_json()), o).scene;
   s.integrity.width = 320, s.integrity.height = 160;
   bridge::SafetyRegion tt;
   tt.name = "TT_ABS", tt.kind = bridge::SafetyKind::Telltale, tt.signal = "Cluster.Telltale.ABS";

@@ -15,7 +15,7 @@ namespace {
 std::vector<std::uint8_t> dial_package() {
   static std::vector<std::uint8_t> bytes = [] {
     auto dir = test::scratch_dir("package");
-    auto r = convert_gltf(test::write_dial_scene(dir), parse_scene_config(test::dial_config_json()), ConvertOptions{false});
+    auto r = convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(test::dial_config_json()), ConvertOptions{false});
     return serialize_scene(r.scene);
   }();
   return bytes;

@@ -17,8 +17,8 @@
 namespace meter::convert {
 namespace {
 
-using bridge::load_scene_config;
-using bridge::parse_scene_config;
+using config::load_scene_config;
+using config::parse_scene_config;
 
 std::vector<std::uint8_t> package(const std::string& gltf, const SceneConfig& config, shadergen::ProgramCache* cache) {
   ConvertOptions o;
@@ -28,7 +28,7 @@ std::vector<std::uint8_t> package(const std::string& gltf, const SceneConfig& co
 
 TEST(ConverterProgramCache, TheClusterReconvertedThroughTheCacheIsByteIdentical) {
   const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-  const SceneConfig config = load_scene_config(dir + "cluster.scene.json");
+  const SceneConfig config = meter::config::load_scene_config(dir + "cluster.scene.json");
   const auto fresh = package(dir + "cluster.glb", config, nullptr);
   shadergen::ProgramCache cache;
   const auto first = package(dir + "cluster.glb", config, &cache);
@@ -45,7 +45,7 @@ TEST(ConverterProgramCache, TheClusterReconvertedThroughTheCacheIsByteIdentical)
 TEST(ConverterProgramCache, ARecolouredMaterialMissesAndTheRestHits) {
   const std::string dir = engine::test::scratch_dir("convert_program_cache");
   const std::string gltf = engine::test::write_dial_scene(dir);
-  const SceneConfig config = parse_scene_config(engine::test::dial_config_json());
+  const SceneConfig config = meter::config::parse_scene_config(engine::test::dial_config_json());
   shadergen::ProgramCache cache;
   package(gltf, config, &cache);
   const std::size_t programs = cache.size();

@@ -18,7 +18,7 @@ struct Fixture : ::testing::Test {
       auto dir = test::scratch_dir("bindings");
       ConvertOptions o;
       o.optimize = false;
-      return convert_gltf(test::write_dial_scene(dir), parse_scene_config(test::dial_config_json()), o).scene;
+      return convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(test::dial_config_json()), o).scene;
     }();
     return s;
   }

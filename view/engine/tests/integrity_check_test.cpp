@@ -260,7 +260,7 @@ TEST(IntegrityCheck, ExpectationsComeFromTheEvaluatorsOutputs) {
     convert::ConvertOptions o;
     o.optimize = false;
     return convert::convert_gltf(test::write_dial_scene(test::scratch_dir("integrity_expect")),
-                                 bridge::parse_scene_config(test::dial_config_json()), o).scene;
+                                 meter::config::parse_scene_config(test::dial_config_json()), o).scene;
   }();
   IntegrityTable t;
   SafetyRegion tt = lamp();

@@ -37,7 +37,7 @@ const Scene& cluster() { return test::cluster_scene(); }
 const Scene& dial() {
   static Scene s = [] {
     const std::string dir = test::scratch_dir("partial_dial");
-    return convert_gltf(test::write_dial_scene(dir), parse_scene_config(test::dial_config_json()), ConvertOptions{}).scene;
+    return convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(test::dial_config_json()), ConvertOptions{}).scene;
   }();
   return s;
 }

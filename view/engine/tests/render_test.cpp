@@ -30,7 +30,7 @@ constexpr double kGoldenPsnrDb = 40.0;
 const Scene& dial() {
   static Scene s = [] {
     auto dir = test::scratch_dir("render");
-    return convert_gltf(test::write_dial_scene(dir), parse_scene_config(test::dial_config_json()), ConvertOptions{true}).scene;
+    return convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(test::dial_config_json()), ConvertOptions{true}).scene;
   }();
   return s;
 }

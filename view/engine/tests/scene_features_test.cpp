@@ -53,7 +53,7 @@ struct Features : ::testing::Test {
       auto dir = meter::engine::test::scratch_dir("features");
       ConvertOptions o;
       o.optimize = false;
-      return convert_gltf(meter::engine::test::write_dial_scene(dir), parse_scene_config(features_config()), o).scene;
+      return convert_gltf(meter::engine::test::write_dial_scene(dir), meter::config::parse_scene_config(features_config()), o).scene;
     }();
     return s;
   }
@@ -307,7 +307,7 @@ TEST_F(Features, ValuesArrivingDuringTheSweepAreShownRightAfterIt) {
 TEST(FeatureConfig, ErrorsNameTheKey) {
   auto fails = [](const std::string& text, const std::string& expected) {
     try {
-      (void)meter::bridge::parse_scene_config(text, "f.json");
+      (void)meter::config::parse_scene_config(text, "f.json");
       ADD_FAILURE() << "accepted: " << text;
     } catch (const std::invalid_argument& e) {
       EXPECT_EQ(std::string(e.what()), expected);
@@ -336,7 +336,7 @@ TEST(FeatureConfig, ConverterRefusesNamesTheSceneLacks) {
   ConvertOptions o;
   o.optimize = false;
   try {
-    (void)convert_gltf(meter::engine::test::write_dial_scene(dir), parse_scene_config(c, "f.json"), o);
+    (void)convert_gltf(meter::engine::test::write_dial_scene(dir), meter::config::parse_scene_config(c, "f.json"), o);
     ADD_FAILURE() << "accepted a page root the scene does not have";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("$.pages.nodes: no node named \"Trip\" in the scene"), std::string::npos) << e.what();

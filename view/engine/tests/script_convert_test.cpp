@@ -51,7 +51,7 @@ std::string convert_error(const std::string& name, const json& scripts, const st
   if (prepare) prepare(dir);
   try {
     const std::string config = write_config(dir, scripts);
-    convert::convert_gltf(test::write_dial_scene(dir), bridge::load_scene_config(config), convert::ConvertOptions{false});
+    convert::convert_gltf(test::write_dial_scene(dir), meter::config::load_scene_config(config), convert::ConvertOptions{false});
   } catch (const std::exception& e) {
     return std::string(e.what()).substr(e.what()[0] == '/' ? dir.size() + 1 : 0);  // relative to the scratch dir
   }
@@ -125,7 +125,7 @@ TEST(ScriptConversion, AScriptFileTravelsInlinedInThePackage) {
   const std::string dir = test::scratch_dir("script_convert_inline");
   const std::string code = "-- shift light\nfunction run(IN, OUT)\n  OUT.lamp = IN.v.valid\nend\n";
   write_file(dir + "/logic/lamp.lua", code);
-  const auto config = bridge::load_scene_config(write_config(dir, json::array({lamp_script({{"file", "logic/lamp.lua"}})})));
+  const auto config = meter::config::load_scene_config(write_config(dir, json::array({lamp_script({{"file", "logic/lamp.lua"}})})));
   ASSERT_EQ(config.scripts.size(), 1u);
   EXPECT_EQ(config.scripts[0].code, code);
   const json stored = json::parse(config.source_json);

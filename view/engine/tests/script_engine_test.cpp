@@ -328,7 +328,7 @@ TEST_F(Scripts, TheClusterShiftLightLightsNearEachGearsShiftPoint) {
              {"outputs", {{"lamp", {{"property", "visible"}, {"node", "Lamp"}, {"failsafe", false}}},
                           {"glow", {{"property", "emissive"}, {"material", "LampMat"}, {"failsafe", {0, 0, 0}}}}}}};
   Scene s = test::script_scene("[]");
-  s.config = meter::bridge::parse_scene_config(
+  s.config = meter::config::parse_scene_config(
       json{{"format", "meter-scene-config/1"}, {"scripts", json::array({sc})}}.dump(), std::string(METER_SOURCE_DIR) + "/bench/logic/cluster.json");
   ScriptEngine eng(s);
   auto lit = [&](double gear, double rpm, SignalStatus gear_status = SignalStatus::Valid) {

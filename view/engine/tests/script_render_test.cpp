@@ -50,7 +50,7 @@ const Scene& scripted_dial() {
     nlohmann::json c = nlohmann::json::parse(test::dial_config_json());
     c["scripts"] = nlohmann::json::parse(kScripts);
     const auto dir = test::scratch_dir("script_render");
-    return convert::convert_gltf(test::write_dial_scene(dir), bridge::parse_scene_config(c.dump(), "scripted_dial.json"),
+    return convert::convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(c.dump(), "scripted_dial.json"),
                                  convert::ConvertOptions{true})
         .scene;
   }();

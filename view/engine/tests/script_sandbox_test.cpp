@@ -5,6 +5,7 @@
 #include <lua.hpp>
 #include <nlohmann/json.hpp>
 
+#include "meter/config/lua_syntax.hpp"
 #include "meter/engine/logic/scripts.hpp"
 #include "script_scene.hpp"
 
@@ -97,7 +98,7 @@ TEST(ScriptSandbox, BytecodeIsNeverLoaded) {
   lua_dump(L, [](lua_State*, const void* p, size_t n, void* ud) { static_cast<std::string*>(ud)->append(static_cast<const char*>(p), n); return 0; }, &bytecode, 0);
   lua_close(L);
   ASSERT_EQ(bytecode.substr(0, 4), "\x1bLua");
-  const std::string why = meter::bridge::lua_syntax_error(bytecode, "box");
+  const std::string why = meter::config::lua_syntax_error(bytecode, "box");
   EXPECT_EQ(why, "box: attempt to load a binary chunk (mode is 't')");
 }
 

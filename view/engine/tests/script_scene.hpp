@@ -33,7 +33,7 @@ inline Scene script_scene(const std::string& scripts_json, const std::string& bi
   Animation a;
   a.name = "Sweep";
   s.animations.push_back(a);
-  s.config = bridge::parse_scene_config(
+  s.config = meter::config::parse_scene_config(
       R"({"format": "meter-scene-config/1", "bindings": )" + bindings_json + R"(, "scripts": )" + scripts_json + "}", "logic.json");
   return s;
 }

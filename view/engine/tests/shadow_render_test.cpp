@@ -20,7 +20,7 @@ namespace {
 
 Scene shadow_scene(const std::string& quality) {
   const fs::path dir = fs::path(METER_SOURCE_DIR) / "scenes/features/shadow";
-  Scene s = convert::convert_gltf((dir / "shadow.glb").string(), load_scene_config((dir / "scene.json").string()),
+  Scene s = convert::convert_gltf((dir / "shadow.glb").string(), meter::config::load_scene_config((dir / "scene.json").string()),
                                   convert::ConvertOptions{}).scene;
   convert::apply_quality(s, convert::parse_quality(quality));
   return s;
@@ -68,7 +68,7 @@ TEST_P(ShadowRender, MapsAreDrawnOnceAndOnlyTakeLightAway) {
 
 TEST_P(ShadowRender, SceneWithoutCastingLightsHasNoShadowPass) {
   const auto dir = test::scratch_dir("shadow_render_dial");
-  const Scene dial = convert::convert_gltf(test::write_dial_scene(dir), parse_scene_config(test::dial_config_json()),
+  const Scene dial = convert::convert_gltf(test::write_dial_scene(dir), meter::config::parse_scene_config(test::dial_config_json()),
                                            convert::ConvertOptions{}).scene;
   for (const auto& p : dial.programs)
     for (const auto& s : p.program.samplers) EXPECT_NE(s.slot, bridge::TextureSlot::ShadowMap);

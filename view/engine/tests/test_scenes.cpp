@@ -123,7 +123,7 @@ struct Builder {
 const Scene& cluster_scene() {
   static const Scene s = [] {
     const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-    return convert::convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), convert::ConvertOptions{}).scene;
+    return convert::convert_gltf(dir + "cluster.glb", meter::config::load_scene_config(dir + "cluster.scene.json"), convert::ConvertOptions{}).scene;
   }();
   return s;
 }

@@ -12,7 +12,7 @@ namespace meter::preview {
 
 std::unique_ptr<engine::Scene> convert_scene(const SceneFiles& files, const protocol::Catalog& catalog,
                                              shadergen::ProgramCache* programs) {
-  const auto config = bridge::load_scene_config(files.config, catalog);
+  const auto config = meter::config::load_scene_config(files.config, catalog);
   convert::ConvertOptions options;
   options.program_cache = programs;
   const auto result = convert::convert_gltf(files.gltf, config, options);

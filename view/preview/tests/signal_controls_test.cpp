@@ -12,7 +12,7 @@ namespace {
 
 std::vector<bridge::Binding> bindings_of(const std::string& bindings_json) {
   const std::string text = R"({"format": "meter-scene-config/1", "bindings": [)" + bindings_json + "]}";
-  return bridge::parse_scene_config(text, *protocol::default_catalog(), "test.scene.json").bindings;
+  return meter::config::parse_scene_config(text, *protocol::default_catalog(), "test.scene.json").bindings;
 }
 
 TEST(SignalControls, OnePerBoundSignalByItsCatalogKind) {

@@ -60,7 +60,7 @@ void check_references(const Scene& s, const std::string& origin) {
 
 void load_config(Scene& s, const std::string& origin) {
   try {
-    s.config = parse_scene_config(s.config.source_json, origin + " (embedded scene config)");
+    s.config = meter::config::parse_scene_config(s.config.source_json, origin + " (embedded scene config)");
   } catch (const std::invalid_argument& e) {
     throw SceneError(e.what());
   }

@@ -65,8 +65,4 @@ int value_components(ScriptOutputKind kind);
 bool targets_node(ScriptOutputKind kind);
 bool targets_material(ScriptOutputKind kind);
 
-// Compiles `code` as Lua text (never bytecode) without running it. Returns "" when it compiles,
-// else Lua's message ("<chunk>:<line>: <what>").
-std::string lua_syntax_error(std::string_view code, const std::string& chunk_name);
-
 }  // namespace meter::bridge
