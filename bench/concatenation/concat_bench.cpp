@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
 
   // ---- Part 2: the cluster.
   const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
-  const Scene cluster = convert_gltf(dir + "cluster.glb", load_scene_config(dir + "cluster.scene.json"), ConvertOptions{}).scene;
+  const Scene cluster = convert_gltf(dir + "cluster.glb", meter::config::load_scene_config(dir + "cluster.scene.json"), ConvertOptions{}).scene;
   std::map<std::string, std::pair<int, int>> per_function;  // before, after
   std::vector<int> grouped(cluster.draws.size(), -1);
   for (std::size_t g = 0; g < cluster.groups.size(); ++g) {

@@ -45,7 +45,7 @@ engine::BindingOutputs reference_state(const engine::Scene& scene, bool cluster)
 engine::Scene convert(const SceneSpec& s, bool optimize) {
   // As shipped, concatenation groups included: fidelity is the product's (merged draws differ from
   // unmerged ones in at most 1e-4 of the pixels, view/engine/tests/concat_render_test.cpp).
-  const engine::SceneConfig cfg = engine::load_scene_config(s.config);
+  const engine::SceneConfig cfg = meter::config::load_scene_config(s.config);
   convert::ConvertOptions o;
   o.optimize = optimize;
   return convert::convert_gltf(s.glb, cfg, o).scene;

@@ -11,7 +11,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/renderer.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
 

@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::max(10, std::atoi(argv[1])) : 600;
   const fs::path root(METER_SOURCE_DIR);
   // Script files resolve next to the config's origin: bench/logic.
-  const auto config = bridge::parse_scene_config(scripted_config(), (root / "bench/logic/cluster+scripts.json").string());
+  const auto config = meter::config::parse_scene_config(scripted_config(), (root / "bench/logic/cluster+scripts.json").string());
   const engine::Scene scripted =
       convert::convert_gltf((root / "scenes/cluster/cluster.glb").string(), config, convert::ConvertOptions{}).scene;
   engine::Scene plain = scripted;  // the same scene without its scripts

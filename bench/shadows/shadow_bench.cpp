@@ -45,7 +45,7 @@ engine::Scene with_moving_teapot(engine::Scene s) {
 int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::max(10, std::atoi(argv[1])) : 100;
   const fs::path dir = fs::path(METER_SOURCE_DIR) / "scenes/features/shadow";
-  const engine::SceneConfig cfg = engine::load_scene_config((dir / "scene.json").string());
+  const engine::SceneConfig cfg = meter::config::load_scene_config((dir / "scene.json").string());
   const engine::Scene on = convert::convert_gltf((dir / "shadow.glb").string(), cfg, {}).scene;
   engine::Scene off = on;
   convert::apply_quality(off, convert::parse_quality("shadows=off"));

@@ -29,7 +29,7 @@ using Clock = std::chrono::steady_clock;
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(10, std::atoi(argv[1])) : 200;
   const fs::path dir = fs::path(METER_SOURCE_DIR) / "scenes/features/skinning";
-  const engine::SceneConfig cfg = engine::load_scene_config((dir / "scene.json").string());
+  const engine::SceneConfig cfg = meter::config::load_scene_config((dir / "scene.json").string());
   const engine::Scene scene = convert::convert_gltf((dir / "skinning.glb").string(), cfg, {}).scene;
   auto backend = platform::create_backend(platform::BackendKind::Egl);
   engine::Renderer renderer(*backend, scene, engine::RendererOptions{});

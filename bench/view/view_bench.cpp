@@ -66,7 +66,7 @@ std::vector<SceneFiles> scenes() {
 }
 // Scenes as they ship, concatenation groups included (the frame times of section 3 are the
 // product's; concatenation on/off is compared in bench/concatenation).
-engine::SceneConfig load_config(const std::string& path) { return engine::load_scene_config(path); }
+engine::SceneConfig load_config(const std::string& path) { return meter::config::load_scene_config(path); }
 
 // Compile + link one program on the current context; returns ms (throws on failure).
 double compile_link_ms(const platform::Gl& gl, const shadergen::Program& p) {

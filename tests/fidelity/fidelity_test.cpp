@@ -53,7 +53,7 @@ std::vector<SceneFiles> all_scenes() {
 
 engine::Scene convert(const SceneFiles& s) {
   // As shipped, concatenation groups included (merged == unmerged: concat_render_test).
-  const engine::SceneConfig c = engine::load_scene_config(s.config);
+  const engine::SceneConfig c = meter::config::load_scene_config(s.config);
   return convert::convert_gltf(s.glb, c, convert::ConvertOptions{}).scene;
 }
 

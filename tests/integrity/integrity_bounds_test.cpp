@@ -53,7 +53,7 @@ TEST_P(IntegrityBounds, CorrectFramesPassEveryCheck) {
   for (const auto& files : kScenes) {
     convert::ConvertOptions co;
     co.optimize = false;  // the ladder regenerates programs; compare points on an unfolded scene
-    Scene scene = convert::convert_gltf(files.glb.string(), bridge::load_scene_config(files.config.string()), co).scene;
+    Scene scene = convert::convert_gltf(files.glb.string(), meter::config::load_scene_config(files.config.string()), co).scene;
     // One GL context at a time: the EGL one measures and renders the readouts' references (the
     // same states on EGL at each MSAA count, as meter-verify re-renders with the run's --msaa),
     // then goes before the tested one.

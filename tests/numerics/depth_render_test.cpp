@@ -62,7 +62,7 @@ TEST_P(DepthTest, DialLayersNeverZFightAtAnyCameraDistance) {
     // (at 30 m one 24-bit step is 0.54 mm). The render below is the proof.
     ASSERT_GE(kGap, 1.5 * depth24_step(d));
     const auto dir = numerics::scratch("depth-" + std::string(platform::to_string(GetParam())) + "-" + std::to_string(int(d * 10)));
-    const Scene scene = convert_gltf(write_scene(d, dir.string()), parse_scene_config(cfg), ConvertOptions{false}).scene;
+    const Scene scene = convert_gltf(write_scene(d, dir.string()), meter::config::parse_scene_config(cfg), ConvertOptions{false}).scene;
     RendererOptions o;
     o.msaa = 1;  // exact per-pixel depth results; no resolve blending
     Renderer r(*backend, scene, o);

@@ -23,7 +23,7 @@ const char* kConfig = R"({"format": "meter-scene-config/1", "size": [64, 64]})";
 
 ConvertResult convert_scene(GltfBuilder& b, const std::string& name) {
   const auto file = b.write(numerics::scratch(name) / "scene.gltf");
-  return convert_gltf(file, parse_scene_config(kConfig), ConvertOptions{false});
+  return convert_gltf(file, meter::config::parse_scene_config(kConfig), ConvertOptions{false});
 }
 
 std::vector<Diagnostic> convert_errors(GltfBuilder& b, const std::string& name) {
@@ -65,7 +65,7 @@ double angle(const glm::vec3& a, const glm::vec3& b) {
 TEST(Geometry, KhronosNonUnitNormalsAndTangentsAreRejectedByElement) {
   const std::string f = std::string(METER_SHARED_DIR) + "/data/gltf/gltf-validator-tests/mesh_data/normals_tangents_non_unit_invalid_sign.gltf";
   try {
-    convert_gltf(f, parse_scene_config(kConfig), ConvertOptions{false});
+    convert_gltf(f, meter::config::parse_scene_config(kConfig), ConvertOptions{false});
     FAIL() << "non-unit normals accepted";
   } catch (const ConvertError& e) {
     EXPECT_TRUE(mentions(e.errors, "attributes.NORMAL", "not unit length")) << e.what();

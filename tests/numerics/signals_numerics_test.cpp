@@ -12,7 +12,7 @@
 #include "meter/controller/conditioning/odometer.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/config/scene_config_parser.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "odometer_drive.hpp"
 
 using namespace meter;
@@ -35,7 +35,7 @@ engine::Scene needle_scene(bool failsafe) {
   std::string cfg = R"({"format": "meter-scene-config/1", "bindings": [
     {"signal": "Vehicle.Speed", "kind": "animation", "animation": "Needle", "input": [0, 260], "time": [0, 10])";
   cfg += failsafe ? R"(, "failsafe": {"value": 0}}]})" : "}]}";
-  s.config = engine::parse_scene_config(cfg, "numerics");
+  s.config = meter::config::parse_scene_config(cfg, "numerics");
   return s;
 }
 

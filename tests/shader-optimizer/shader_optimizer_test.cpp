@@ -46,7 +46,7 @@ void PrintTo(const SceneFiles& s, std::ostream* os) { *os << s.name; }
 
 // Each scene as it ships, concatenation groups included: merged draws get their own program
 // variants (vertex alpha), and those must survive the optimizer like every other.
-engine::SceneConfig load_config(const std::string& path) { return engine::load_scene_config(path); }
+engine::SceneConfig load_config(const std::string& path) { return meter::config::load_scene_config(path); }
 
 std::vector<SceneFiles> all_scenes() {
   const fs::path root = fs::path(METER_SOURCE_DIR) / "scenes";

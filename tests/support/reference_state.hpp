@@ -3,7 +3,7 @@
 #pragma once
 
 #include "meter/engine/evaluation/bindings.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::testing {
 

@@ -2,7 +2,7 @@
 // field at a value other than its default where it can), for the package's writer / reader tests.
 #pragma once
 
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 
 namespace meter::convert::test {
 

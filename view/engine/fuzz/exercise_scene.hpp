@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <span>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine::fuzz {
 

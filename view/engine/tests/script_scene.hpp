@@ -6,7 +6,7 @@
 #include <string>
 
 #include "meter/config/scene_config_parser.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine::test {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <utility>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine::test {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "meter/bridge/package_fields.hpp"
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 
 namespace meter::convert {
 

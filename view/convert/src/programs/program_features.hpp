@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 #include "meter/shadergen/shadergen.hpp"
 
 namespace meter::convert {

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 
 namespace meter::convert {
 

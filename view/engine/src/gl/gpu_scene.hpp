@@ -13,7 +13,7 @@
 
 #include "meter/engine/evaluation/frame_state.hpp"
 #include "meter/engine/evaluation/skinned_normals.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/platform/gl_api.hpp"
 #include "meter/platform/program_cache.hpp"
 

@@ -13,7 +13,7 @@
 
 #include "meter/engine/evaluation/frame_state.hpp"
 #include "meter/engine/evaluation/shadow_projection.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/platform/gl_api.hpp"
 
 namespace meter::engine {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "record_decoder.hpp"
 
 namespace meter::engine {

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "meter/bridge/package_fields.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

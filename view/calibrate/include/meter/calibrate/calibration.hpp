@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "meter/calibrate/cost_samples.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/platform/backend.hpp"
 
 namespace meter::calibrate {

@@ -7,7 +7,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/governor/quality_choice.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::calibrate {
 

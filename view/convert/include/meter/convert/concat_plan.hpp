@@ -20,7 +20,7 @@
 
 #include <glm/glm.hpp>
 
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 
 namespace meter::convert {
 

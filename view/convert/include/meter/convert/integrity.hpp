@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "meter/bridge/integrity.hpp"
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 #include "meter/platform/backend.hpp"
 
 namespace meter::convert {

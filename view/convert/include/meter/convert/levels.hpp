@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 #include "meter/shadergen/program_cache.hpp"
 
 namespace meter::convert {

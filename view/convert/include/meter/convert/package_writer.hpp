@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 
 namespace meter::convert {
 

@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-#include "meter/convert/scene.hpp"
+#include "meter/convert/vocabulary.hpp"
 #include "meter/shadergen/shadergen.hpp"
 
 namespace meter::convert {

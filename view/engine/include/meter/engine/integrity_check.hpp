@@ -12,7 +12,7 @@
 
 #include "meter/bridge/integrity.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

@@ -13,7 +13,7 @@
 
 #include <glm/glm.hpp>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

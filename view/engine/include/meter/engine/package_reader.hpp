@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "meter/bridge/package_format.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

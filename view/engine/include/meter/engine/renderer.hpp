@@ -34,7 +34,7 @@
 #include "meter/engine/frame_plan/frame_plan.hpp"
 #include "meter/engine/governor/quality_choice.hpp"
 #include "meter/engine/integrity/fault_injection.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/platform/render_target.hpp"

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/shadergen/program_cache.hpp"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/protocol/catalog.hpp"
 
 namespace meter::preview {

@@ -18,7 +18,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "meter/engine/evaluation/scene_features.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
 

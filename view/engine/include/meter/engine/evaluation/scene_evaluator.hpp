@@ -17,7 +17,7 @@
 #include "meter/engine/evaluation/animation.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/evaluation/frame_state.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
 

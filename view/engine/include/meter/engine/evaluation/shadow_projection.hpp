@@ -12,7 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "meter/engine/evaluation/frame_state.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

@@ -20,7 +20,7 @@
 
 #include <glm/glm.hpp>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

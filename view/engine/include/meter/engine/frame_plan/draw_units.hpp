@@ -11,7 +11,7 @@
 #include "meter/engine/frame_plan/draw_classes.hpp"
 #include "meter/engine/frame_plan/frame_plan.hpp"
 #include "meter/engine/governor/quality_choice.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 
 namespace meter::engine {
 

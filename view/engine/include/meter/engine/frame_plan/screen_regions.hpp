@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/platform/render_target.hpp"
 
 namespace meter::engine {

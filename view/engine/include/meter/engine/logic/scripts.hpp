@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "meter/engine/evaluation/bindings.hpp"
-#include "meter/engine/scene.hpp"
+#include "meter/engine/vocabulary.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
 
