@@ -163,8 +163,11 @@ TEST(PackageChunks, AChunkOfOtherFieldListsIsRefusedWithTheReconvertCommand) {
 // texts, source name and config, share theirs), whatever the contents.
 TEST(PackageChunks, SchemasFollowTheFieldLists) {
   std::set<std::uint64_t> schemas;
-  for (const auto& c : chunks_of(written()))
-    if (c.tag != "CONF") EXPECT_TRUE(schemas.insert(c.schema).second) << c.tag;
+  for (const auto& c : chunks_of(written())) {
+    if (c.tag != "CONF") {
+      EXPECT_TRUE(schemas.insert(c.schema).second) << c.tag;
+    }
+  }
   EXPECT_NE(bridge::section_schema(std::vector<bridge::DrawItem>{}), bridge::section_schema(std::vector<bridge::MergedGroup>{}));
   EXPECT_EQ(bridge::section_schema(std::vector<bridge::DrawItem>{}), bridge::section_schema(std::vector<bridge::DrawItem>(3)));
 }
