@@ -1,19 +1,11 @@
 #include "meter/controller/input/clocks.hpp"
 
-#include <time.h>
+#include "meter/protocol/trace_events.hpp"
 
 namespace meter::controller {
 
-std::int64_t monotonic_ns() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
+std::int64_t monotonic_ns() { return protocol::monotonic_now_ns(); }
 
-std::int64_t realtime_ns() {
-  timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
+std::int64_t realtime_ns() { return protocol::realtime_now_ns(); }
 
 }  // namespace meter::controller

@@ -1,6 +1,6 @@
 #include "meter/runner/latency_trace.hpp"
 
-#include <time.h>
+#include "meter/protocol/trace_events.hpp"
 
 #include "output_file.hpp"
 
@@ -12,11 +12,7 @@ LatencyTrace::LatencyTrace(const std::string& path) {
   out_ << "event,t_ns,a,b,c\n";
 }
 
-std::int64_t LatencyTrace::now() {
-  timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
+std::int64_t LatencyTrace::now() { return protocol::realtime_now_ns(); }
 
 void LatencyTrace::applied(std::int64_t sender_ns, std::uint64_t seq) {
   if (!out_.is_open()) return;

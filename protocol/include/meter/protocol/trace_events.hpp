@@ -20,6 +20,9 @@ namespace meter::protocol {
 // CLOCK_MONOTONIC in ns (std::chrono::steady_clock is the same clock on Linux).
 std::int64_t monotonic_now_ns();
 std::int64_t monotonic_ns(std::chrono::steady_clock::time_point t);
+// CLOCK_REALTIME in ns: the clock of SocketCAN's kernel receive stamps, so the controller's and the
+// view's --trace CSVs (bench/latency) compare with the bus's own times.
+std::int64_t realtime_now_ns();
 
 struct TraceEvent {
   std::string name;

@@ -1,20 +1,10 @@
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 
 #include <chrono>
-#include <ctime>
 
 #include "meter/protocol/trace_events.hpp"
 
 namespace meter::engine {
-namespace {
-
-std::int64_t realtime_now_ns() {
-  timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
-
-}  // namespace
 
 FramePipeline::FramePipeline(const Scene& scene, Renderer& renderer) : evaluator_(scene), renderer_(renderer) {}
 
@@ -22,7 +12,7 @@ void FramePipeline::add_sink(FrameSink& sink) { sinks_.push_back(&sink); }
 
 bool FramePipeline::evaluate(const protocol::SignalTable& signals, bool link_up, double dt) {
   record_ = FrameRecord{};
-  record_.evaluate_began_realtime_ns = realtime_now_ns();
+  record_.evaluate_began_realtime_ns = protocol::realtime_now_ns();
   record_.evaluate_began_ns = protocol::monotonic_now_ns();
   record_.link_up = link_up;
   const bool changed = evaluator_.update(signals, link_up, dt);  // read in place, no copy
@@ -40,7 +30,7 @@ const FrameRecord& FramePipeline::render(const FrameRequest& request) {
   if (governor_) choice = governor_->choose(planned);
   record_.timing = renderer_.draw(choice);
   if (governor_) governor_->rendered(record_.timing, began);
-  record_.render_ended_realtime_ns = realtime_now_ns();
+  record_.render_ended_realtime_ns = protocol::realtime_now_ns();
   record_.render_ended_ns = protocol::monotonic_now_ns();
   record_.states = &evaluator_.states();
   record_.governor = governor_ ? governor_->cells() : nullptr;
