@@ -149,3 +149,27 @@ TEST(GovernorRun, AMissingCostFileIsAnErrorNamingItAndTheCalibration) {
 }
 
 }  // namespace
+
+namespace {
+
+// A live view's --dump-last row is the standing frame as drawn, the governor's cells included,
+// like every other row of its frames.csv (no controller: the link stays down, the governor runs).
+TEST(GovernorRun, ALiveViewsLastDumpCarriesTheGovernorsCells) {
+  const fs::path dir = test_dir();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path msp = dir / "minimal-gauge.msp", out = dir / "live";
+  mt::convert_minimal_gauge(msp);
+  run({mt::built_executable("meter-calibrate"), msp.string(), "--frames", "1", "--size", kSize}, "calibrate.log", 300);
+  run({mt::built_executable("meter-view"), "--scene", msp.string(), "--link", "unix:" + (dir / "none.sock").string(),
+       "--catalog-wait", "0", "--duration", "1", "--size", kSize, "--target-ms", "100", "--dump-last", "--out",
+       out.string()},
+      "live.log", 120);
+  const auto rows = mt::read_csv(out / "frames.csv");
+  ASSERT_EQ(rows.size(), 1u) << "only the last frame is dumped";
+  ASSERT_EQ(rows.front().count("predicted_ms"), 1u) << "the governor's columns are missing";
+  EXPECT_FALSE(rows.front().at("predicted_ms").empty()) << "the --dump-last row has no governor cells";
+  EXPECT_FALSE(rows.front().at("units_reduced").empty());
+}
+
+}  // namespace
