@@ -53,7 +53,7 @@ struct FixedGovernor : FrameGovernor {
     asked.push_back(planned);
     return choice;
   }
-  void rendered(const FrameTiming& timing, std::chrono::steady_clock::time_point) override { timings.push_back(timing); }
+  void rendered(const FrameTiming& timing, std::int64_t) override { timings.push_back(timing); }
   const GovernorCells* cells() const override { return &cells_; }
   std::optional<governor::QualityChoice> choice;
   std::vector<governor::FrameLoad> asked;

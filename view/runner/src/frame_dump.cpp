@@ -45,7 +45,8 @@ void FrameDump::finish() {
 
 void FrameDump::dump_standing(std::uint64_t n, double t, bool link_up) {
   ctx_.renderer.read();
-  write(n, t, link_up, false, setup_.governor ? setup_.governor->cells() : nullptr);
+  const engine::FrameGovernor* governor = ctx_.pipeline.governor();
+  write(n, t, link_up, false, governor ? governor->cells() : nullptr);
 }
 
 // The frame in Renderer::last_image(): its row (the state this image was rendered with) at once,

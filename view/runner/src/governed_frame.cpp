@@ -8,6 +8,7 @@
 
 #include "meter/engine/governor/cost_file.hpp"
 #include "meter/engine/governor/warm_up_choices.hpp"
+#include "meter/protocol/trace_events.hpp"
 #include "meter/runner/view_error.hpp"
 
 namespace meter::runner {
@@ -105,7 +106,7 @@ std::optional<gov::QualityChoice> GovernedFrames::choose(const gov::FrameLoad& p
   return governor_->choose(planned);
 }
 
-void GovernedFrames::rendered(const engine::FrameTiming& timing, Clock::time_point began) {
+void GovernedFrames::rendered(const engine::FrameTiming& timing, std::int64_t began_ns) {
   const std::uint64_t frame = frame_++;
   const bool start_up = drawn_ == 0;
   if (inject_ && timing.drawn && frame >= inject_->first && frame <= inject_->last) {
@@ -115,7 +116,7 @@ void GovernedFrames::rendered(const engine::FrameTiming& timing, Clock::time_poi
     while (Clock::now() < until) {
     }
   }
-  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
+  const double ms = double(protocol::monotonic_ns(Clock::now()) - began_ns) / 1e6;
   if (governor_ && start_up && timing.drawn) warm_up(ms);
   if (!timing.drawn) return;
   ++drawn_;

@@ -86,14 +86,14 @@ void IntegrityStage::before_frame(std::uint64_t frame) {
   if (schedule_->last && frame == *schedule_->last + 1) ctx_.renderer.inject(std::nullopt);
 }
 
-void IntegrityStage::after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now) {
+void IntegrityStage::after_frame(std::uint64_t frame, Clock::time_point now) {
   if (!monitor_.on()) return;
   const auto& faults = monitor_.check(ctx_.renderer, ctx_.pipeline.evaluator());
   cells_.faults = faults.size();
   cells_.total = monitor_.faults();
   cells_.first = faults.empty() ? std::string() : faults.front().describe();
   if (faults.empty()) return;
-  health.report(protocol::kViewFaultIntegrity, now);
+  health_.report(protocol::kViewFaultIntegrity, now);
   if (!first_fault_frame_) first_fault_frame_ = frame;
   for (const auto& f : faults)
     if (limit_.admit(f.region, now)) log_ << "meter-view: integrity fault at frame " << frame << ": " << f.describe() << "\n";

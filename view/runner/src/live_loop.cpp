@@ -103,7 +103,6 @@ class LiveLoop {
   LiveStats stats_;
   FrameDump dump_;
   FrameTrace frame_trace_;
-  engine::FramePipeline& pipeline_;
   std::uint64_t frame_ = 0;
   std::optional<Clock::time_point> changed_since_;
   std::uint64_t dump_failures_seen_ = 0, drops_logged_ = 0;
@@ -133,15 +132,14 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
           [this](std::uint64_t) { encode_began_ = protocol::monotonic_now_ns(); }),
       stats_(png_writer_, options.stats ? options.stats_interval_s : 0.0, Clock::now()),
       dump_(ctx, png_writer_, csv_,
-            FrameDumpSetup{concurrent_, overflow_, &integrity_, &ctx.governed, &stats_.readback, &events_,
+            FrameDumpSetup{concurrent_, overflow_, &integrity_, &stats_.readback, &events_,
                            [this] { poll(std::chrono::milliseconds(5)); }}),
-      frame_trace_(events_, options.trace_on_overrun_ms, log),
-      pipeline_(ctx.pipeline) {
+      frame_trace_(events_, options.trace_on_overrun_ms, log) {
   events_.thread_name(1, "render loop");
   events_.thread_name(2, "png writer");
-  pipeline_.set_governor(&ctx.governed);  // docs/uniform-frame-rate.md
+  ctx_.pipeline.set_governor(&ctx.governed);  // docs/uniform-frame-rate.md
   for (engine::FrameSink* sink : std::initializer_list<engine::FrameSink*>{&ctx.timing, &trace_, &integrity_, &dump_, &frame_trace_})
-    pipeline_.add_sink(*sink);
+    ctx_.pipeline.add_sink(*sink);
 }
 
 // A link poll that applied changes is an intake slice, from the poll's start (so a poll that
@@ -219,14 +217,14 @@ void LiveLoop::frame(const FramePacer::FrameTime& ft) {
   engine::FrameRequest request{frame_, ft.t};
   {
     BusyScope busy(stats_.evaluate);
-    pipeline_.evaluate(sub_.signals(), sub_.link_up(), ft.dt);  // read in place, no copy
+    ctx_.pipeline.evaluate(sub_.signals(), sub_.link_up(), ft.dt);  // read in place, no copy
     log_script_messages(ctx_.pipeline.evaluator(), log_);
     const DumpChoice choice = policy_.decide(frame_, ft.t, take_dump_request());
     request.output = choice.write;
     request.output_asked = choice.asked;  // --dump-at, SIGUSR1: asked for, never dropped
     request.read = choice.write && !concurrent_;
   }
-  meter_frame(pipeline_.render(request));
+  meter_frame(ctx_.pipeline.render(request));
   ++frame_;
 }
 
@@ -289,7 +287,7 @@ void LiveLoop::run() {
     frame(intake());
     after_frame();
   }
-  pipeline_.finish();
+  ctx_.pipeline.finish();
   if (policy_.dump_on_exit(frame_)) dump_.dump_standing(frame_ - 1, pacer_.seconds_at(Clock::now()), sub_.link_up());
   png_writer_.finish();  // every dumped frame is on disk before the exit status says so
   if (!events_.close()) log_ << "meter-view: write error on " << options_.trace_json << "\n";

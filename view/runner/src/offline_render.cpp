@@ -21,7 +21,7 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
   pipeline.add_sink(ctx.timing);
   pipeline.evaluate(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
   log_script_messages(ctx.pipeline.evaluator(), log);
-  pipeline.render(engine::FrameRequest{0, 0.0, true, true, true, false});
+  pipeline.render(engine::FrameRequest{0, 0.0, true, true, false, false});  // read back; written below, not by a sink
   pipeline.finish();
   const auto png = ctx.out_dir / options.png_name;
   platform::write_png(ctx.renderer.last_image(), png);

@@ -113,7 +113,6 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), false, ctx.governed.governing());
   PngWriter png_writer;
   FrameDumpSetup setup;
-  setup.governor = &ctx.governed;
   setup.while_full = [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); };
   FrameDump dump(ctx, png_writer, csv, std::move(setup));
   engine::FramePipeline& pipeline = ctx.pipeline;

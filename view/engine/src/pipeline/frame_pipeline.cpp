@@ -24,12 +24,11 @@ const FrameRecord& FramePipeline::render(const FrameRequest& request) {
   record_.request = request;
   for (FrameSink* s : sinks_) s->before_frame(request.frame);
   record_.render_began_ns = protocol::monotonic_now_ns();
-  const auto began = std::chrono::steady_clock::now();
   const governor::FrameLoad& planned = renderer_.plan(request.force, request.read);
   std::optional<governor::QualityChoice> choice;
   if (governor_) choice = governor_->choose(planned);
   record_.timing = renderer_.draw(choice);
-  if (governor_) governor_->rendered(record_.timing, began);
+  if (governor_) governor_->rendered(record_.timing, record_.render_began_ns);
   record_.render_ended_realtime_ns = protocol::realtime_now_ns();
   record_.render_ended_ns = protocol::monotonic_now_ns();
   record_.states = &evaluator_.states();

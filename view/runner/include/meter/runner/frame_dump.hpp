@@ -28,7 +28,6 @@ struct FrameDumpSetup {
   bool concurrent = false;                       // read through pixel-pack buffers
   DumpOverflow overflow = DumpOverflow::Block;   // a periodic dump's; asked-for dumps always block
   const IntegrityStage* integrity = nullptr;     // its cells in each row (nullptr: none)
-  const engine::FrameGovernor* governor = nullptr;  // its cells in a --dump-last row
   StageMeter* readback = nullptr;                // live --stats: the readback stage (nullptr: none; needed when concurrent)
   TraceEvents* events = nullptr;                 // waits for output space as slices (nullptr: none)
   std::function<void()> while_full;              // done while the writer's buffer is full

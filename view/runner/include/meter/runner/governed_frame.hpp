@@ -50,7 +50,7 @@ class GovernedFrames : public engine::FrameGovernor {
   std::optional<engine::governor::QualityChoice> choose(const engine::governor::FrameLoad& planned) override;
   // The frame's measured time (with --inject-cost's busy time) handed to the governor; after the
   // start-up frame, every level the governor may take is drawn once (warm-up).
-  void rendered(const engine::FrameTiming& timing, Clock::time_point began) override;
+  void rendered(const engine::FrameTiming& timing, std::int64_t began_ns) override;
   // The last frame's cells (the governor's prediction, the measured time, the choice); nullptr
   // when the governor is off.
   const GovernorCells* cells() const override { return governor_ ? &cells_ : nullptr; }

@@ -54,16 +54,16 @@ class IntegrityStage : public engine::FrameSink {
   // Before frame `frame` renders: the monitor names the boxes it will read (IntegrityMonitor::
   // prepare); the injected fault starts or ends.
   void before_frame(std::uint64_t frame) override;
-  // After it rendered: checks it; a fault is logged and reported to `health` at `now`.
-  void after_frame(std::uint64_t frame, ViewHealth& health, Clock::time_point now);
-  // The frame pipeline's side: after_frame for every frame, reported to the constructor's health.
-  void on_frame(const engine::FrameRecord& frame) override { after_frame(frame.request.frame, health_, Clock::now()); }
+  // After the frame rendered: checks it; a fault is logged and reported to the constructor's health.
+  void on_frame(const engine::FrameRecord& frame) override { after_frame(frame.request.frame, Clock::now()); }
   // The frames.csv cells of the frame last checked (nullptr when the monitor is off).
   const IntegrityCells* cells() const { return monitor_.on() ? &cells_ : nullptr; }
   void summary(std::ostream& log) const;
   const IntegrityMonitor& monitor() const { return monitor_; }
 
  private:
+  void after_frame(std::uint64_t frame, Clock::time_point now);
+
   RenderContext& ctx_;
   ViewHealth& health_;
   std::ostream& log_;

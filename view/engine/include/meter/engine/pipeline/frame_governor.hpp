@@ -3,7 +3,7 @@
 // plain value. The frame-rate governor of meter-view's live and play modes implements it.
 #pragma once
 
-#include <chrono>
+#include <cstdint>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -28,8 +28,9 @@ class FrameGovernor {
   virtual ~FrameGovernor() = default;
   // The quality to draw the planned frame at; nullopt keeps the current one.
   virtual std::optional<governor::QualityChoice> choose(const governor::FrameLoad& planned) = 0;
-  // The frame was drawn (or skipped): `began` is when it began to be planned.
-  virtual void rendered(const FrameTiming& timing, std::chrono::steady_clock::time_point began) = 0;
+  // The frame was drawn (or skipped): `began_ns` is when it began to be planned (CLOCK_MONOTONIC,
+  // protocol::monotonic_now_ns(), the clock of std::chrono::steady_clock).
+  virtual void rendered(const FrameTiming& timing, std::int64_t began_ns) = 0;
   // The last frame's cells; nullptr when no governor runs.
   virtual const GovernorCells* cells() const = 0;
 };

@@ -41,7 +41,6 @@ class FramePipeline {
 
   BindingEvaluator& evaluator() { return evaluator_; }
   const BindingEvaluator& evaluator() const { return evaluator_; }
-  Renderer& renderer() { return renderer_; }
   const FrameGovernor* governor() const { return governor_; }
 
  private:
