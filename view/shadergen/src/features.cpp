@@ -13,16 +13,10 @@ namespace meter::shadergen {
 
 namespace detail {
 
-bool has_texture(const MaterialFeatures& f, TextureSlot slot) { return bridge::feature_terms::has(f, slot); }
-
-bool uses_texcoord1(const MaterialFeatures& f, TextureSlot slot) { return bridge::feature_terms::texcoord1(f, slot); }
-
 bool any_material_texture(const MaterialFeatures& f) {
   return f.base_color_texture || f.metallic_roughness_texture || f.normal_texture ||
          f.emissive_texture || f.occlusion_texture;
 }
-
-bool is_lit(ShadingModel m) { return m != ShadingModel::Unlit; }
 
 bool per_pixel_normal(ShadingModel m) {
   return m == ShadingModel::BlinnPhong || m == ShadingModel::PbrMetallicRoughness;
@@ -30,14 +24,14 @@ bool per_pixel_normal(ShadingModel m) {
 
 int attribute_count(const MaterialFeatures& f) {
   int n = 1;  // POSITION
-  const bool normals = f.shading != ShadingModel::Unlit && f.shading != ShadingModel::Flat;
+  const bool normals = bridge::feature_terms::smooth_normals(f);
   if (normals) ++n;
   if (f.normal_texture && f.has_tangents) ++n;
   bool uv0 = false, uv1 = false;
   for (int s = 0; s <= static_cast<int>(TextureSlot::Occlusion); ++s) {
     const auto slot = static_cast<TextureSlot>(s);
-    if (!has_texture(f, slot)) continue;
-    (uses_texcoord1(f, slot) ? uv1 : uv0) = true;
+    if (!bridge::feature_terms::has(f, slot)) continue;
+    (bridge::feature_terms::texcoord1(f, slot) ? uv1 : uv0) = true;
   }
   n += int(uv0) + int(uv1);
   if (f.vertex_colors) ++n;
@@ -93,7 +87,7 @@ void validate(const MaterialFeatures& f) {
     fail("texcoord1_slots: the environment map is addressed by direction, not by TEXCOORD_1");
   for (int s = 0; s <= static_cast<int>(TextureSlot::Occlusion); ++s) {
     const auto slot = static_cast<TextureSlot>(s);
-    if (uses_texcoord1(f, slot) && !has_texture(f, slot))
+    if (bridge::feature_terms::texcoord1(f, slot) && !bridge::feature_terms::has(f, slot))
       fail(std::string("texcoord1_slots names the ") + to_string(slot) +
            " texture, which the material does not have");
   }

@@ -6,6 +6,7 @@
 #include "features.hpp"
 #include "glsl_builder.hpp"
 #include "glsl_snippets.hpp"
+#include "meter/bridge/material_feature_fields.hpp"
 
 namespace meter::shadergen {
 
@@ -42,8 +43,8 @@ Needs analyse(const MaterialFeatures& f) {
   n.tangent = f.normal_texture && f.has_tangents;
   for (int s = 0; s <= static_cast<int>(TextureSlot::Occlusion); ++s) {
     const auto slot = static_cast<TextureSlot>(s);
-    if (!detail::has_texture(f, slot)) continue;
-    (detail::uses_texcoord1(f, slot) ? n.uv1 : n.uv0) = true;
+    if (!bridge::feature_terms::has(f, slot)) continue;
+    (bridge::feature_terms::texcoord1(f, slot) ? n.uv1 : n.uv0) = true;
   }
   n.gouraud_light = f.shading == ShadingModel::Gouraud && lights > 0;
   n.morph_normals = f.morph_normals && n.normal_attribute;
@@ -248,9 +249,9 @@ void write_vertex_stage(GlslBuilder& b, const MaterialFeatures& f, const Needs& 
 void sample_coordinates(GlslBuilder& b, const MaterialFeatures& f) {
   for (int s = 0; s <= static_cast<int>(TextureSlot::Occlusion); ++s) {
     const auto slot = static_cast<TextureSlot>(s);
-    if (!detail::has_texture(f, slot)) continue;
+    if (!bridge::feature_terms::has(f, slot)) continue;
     b.sampler("u_" + slot_name(slot) + "_texture", slot);
-    const std::string uv = detail::uses_texcoord1(f, slot) ? "v_texcoord1" : "v_texcoord0";
+    const std::string uv = bridge::feature_terms::texcoord1(f, slot) ? "v_texcoord1" : "v_texcoord0";
     if (f.texture_transform) {
       const std::string t = "u_" + slot_name(slot) + "_uv_transform";
       b.uniform(Stage::Fragment, t, "mat3", UniformSemantic::TextureTransform, s);
