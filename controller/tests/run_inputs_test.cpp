@@ -111,14 +111,14 @@ TEST(RunInputs, SingleInputFormsAreUnchanged) {
   EXPECT_EQ(one[0].name, "");
   EXPECT_EQ(one[0].target, "log:drive.log");
   EXPECT_EQ(one[0].dbc, "v.dbc");
-  EXPECT_EQ(one[0].kind, InputKind::Log);
+  EXPECT_EQ(one[0].kind(), InputKind::Log);
   EXPECT_TRUE(parse_input_specs({"modbus-tcp:127.0.0.1:1502"}, {})[0].dbc.empty());
   // '=' inside a target is part of it, not a name.
   EXPECT_EQ(parse_input_specs({"log:/tmp/a=b.log"}, {})[0].target, "log:/tmp/a=b.log");
   auto named = parse_input_specs({"body=can:vcan0"}, {"v.dbc"});
   EXPECT_EQ(named[0].name, "body");
   EXPECT_EQ(named[0].dbc, "v.dbc");
-  EXPECT_EQ(named[0].kind, InputKind::CanBus);
+  EXPECT_EQ(named[0].kind(), InputKind::CanBus);
 }
 
 TEST(RunInputs, TheSchemeIsParsedOnceAndAnUnknownOneListsEveryKnownForm) {
@@ -147,7 +147,7 @@ TEST(RunInputs, SeveralInputsPairWithTheirDbcs) {
   ASSERT_EQ(specs.size(), 3u);
   EXPECT_EQ(specs[0].dbc, "b.dbc");
   EXPECT_EQ(specs[1].dbc, "c.dbc");
-  EXPECT_EQ(specs[2].kind, InputKind::Modbus);
+  EXPECT_EQ(specs[2].kind(), InputKind::Modbus);
   EXPECT_TRUE(specs[2].dbc.empty());
 
   EXPECT_TRUE(contains(error_of({"body=can:vcan0", "can:vcan1"}, {}), "--input can:vcan1: with several inputs each one needs a name"));

@@ -29,7 +29,7 @@ std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs,
   for (const std::string& arg : inputs) {
     auto [name, target] = split_name(arg);
     InputTarget parsed = parse_input_target(target);
-    InputSpec s{name, target, "", parsed.scheme->kind, parsed.scheme, std::move(parsed.address)};
+    InputSpec s{name, target, "", parsed.scheme, std::move(parsed.address)};
     if (inputs.size() > 1 && name.empty())
       throw std::invalid_argument("--input " + arg + ": with several inputs each one needs a name, e.g. --input body=" + arg);
     if (name == "modbus")
@@ -38,7 +38,7 @@ std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs,
       if (!name.empty() && o.name == name) throw std::invalid_argument("--input " + arg + ": a second input named '" + name + "'");
     specs.push_back(std::move(s));
   }
-  if (std::count_if(specs.begin(), specs.end(), [](const InputSpec& s) { return s.kind == InputKind::Modbus; }) > 1)
+  if (std::count_if(specs.begin(), specs.end(), [](const InputSpec& s) { return s.kind() == InputKind::Modbus; }) > 1)
     throw std::invalid_argument("--input: at most one Modbus input (the mapping has one [modbus] register table)");
 
   for (const std::string& arg : dbcs) {
@@ -66,9 +66,9 @@ std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs,
   }
   if (specs.size() > 1)
     for (const InputSpec& s : specs) {
-      if (s.kind != InputKind::Modbus && s.dbc.empty())
+      if (s.kind() != InputKind::Modbus && s.dbc.empty())
         throw std::invalid_argument("--input " + s.name + "=" + s.target + ": a CAN input needs its DBC: --dbc " + s.name + "=FILE");
-      if (s.kind == InputKind::Modbus && !s.dbc.empty())
+      if (s.kind() == InputKind::Modbus && !s.dbc.empty())
         throw std::invalid_argument("--dbc " + s.name + "=" + s.dbc +
                                     ": a Modbus input reads the mapping's [modbus] registers, not a DBC");
     }

@@ -40,13 +40,13 @@ std::unique_ptr<Input> open_inputs(const std::vector<InputSpec>& specs, const st
                                    const std::string& replay, const Mapping& map, const Model& model, std::ostream& err) {
   auto db_of = [&](std::size_t i) { return dbs[i] ? &*dbs[i] : nullptr; };
   if (specs.size() == 1) {
-    if (specs[0].kind == InputKind::Log) return std::make_unique<LogReplay>(load_log(specs[0], err), parse_replay(replay));
+    if (specs[0].kind() == InputKind::Log) return std::make_unique<LogReplay>(load_log(specs[0], err), parse_replay(replay));
     return open_live(specs[0], 0, db_of(0), map, model);
   }
   std::vector<std::pair<int, ParsedLog>> logs;
   std::string log_names;
   for (std::size_t i = 0; i < specs.size(); ++i)
-    if (specs[i].kind == InputKind::Log) {
+    if (specs[i].kind() == InputKind::Log) {
       logs.emplace_back(static_cast<int>(i), load_log(specs[i], err));
       log_names += (log_names.empty() ? "" : "+") + specs[i].name;
     }
@@ -61,7 +61,7 @@ std::unique_ptr<Input> open_inputs(const std::vector<InputSpec>& specs, const st
     members.push_back({std::make_unique<LogReplay>(merge_logs(std::move(logs)), replay_options), log_names, -1});
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
-    if (specs[i].kind == InputKind::Log) continue;
+    if (specs[i].kind() == InputKind::Log) continue;
     members.push_back({open_live(specs[i], static_cast<int>(i), db_of(i), map, model), specs[i].name, static_cast<int>(i)});
   }
   return std::make_unique<InputSet>(std::move(members));

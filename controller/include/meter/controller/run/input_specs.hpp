@@ -13,9 +13,10 @@ struct InputSpec {
   std::string name;    // empty: the only input, unnamed
   std::string target;  // SCHEME:ADDRESS, as given: log:FILE | can:IFACE | modbus-tcp:HOST:PORT | ...
   std::string dbc;     // empty: none
-  InputKind kind = InputKind::Log;
-  const InputScheme* scheme = nullptr;  // the registry's entry for the target's scheme
+  const InputScheme* scheme = nullptr;  // the registry's entry for the target's scheme (never null once parsed)
   std::string address;                  // the target after "SCHEME:"
+
+  InputKind kind() const { return scheme->kind; }
 };
 
 // Pairs every --input [NAME=]TARGET with its --dbc [NAME=]FILE. One input needs no name (and takes
