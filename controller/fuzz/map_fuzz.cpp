@@ -33,7 +33,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::size_t i = 0; i < f.len; ++i) f.data[i] = size ? data[(static_cast<std::size_t>(tick) * 31 + i) % size] : 0;
     model->on_frame(f);
     if (const auto& mb = model->mapping().modbus)
-      for (const ModbusRegister& r : mb->registers) model->on_value("modbus." + r.name, static_cast<double>(tick), true, t);
+      for (const ModbusRegister& r : mb->registers) model->on_value(mb->source_key(r), static_cast<double>(tick), true, t);
+    for (const auto& [input, table] : model->mapping().modbus_inputs)
+      for (const ModbusRegister& r : table.registers) model->on_value(table.source_key(r), static_cast<double>(tick), true, t);
     model->update(t);
     for (const ModelOutput& o : model->outputs())
       if (!std::isfinite(o.value)) std::abort();  // never a silent NaN on the link

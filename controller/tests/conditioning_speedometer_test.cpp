@@ -47,7 +47,9 @@ DriveResult drive(double seconds, const std::function<double(double)>& truth, co
       r.worst_low = std::max(r.worst_low, g - shown.value);
       r.worst_high = std::max(r.worst_high, shown.value - (1.1 * g + 4.0));
     }
-    if (const auto est = c.speed_estimate(); !est || !SpeedometerRule::legal(shown.value, *est)) ++r.band_violations;
+    // R39's band around the estimate, in the regulation's words (not SpeedometerRule::legal's arithmetic).
+    if (const auto est = c.speed_estimate(); !est || shown.value < *est - 1e-9 || shown.value - *est > *est / 10 + 4 + 1e-9)
+      ++r.band_violations;
     if (t >= 2.0) {
       sum += shown.value;
       sum2 += shown.value * shown.value;

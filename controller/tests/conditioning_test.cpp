@@ -54,20 +54,58 @@ TEST(Needle, TargetChangeWhileMovingDoesNotSwingPast) {
   for (int i = 0; i < 3000; ++i) ASSERT_LE(n.step(target, 0.001), target);
 }
 
-TEST(SpeedometerR39, AlwaysInsideTheLegalBand) {
+// UN ECE R39 (5.3), in its own words: the speed indicated (V1) shall not be less than the true
+// speed (V2), and 0 <= V1 - V2 <= 0.1 V2 + 4 km/h. The band is computed here from those words on
+// exact hundredths of a km/h, not by the product's arithmetic (SpeedometerRule::apply / legal).
+namespace {
+struct R39Band {
+  double low, high;
+};
+R39Band r39_band(int true_centi_kmh) {
+  // t = V2 in hundredths of a km/h; V2 + V2 / 10 + 4 km/h in thousandths is 10 t + t + 4000.
+  const long long v2 = true_centi_kmh;
+  return {static_cast<double>(v2) / 100.0, static_cast<double>(v2 * 10 + v2 + 4000) / 1000.0};
+}
+bool within_r39(const R39Band& b, double shown) { return shown >= b.low - 1e-9 && shown <= b.high + 1e-9; }
+}  // namespace
+
+TEST(SpeedometerR39, AlwaysInsideTheRegulationsBand) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> v(0, 300), lag(-30, 30);
-  SpeedometerRule r{1.05, 3.0};
-  for (int i = 0; i < 100000; ++i) {
-    double truth = v(rng);
-    double shown = r.apply(truth + lag(rng), truth);
-    ASSERT_TRUE(SpeedometerRule::legal(shown, truth)) << truth << " " << shown;
+  std::uniform_int_distribution<int> v_centi(0, 30000);  // 0..300 km/h
+  std::uniform_real_distribution<double> lag(-60, 60);   // the damped needle behind or ahead
+  for (const SpeedometerRule& r : {SpeedometerRule{1.05, 3.0}, SpeedometerRule{1.02, 1.0}, SpeedometerRule{1.0, 0.0},
+                                   SpeedometerRule{1.3, 10.0}, SpeedometerRule{0.9, 0.0}}) {
+    for (int i = 0; i < 20000; ++i) {
+      const int t = v_centi(rng);
+      const double truth = t / 100.0;
+      const R39Band band = r39_band(t);
+      const double shown = r.apply(truth + lag(rng), truth);
+      ASSERT_TRUE(within_r39(band, shown)) << "rule " << r.ratio << " x + " << r.offset_kmh << ": true " << truth
+                                           << " km/h shown " << shown << ", R39 allows " << band.low << ".." << band.high;
+    }
   }
-  EXPECT_DOUBLE_EQ(r.apply(100, 100), 108.0);
-  EXPECT_DOUBLE_EQ(r.apply(0, 0), 3.0);
-  const SpeedometerRule max_rule{1.1, 4};
-  EXPECT_DOUBLE_EQ(max_rule.apply(200, 200), 224.0);  // clamped at 10 % + 4
-  EXPECT_EQ(r.apply(std::nan(""), 50), 55.5);
+}
+
+// The band's edges are where R39 puts them, and a reading already inside it is left alone.
+TEST(SpeedometerR39, BandEdgesAndLegalReadingsFromTheRegulation) {
+  const SpeedometerRule none{1.0, 0.0};
+  for (int t = 0; t <= 30000; t += 250) {
+    const R39Band band = r39_band(t);
+    const double truth = t / 100.0;
+    EXPECT_NEAR(none.apply(truth - 50.0, truth), band.low, 1e-9) << truth;   // reads low: raised to V2
+    EXPECT_NEAR(none.apply(truth + 500.0, truth), band.high, 1e-9) << truth; // reads high: 110 % + 4
+    EXPECT_NEAR(none.apply(truth, truth), truth, 1e-9) << truth;             // exact: legal, unchanged
+  }
+  EXPECT_DOUBLE_EQ(r39_band(0).high, 4.0);        // standing: up to 4 km/h
+  EXPECT_DOUBLE_EQ(r39_band(10000).high, 114.0);  // 100 km/h: up to 114
+  EXPECT_DOUBLE_EQ(r39_band(20000).high, 224.0);  // 200 km/h: up to 224
+  // A settled needle (displayed = true) with the designed-in over-read 1.05 x + 3 reads it exactly.
+  const SpeedometerRule over{1.05, 3.0};
+  EXPECT_NEAR(over.apply(100, 100), 108.0, 1e-9);
+  EXPECT_NEAR(over.apply(0, 0), 3.0, 1e-9);
+  EXPECT_NEAR((SpeedometerRule{1.1, 4}.apply(200, 200)), 224.0, 1e-9);
+  EXPECT_NEAR((SpeedometerRule{1.2, 4}.apply(200, 200)), 224.0, 1e-9);  // over the band: 110 % + 4
+  EXPECT_NEAR(over.apply(std::nan(""), 50), 55.5, 1e-9);               // no needle value: from V2
 }
 
 TEST(Fuel, SloshFilteredRefuelDetectedSenderFault) {

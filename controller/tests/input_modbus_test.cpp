@@ -13,6 +13,7 @@
 #include <map>
 #include <thread>
 
+#include "meter/controller/input/modbus_health.hpp"
 #include "meter/controller/input/modbus_input.hpp"
 #include "meter/controller/input/modbus_registers.hpp"
 #include "meter/controller/mapping/mapping.hpp"
@@ -170,10 +171,12 @@ TEST(ModbusClient, LoopbackServerValuesTimeoutExceptionAndStaleHeartbeat) {
     Rec r;
     run_polls(in, r, 3);
     expect_values(r);
+    EXPECT_EQ(in.modbus_health().state, ModbusLinkState::Ok);
     server.mute = true;  // requests go unanswered: response timeout
     run_polls(in, r, 2);
     EXPECT_TRUE(r.all_invalid()) << in.last_error();
     EXPECT_GT(in.failures(), 0u);
+    EXPECT_EQ(in.modbus_health().state, ModbusLinkState::NoResponse) << describe(in.modbus_health());
     server.mute = false;
     for (int i = 0; i < 50 && !r.all_valid(); ++i) in.poll(r, std::chrono::milliseconds(20));
     expect_values(r);  // recovers after reconnecting
@@ -186,6 +189,8 @@ TEST(ModbusClient, LoopbackServerValuesTimeoutExceptionAndStaleHeartbeat) {
     run_polls(in, r, 2);
     EXPECT_TRUE(r.all_invalid());
     EXPECT_NE(in.last_error().find("z@200"), std::string::npos) << in.last_error();
+    EXPECT_EQ(in.modbus_health().state, ModbusLinkState::Exception);
+    EXPECT_EQ(in.health().polled_links, "Modbus tcp:127.0.0.1:" + std::to_string(server.port()) + " exception (" + in.last_error() + ")");
   }
   {
     Mapping hb = parse_mapping(std::string(kRegisters) + "[modbus.register hb]\naddress = 10\n[modbus]\nheartbeat = hb\nstale_after = 3\n", "test.map");
@@ -197,9 +202,12 @@ TEST(ModbusClient, LoopbackServerValuesTimeoutExceptionAndStaleHeartbeat) {
     run_polls(in, r, 6);
     EXPECT_TRUE(r.all_invalid());
     EXPECT_NE(in.last_error().find("stale"), std::string::npos);
+    EXPECT_EQ(in.modbus_health().state, ModbusLinkState::StaleHeartbeat);
     server.heartbeat_step = 1;
     run_polls(in, r, 3);
     EXPECT_TRUE(r.all_valid());
+    EXPECT_EQ(in.modbus_health().state, ModbusLinkState::Ok);
+    EXPECT_GE(in.modbus_health().stale_heartbeats, 1u);  // the counts and the last error outlive the recovery
   }
 }
 
@@ -209,6 +217,8 @@ TEST(ModbusClient, UnreachableServerMarksEverythingInvalid) {
   Rec r;
   run_polls(in, r, 1);
   EXPECT_TRUE(r.all_invalid());
+  EXPECT_EQ(in.modbus_health().state, ModbusLinkState::Unreachable);
+  EXPECT_EQ(in.last_error(), "connect: Connection refused");
   EXPECT_THROW(ModbusInput("udp:x", *m.modbus), std::invalid_argument);
   EXPECT_THROW(ModbusInput("rtu:/dev/null:0", *m.modbus), std::invalid_argument);
 }
@@ -222,4 +232,73 @@ TEST(ModbusClient, AgainstPymodbusPeer) {
   // The Python interpreter needs a moment to start listening; the client reconnects each poll.
   for (int i = 0; i < 400 && !r.all_valid(); ++i) in.poll(r, std::chrono::milliseconds(25));
   expect_values(r);
+}
+
+// What each failed read means: libmodbus's errno sorted into the link's states, and the polls folded
+// into counts that outlive a recovery.
+TEST(ModbusHealth, ReadErrorsClassifiedAndPollsCounted) {
+  EXPECT_EQ(classify_modbus_read_error(ETIMEDOUT), ModbusLinkState::NoResponse);
+  for (int e : {EMBBADCRC, EMBBADDATA, EMBBADEXC, EMBMDATA, EMBBADSLAVE, EMBUNKEXC})
+    EXPECT_EQ(classify_modbus_read_error(e), ModbusLinkState::BadFrame) << modbus_strerror(e);
+  for (int e : {EMBXILFUN, EMBXILADD, EMBXILVAL, EMBXSFAIL, EMBXSBUSY, EMBXGPATH, EMBXGTAR})
+    EXPECT_EQ(classify_modbus_read_error(e), ModbusLinkState::Exception) << modbus_strerror(e);
+  for (int e : {EPIPE, ECONNRESET, EBADF, EIO}) EXPECT_EQ(classify_modbus_read_error(e), ModbusLinkState::Unreachable) << e;
+
+  ModbusHealth h;
+  EXPECT_EQ(describe(h), "not-polled: 0 of 0 polls failed (0 unreachable, 0 no response, 0 bad frames, 0 exceptions, 0 stale heartbeats)");
+  note_modbus_poll(h, ModbusLinkState::Ok);
+  note_modbus_poll(h, ModbusLinkState::NoResponse, "read a@0: Connection timed out");
+  note_modbus_poll(h, ModbusLinkState::BadFrame, "read a@0: Invalid CRC");
+  EXPECT_EQ(h.state, ModbusLinkState::BadFrame);
+  note_modbus_poll(h, ModbusLinkState::Ok);
+  EXPECT_EQ(h.state, ModbusLinkState::Ok);
+  EXPECT_EQ(h.polls, 4u);
+  EXPECT_EQ(h.failed_polls, 2u);
+  EXPECT_EQ(describe(h), "ok: 2 of 4 polls failed (0 unreachable, 1 no response, 1 bad frames, 0 exceptions, 0 stale heartbeats), "
+                         "last error: read a@0: Invalid CRC");
+}
+
+// Several Modbus inputs: [modbus INPUT] and [modbus.register INPUT.NAME] make a table per input,
+// its values delivered as modbus.INPUT.NAME; the one [modbus] table stays as it was.
+TEST(ModbusRegisters, NamedInputTablesInTheMapping) {
+  const Mapping m = parse_mapping(
+      "[modbus]\npoll = 50ms\n[modbus.register a]\naddress = 3\n"
+      "[modbus pump]\npoll = 20ms\nunit = 7\n[modbus.register pump.rpm]\naddress = 1\n"
+      "[modbus.register drive.level]\naddress = 0\nscale = 0.05\n"
+      "[Vehicle.Speed]\nsource = modbus.a\n"
+      "[Vehicle.Powertrain.CombustionEngine.Speed]\nsource = modbus.pump.rpm\n"
+      "[Vehicle.Powertrain.FuelSystem.RelativeLevel]\nsource = modbus.drive.level\n",
+      "several.map");
+  ASSERT_TRUE(m.modbus);
+  ASSERT_EQ(m.modbus_inputs.size(), 2u);
+  const ModbusConfig& pump = m.modbus_inputs.at("pump");
+  EXPECT_EQ(pump.input, "pump");
+  EXPECT_EQ(pump.unit_id, 7);
+  EXPECT_EQ(pump.poll_s, 0.02);
+  ASSERT_EQ(pump.registers.size(), 1u);
+  EXPECT_EQ(pump.source_key(pump.registers[0]), "modbus.pump.rpm");
+  EXPECT_EQ(m.modbus->source_key(m.modbus->registers[0]), "modbus.a");
+  EXPECT_EQ(m.modbus_table_of("modbus.pump.rpm"), &pump);
+  EXPECT_EQ(m.modbus_table_of("modbus.drive.level"), &m.modbus_inputs.at("drive"));
+  EXPECT_EQ(m.modbus_table_of("modbus.a"), &*m.modbus);
+  EXPECT_EQ(m.modbus_table_of("modbus.pump.a"), nullptr);
+  EXPECT_EQ(m.modbus_table_of("modbus.rpm"), nullptr);
+
+  auto error = [](const std::string& text) {
+    try {
+      parse_mapping(text, "bad.map");
+    } catch (const MappingError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("[modbus.register pump.rpm]\naddress = 1\n[Vehicle.Speed]\nsource = modbus.drive.rpm\n")
+                .find("source modbus.drive.rpm names no [modbus.register drive.rpm]"),
+            std::string::npos);
+  EXPECT_NE(error("[modbus.register pump.]\n").find("expected [modbus.register NAME] or [modbus.register INPUT.NAME]"), std::string::npos);
+  EXPECT_NE(error("[modbus.register a.b.c]\n").find("expected [modbus.register NAME] or [modbus.register INPUT.NAME]"), std::string::npos);
+  EXPECT_NE(error("[modbus a.b]\n").find("expected [modbus INPUT], INPUT an --input name"), std::string::npos);
+  EXPECT_NE(error("[modbus.register pump.x]\n[modbus.register pump.x]\n").find("register 'x' defined twice"), std::string::npos);
+  EXPECT_NE(error("[modbus pump]\nheartbeat = hb\n[modbus.register pump.x]\n").find("[modbus pump] heartbeat 'hb' names no register"),
+            std::string::npos);
 }

@@ -158,9 +158,35 @@ TEST(RunInputs, SeveralInputsPairWithTheirDbcs) {
   EXPECT_TRUE(contains(error_of({"a=can:vcan0", "b=can:vcan1"}, {"a=x.dbc", "a=y.dbc"}), "input 'a' already has the DBC x.dbc"));
   EXPECT_TRUE(contains(error_of({"a=can:vcan0", "b=can:vcan1"}, {"a=x.dbc"}), "--input b=can:vcan1: a CAN input needs its DBC: --dbc b=FILE"));
   EXPECT_TRUE(contains(error_of({"a=can:vcan0", "m=modbus-tcp:h:1"}, {"a=x.dbc", "m=y.dbc"}), "a Modbus input reads the mapping's [modbus] registers"));
-  EXPECT_TRUE(contains(error_of({"a=modbus-tcp:h:1", "b=modbus-rtu:/dev/x:9600"}, {}), "at most one Modbus input"));
+  // Several Modbus inputs parse; check_modbus_tables pairs them with their register tables.
+  EXPECT_EQ(parse_input_specs({"a=modbus-tcp:h:1", "b=modbus-rtu:/dev/x:9600"}, {}).size(), 2u);
   EXPECT_TRUE(contains(error_of({"a=serial:x"}, {}), "expected [NAME=]log:FILE, can:IFACE"));
   EXPECT_TRUE(contains(error_of({"log:x"}, {"other=x.dbc"}), "no input named 'other'"));
+}
+
+// Modbus inputs and the mapping's register tables: one input may read [modbus]; several read one
+// [modbus NAME] table each, and a named table needs its input.
+TEST(RunInputs, ModbusInputsPairWithTheirRegisterTables) {
+  const Mapping one = parse_mapping("[modbus.register a]\naddress = 0\n", "one.map");
+  const Mapping two = parse_mapping("[modbus.register pump.a]\naddress = 0\n[modbus.register drive.a]\naddress = 0\n", "two.map");
+  auto error = [](const std::vector<std::string>& inputs, const Mapping& map) {
+    try {
+      check_modbus_tables(parse_input_specs(inputs, {}), map);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error({"modbus-tcp:h:1"}, one), "");
+  EXPECT_EQ(error({"pump=modbus-tcp:h:1"}, one), "");  // one named Modbus input: [modbus]
+  EXPECT_EQ(error({"pump=modbus-tcp:h:1", "drive=modbus-rtu:/dev/x:9600"}, two), "");
+  EXPECT_EQ(error({"pump=modbus-tcp:h:1", "drive=modbus-rtu:/dev/x:9600"}, one),
+            "--input pump=modbus-tcp:h:1: with several Modbus inputs each reads its own registers: one.map needs "
+            "[modbus pump] and [modbus.register pump.NAME] sections");
+  EXPECT_EQ(error({"pump=modbus-tcp:h:1"}, two),
+            "two.map: [modbus drive]: no Modbus input is named 'drive' (Modbus inputs: pump); expected --input "
+            "drive=modbus-tcp:HOST:PORT or modbus-rtu:DEV:BAUD");
+  EXPECT_EQ(error({"log:x.log"}, two), "");  // no Modbus input: the tables are not read
 }
 
 TEST(RunInputs, MergedLogsKeepTheirRelativeTimingAndEachFilesOrder) {

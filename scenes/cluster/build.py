@@ -288,7 +288,7 @@ def write_config(path, scene):
          "size_px": 64, "color": white, "align": "center", "failsafe": {"text": "---"}},
         {"signal": "Vehicle.Powertrain.Transmission.CurrentGear", "kind": "text",
          "node": "Text_Gear", "format": "%.0f", "size_px": 44, "color": white, "align": "center",
-         "map": {"-1": "R", "0": "N", "126": "P"}, "failsafe": {"text": "-"}},
+         "map": {"-1": "R", "0": "N", "126": "P", "127": "D"}, "failsafe": {"text": "-"}},
         {"signal": "Vehicle.TraveledDistance", "kind": "text", "node": "Text_Odometer",
          "format": "%.0f km", "size_px": 22, "color": white, "align": "right",
          "failsafe": {"text": "------ km"}},

@@ -68,6 +68,7 @@ void add_health(BusHealth& total, const BusHealth& other) {
   total.interface_drops += other.interface_drops;
   total.replay_slips += other.replay_slips;
   total.deferred_polls += other.deferred_polls;
+  if (!other.polled_links.empty()) total.polled_links += (total.polled_links.empty() ? "" : "; ") + other.polled_links;
 }
 
 std::string describe(const BusHealth& h) {
@@ -78,6 +79,7 @@ std::string describe(const BusHealth& h) {
        " remote frames, " + std::to_string(h.kernel_drops) + " kernel drops, " + std::to_string(h.interface_drops) +
        " interface drops, " + std::to_string(h.replay_slips) +
        " replay slips, " + std::to_string(h.deferred_polls) + " deferred polls";
+  if (!h.polled_links.empty()) s += ", " + h.polled_links;
   return s;
 }
 

@@ -37,13 +37,17 @@ ModbusInput::ModbusInput(const std::string& target, const ModbusConfig& config) 
     if (baud <= 0 || fmt.size() != 3 || (fmt[1] != 'N' && fmt[1] != 'E' && fmt[1] != 'O'))
       throw std::invalid_argument("modbus target: expected rtu:DEVICE:BAUD[:8N1|8E1|8O1], got '" + target + "'");
     ctx_ = modbus_new_rtu(dev.c_str(), baud, fmt[1], fmt[0] - '0', fmt[2] - '0');
+    serial_ = true;
   } else {
     throw std::invalid_argument("modbus target: expected tcp:HOST:PORT or rtu:DEVICE:BAUD, got '" + target + "'");
   }
   if (!ctx_) throw std::runtime_error("modbus: cannot create a context for " + target + ": " + modbus_strerror(errno));
   modbus_set_slave(ctx(ctx_), cfg_.unit_id);
   double t = cfg_.response_timeout_s;
-  modbus_set_response_timeout(ctx(ctx_), static_cast<std::uint32_t>(t), static_cast<std::uint32_t>((t - std::floor(t)) * 1e6));
+  const auto s = static_cast<std::uint32_t>(t), us = static_cast<std::uint32_t>((t - std::floor(t)) * 1e6);
+  modbus_set_response_timeout(ctx(ctx_), s, us);
+  modbus_set_byte_timeout(ctx(ctx_), s, us);  // a frame that stops half-way ends the read too
+  for (const ModbusRegister& r : cfg_.registers) keys_.push_back(cfg_.source_key(r));
   next_poll_ = monotonic_ns();
 }
 
@@ -57,20 +61,27 @@ ModbusInput::~ModbusInput() {
 std::int64_t ModbusInput::now_ns() const { return monotonic_ns(); }
 std::string ModbusInput::describe() const { return "Modbus " + target_; }
 
+BusHealth ModbusInput::health() const {
+  BusHealth h;
+  if (health_.state == ModbusLinkState::NotPolled) return h;
+  h.polled_links = describe() + " " + std::string(to_string(health_.state));
+  if (health_.state != ModbusLinkState::Ok) h.polled_links += " (" + health_.last_error + ")";
+  return h;
+}
+
 void ModbusInput::invalidate_all(InputSink& sink, std::int64_t t) {
-  for (const auto& r : cfg_.registers) sink.on_value("modbus." + r.name, 0.0, false, t);
+  for (const std::string& key : keys_) sink.on_value(key, 0.0, false, t);
+}
+
+void ModbusInput::fail(InputSink& sink, std::int64_t t, ModbusLinkState outcome, std::string error) {
+  note_modbus_poll(health_, outcome, error);
+  invalidate_all(sink, t);
 }
 
 void ModbusInput::poll_once(InputSink& sink) {
-  ++polls_;
   const std::int64_t t = monotonic_ns();
   if (!connected_) {
-    if (modbus_connect(ctx(ctx_)) != 0) {
-      ++failures_;
-      last_error_ = std::string("connect: ") + modbus_strerror(errno);
-      invalidate_all(sink, t);
-      return;
-    }
+    if (modbus_connect(ctx(ctx_)) != 0) return fail(sink, t, ModbusLinkState::Unreachable, std::string("connect: ") + modbus_strerror(errno));
     connected_ = true;
   }
   words_.assign(cfg_.registers.size(), {0, 0});
@@ -80,23 +91,24 @@ void ModbusInput::poll_once(InputSink& sink) {
     int n = r.input_table ? modbus_read_input_registers(ctx(ctx_), r.address, r.words(), w)
                           : modbus_read_registers(ctx(ctx_), r.address, r.words(), w);
     if (n != r.words()) {
-      // Timeout or exception: one bad poll invalidates the whole map, like a missing CAN frame.
-      ++failures_;
-      last_error_ = "read " + r.name + "@" + std::to_string(r.address) + ": " + modbus_strerror(errno);
-      if (errno != EMBXILADD && errno != EMBXILFUN && errno != EMBXILVAL && errno != EMBXSFAIL) {
+      // One bad poll invalidates the whole map, like a missing CAN frame.
+      const int err = n < 0 ? errno : EMBBADDATA;
+      const ModbusLinkState outcome = classify_modbus_read_error(err);
+      std::string error = "read " + r.name + "@" + std::to_string(r.address) + ": " + modbus_strerror(err);
+      if (outcome == ModbusLinkState::Unreachable || (outcome != ModbusLinkState::Exception && !serial_)) {
         modbus_close(ctx(ctx_));  // connection-level failure: reconnect next poll
         connected_ = false;
+      } else if (serial_ && outcome != ModbusLinkState::Exception) {
+        modbus_flush(ctx(ctx_));  // a serial line stays open: drop what is left of a bad or late answer
       }
-      invalidate_all(sink, t);
-      return;
+      return fail(sink, t, outcome, std::move(error));
     }
   }
-  if (!interpret_modbus_poll(cfg_, words_, heartbeat_, readings_)) {
-    last_error_ = "heartbeat register '" + cfg_.heartbeat + "' stale for " + std::to_string(heartbeat_.same_polls) + " polls";
-    invalidate_all(sink, t);
-    return;
-  }
-  for (const ModbusReading& g : readings_) sink.on_value("modbus." + g.reg->name, g.value, g.valid, t);
+  if (!interpret_modbus_poll(cfg_, words_, heartbeat_, readings_))
+    return fail(sink, t, ModbusLinkState::StaleHeartbeat,
+                "heartbeat register '" + cfg_.heartbeat + "' stale for " + std::to_string(heartbeat_.same_polls) + " polls");
+  note_modbus_poll(health_, ModbusLinkState::Ok);
+  for (std::size_t i = 0; i < readings_.size(); ++i) sink.on_value(keys_[i], readings_[i].value, readings_[i].valid, t);
 }
 
 bool ModbusInput::poll(InputSink& sink, std::chrono::milliseconds timeout) {

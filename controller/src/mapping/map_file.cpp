@@ -1,5 +1,5 @@
-// Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus] and
-// [modbus.register NAME]. Every error names file:line and what was expected.
+// Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus] /
+// [modbus INPUT] and [modbus.register [INPUT.]NAME]. Every error names file:line and what was expected.
 #include "meter/controller/mapping/map_file.hpp"
 
 #include <algorithm>
@@ -321,30 +321,55 @@ RegisterType register_type(const std::string& v, const Ctx& c) {
 
 enum class Section { None, Global, Modbus, Register, Output };
 
-// A [section] header: the section it opens (a catalog signal's output, a Modbus register, ...).
-Section open_section(Mapping& m, std::string_view header, const Ctx& c) {
+// The register table [modbus.register REG] adds to: REG "NAME" goes into [modbus]'s, "INPUT.NAME"
+// into the table of the Modbus input named INPUT; `reg` is left holding NAME.
+ModbusConfig& register_table(Mapping& m, std::string& reg, const Ctx& c) {
+  const auto dot = reg.find('.');
+  if (dot == std::string::npos) {
+    if (!m.modbus) m.modbus.emplace();
+    return *m.modbus;
+  }
+  const std::string input = reg.substr(0, dot);
+  reg = reg.substr(dot + 1);
+  if (input.empty() || reg.empty() || reg.find('.') != std::string::npos)
+    c.fail("expected [modbus.register NAME] or [modbus.register INPUT.NAME]");
+  ModbusConfig& t = m.modbus_inputs[input];
+  t.input = input;
+  return t;
+}
+
+// A [section] header: the section it opens (a catalog signal's output, a Modbus register, ...);
+// `table` is the Modbus table a [modbus ...] or [modbus.register ...] section fills.
+Section open_section(Mapping& m, std::string_view header, const Ctx& c, ModbusConfig*& table) {
   if (header.back() != ']') c.fail("expected ']' closing the section header");
   std::string name(trim(header.substr(1, header.size() - 2)));
   if (name == "global") {
     return Section::Global;
   } else if (name == "modbus") {
     if (!m.modbus) m.modbus.emplace();
+    table = &*m.modbus;
+    return Section::Modbus;
+  } else if (name.rfind("modbus ", 0) == 0) {
+    const std::string input(trim(std::string_view(name).substr(7)));
+    if (input.empty() || input.find_first_of(". \t") != std::string::npos) c.fail("expected [modbus INPUT], INPUT an --input name");
+    table = &m.modbus_inputs[input];
+    table->input = input;
     return Section::Modbus;
   } else if (name.rfind("modbus.register", 0) == 0) {
-    if (!m.modbus) m.modbus.emplace();
     std::string reg(trim(std::string_view(name).substr(15)));
     if (reg.empty()) c.fail("expected [modbus.register NAME]");
-    if (m.modbus->find(reg)) c.fail("register '" + reg + "' defined twice");
+    table = &register_table(m, reg, c);
+    if (table->find(reg)) c.fail("register '" + reg + "' defined twice");
     ModbusRegister r;
     r.name = reg;
     r.line = c.line;
-    m.modbus->registers.push_back(r);
+    table->registers.push_back(r);
     return Section::Register;
   } else {
     const protocol::SignalInfo* info = protocol::find_signal(name);
     if (!info)
       c.fail("section [" + name + "]: expected a signal of the catalog " + protocol::active_catalog()->source() +
-             " (e.g. Vehicle.Speed), 'global', 'modbus' or 'modbus.register NAME'");
+             " (e.g. Vehicle.Speed), 'global', 'modbus', 'modbus INPUT' or 'modbus.register [INPUT.]NAME'");
     if (m.find(info->id)) c.fail("section [" + name + "] appears twice");
     OutputMapping o;
     o.id = info->id;
@@ -428,11 +453,15 @@ void check_mapping(const Mapping& m, Ctx& c) {
         std::none_of(m.outputs.begin(), m.outputs.end(), [](const OutputMapping& x) { return x.name == protocol::vss::kSpeed; }))
       c.fail("[" + o.name + "]: accumulate speed needs a [" + std::string(protocol::vss::kSpeed) + "] section");
     for (const auto& s : o.sources)
-      if (s.rfind("modbus.", 0) == 0 && (!m.modbus || !m.modbus->find(s.substr(7))))
+      if (s.rfind("modbus.", 0) == 0 && !m.modbus_table_of(s))
         c.fail("[" + o.name + "]: source " + s + " names no [modbus.register " + s.substr(7) + "]");
   }
-  if (m.modbus && !m.modbus->heartbeat.empty() && !m.modbus->find(m.modbus->heartbeat))
-    throw MappingError(m.file, 0, "[modbus] heartbeat '" + m.modbus->heartbeat + "' names no register");
+  auto check_heartbeat = [&](const ModbusConfig& t) {
+    if (!t.heartbeat.empty() && !t.find(t.heartbeat))
+      throw MappingError(m.file, 0, "[modbus" + (t.input.empty() ? "" : " " + t.input) + "] heartbeat '" + t.heartbeat + "' names no register");
+  };
+  if (m.modbus) check_heartbeat(*m.modbus);
+  for (const auto& [input, t] : m.modbus_inputs) check_heartbeat(t);
 }
 
 }  // namespace
@@ -441,6 +470,7 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
   Mapping m;
   m.file = file;
   Section sec = Section::None;
+  ModbusConfig* table = nullptr;  // the Modbus table the current [modbus ...] section fills
   Ctx c{file, 0};
   std::istringstream in{std::string(text)};
   std::string raw;
@@ -452,7 +482,7 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
     line = trim(line);
     if (line.empty()) continue;
     if (line.front() == '[') {
-      sec = open_section(m, line, c);
+      sec = open_section(m, line, c, table);
       continue;
     }
     auto eq = line.find('=');
@@ -463,8 +493,8 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
     switch (sec) {
       case Section::None: c.fail("'" + key + "' outside any [section]");
       case Section::Global: set_global_key(m, key, value, c); break;
-      case Section::Modbus: set_modbus_key(*m.modbus, key, value, c); break;
-      case Section::Register: set_register_key(m.modbus->registers.back(), key, value, c); break;
+      case Section::Modbus: set_modbus_key(*table, key, value, c); break;
+      case Section::Register: set_register_key(table->registers.back(), key, value, c); break;
       case Section::Output: set_output_key(m.outputs.back(), key, value, c); break;
     }
   }

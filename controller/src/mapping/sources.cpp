@@ -101,8 +101,8 @@ std::vector<int> SourceTable::add(const OutputMapping& o) {
       s.reading.range_min = ds.minimum;
       s.reading.range_max = ds.maximum;
       s.cycle_ms = s.dbc.message->cycle_time_ms;
-    } else if (mapping_.modbus) {
-      s.cycle_ms = static_cast<int>(mapping_.modbus->poll_s * 1000);
+    } else if (const ModbusConfig* table = mapping_.modbus_table_of(key)) {
+      s.cycle_ms = static_cast<int>(table->poll_s * 1000);
     }
     const int idx = static_cast<int>(sources_.size());
     sources_.push_back(std::move(s));

@@ -28,6 +28,7 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
         << unsigned(bus.tx_errors) << "/" << unsigned(bus.rx_errors) << ", " << bus.error_frames << " error frames)\n";
     trace.health("bus_state", static_cast<std::uint64_t>(bus.state));
   }
+  if (bus.polled_links != old.polled_links) err << "meter-controller: " << input_ << ": " << bus.polled_links << "\n";
   if (bus.error_frames != old.error_frames) trace.health("error_frames", bus.error_frames);
   if (bus.kernel_drops != old.kernel_drops) trace.health("kernel_drops", bus.kernel_drops);
   if (bus.interface_drops != old.interface_drops) trace.health("interface_drops", bus.interface_drops);

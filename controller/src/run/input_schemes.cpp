@@ -16,8 +16,15 @@ std::unique_ptr<Input> open_socketcan(const LiveInputContext& c) {
   return std::make_unique<SocketCanInput>(c.address, can_filters(c.model.used_ids(c.index), c.db));
 }
 
+// The input's own table ([modbus NAME]) when the mapping has one, else the one [modbus] table
+// (open_inputs has checked that several Modbus inputs each have their own).
 std::unique_ptr<Input> open_modbus(const LiveInputContext& c, const char* transport) {
-  if (!c.map.modbus) throw std::runtime_error(c.map.file + ": a Modbus input needs a [modbus] section with registers");
+  if (const auto it = c.map.modbus_inputs.find(c.name); !c.name.empty() && it != c.map.modbus_inputs.end())
+    return std::make_unique<ModbusInput>(transport + c.address, it->second);
+  if (!c.map.modbus)
+    throw std::runtime_error(c.map.file + ": the Modbus input " + (c.name.empty() ? "" : "'" + c.name + "' ") +
+                             "needs its registers: [modbus.register NAME] sections" +
+                             (c.name.empty() ? "" : ", or [modbus " + c.name + "] and [modbus.register " + c.name + ".NAME]"));
   return std::make_unique<ModbusInput>(transport + c.address, *c.map.modbus);
 }
 std::unique_ptr<Input> open_modbus_tcp(const LiveInputContext& c) { return open_modbus(c, "tcp:"); }

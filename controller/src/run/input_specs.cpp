@@ -38,8 +38,6 @@ std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs,
       if (!name.empty() && o.name == name) throw std::invalid_argument("--input " + arg + ": a second input named '" + name + "'");
     specs.push_back(std::move(s));
   }
-  if (std::count_if(specs.begin(), specs.end(), [](const InputSpec& s) { return s.kind() == InputKind::Modbus; }) > 1)
-    throw std::invalid_argument("--input: at most one Modbus input (the mapping has one [modbus] register table)");
 
   for (const std::string& arg : dbcs) {
     auto [name, file] = split_name(arg);
@@ -73,6 +71,24 @@ std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs,
                                     ": a Modbus input reads the mapping's [modbus] registers, not a DBC");
     }
   return specs;
+}
+
+void check_modbus_tables(const std::vector<InputSpec>& specs, const Mapping& map) {
+  std::vector<const InputSpec*> modbus;
+  for (const InputSpec& s : specs)
+    if (s.kind() == InputKind::Modbus) modbus.push_back(&s);
+  if (modbus.empty()) return;
+  std::string names;
+  for (const InputSpec* s : modbus) {
+    names += (names.empty() ? "" : ", ") + (s->name.empty() ? "(unnamed)" : s->name);
+    if (modbus.size() > 1 && !map.modbus_inputs.contains(s->name))
+      throw std::invalid_argument("--input " + s->name + "=" + s->target + ": with several Modbus inputs each reads its own registers: " +
+                                  map.file + " needs [modbus " + s->name + "] and [modbus.register " + s->name + ".NAME] sections");
+  }
+  for (const auto& [input, table] : map.modbus_inputs)
+    if (std::none_of(modbus.begin(), modbus.end(), [&](const InputSpec* s) { return s->name == input; }))
+      throw std::invalid_argument(map.file + ": [modbus " + input + "]: no Modbus input is named '" + input +
+                                  "' (Modbus inputs: " + names + "); expected --input " + input + "=modbus-tcp:HOST:PORT or modbus-rtu:DEV:BAUD");
 }
 
 }  // namespace meter::controller

@@ -31,7 +31,7 @@ ParsedLog load_log(const InputSpec& s, std::ostream& err) {
 
 // A live input (SocketCAN, Modbus, ...) of input index i, opened by its scheme.
 std::unique_ptr<Input> open_live(const InputSpec& s, int i, const Database* db, const Mapping& map, const Model& model) {
-  return s.scheme->open(LiveInputContext{s.address, i, db, map, model});
+  return s.scheme->open(LiveInputContext{s.address, i, s.name, db, map, model});
 }
 
 }  // namespace
@@ -39,6 +39,7 @@ std::unique_ptr<Input> open_live(const InputSpec& s, int i, const Database* db, 
 std::unique_ptr<Input> open_inputs(const std::vector<InputSpec>& specs, const std::vector<std::optional<Database>>& dbs,
                                    const std::string& replay, const Mapping& map, const Model& model, std::ostream& err) {
   auto db_of = [&](std::size_t i) { return dbs[i] ? &*dbs[i] : nullptr; };
+  check_modbus_tables(specs, map);
   if (specs.size() == 1) {
     if (specs[0].kind() == InputKind::Log) return std::make_unique<LogReplay>(load_log(specs[0], err), parse_replay(replay));
     return open_live(specs[0], 0, db_of(0), map, model);

@@ -33,6 +33,10 @@ struct BusHealth {
   std::uint64_t interface_drops = 0;  // the interface's rx_dropped: lost before any socket
   std::uint64_t replay_slips = 0;   // a replay fell more than its lag bound behind the log clock
   std::uint64_t deferred_polls = 0;  // polls that stopped at the per-poll cap with frames still queued
+  // A polled input's (Modbus) link to its slave, as its last poll left it: "Modbus rtu:/dev/ttyUSB0:19200
+  // no-response (read speed@0: Connection timed out)", or "... ok"; several joined by "; ". Empty for
+  // a CAN bus or a log.
+  std::string polled_links;
   bool operator==(const BusHealth&) const = default;
 };
 

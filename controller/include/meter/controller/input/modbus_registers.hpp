@@ -23,6 +23,8 @@ struct ModbusRegister {
   int words() const { return type == RegisterType::Int16 || type == RegisterType::Uint16 ? 1 : 2; }
 };
 struct ModbusConfig {
+  std::string input;  // the --input name of a [modbus INPUT] table ("" for [modbus]): its values are
+                      // "modbus.INPUT.NAME" instead of "modbus.NAME"
   double poll_s = 0.1;
   double response_timeout_s = 0.2;
   int unit_id = 1;
@@ -30,6 +32,8 @@ struct ModbusConfig {
   int stale_after_polls = 5;  // heartbeat unchanged for this many polls = all signals invalid
   std::vector<ModbusRegister> registers;
   const ModbusRegister* find(std::string_view name) const;
+  // The value key a register's readings are delivered under: "modbus.NAME" or "modbus.INPUT.NAME".
+  std::string source_key(const ModbusRegister& r) const { return "modbus." + (input.empty() ? "" : input + ".") + r.name; }
 };
 
 // Decodes a Modbus register value from raw 16-bit words (big-endian words, as on the wire).

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -79,8 +80,13 @@ struct Mapping {
   double persist_interval_s = 5.0;
   double update_period_s = 0.01;  // model tick
   std::vector<OutputMapping> outputs;
-  std::optional<ModbusConfig> modbus;
+  std::optional<ModbusConfig> modbus;  // [modbus] and [modbus.register NAME]: the one Modbus input's table
+  // [modbus INPUT] and [modbus.register INPUT.NAME]: the table of the Modbus input named INPUT
+  // (--input INPUT=modbus-...), for several Modbus inputs at once.
+  std::map<std::string, ModbusConfig, std::less<>> modbus_inputs;
   const OutputMapping* find(protocol::SignalId id) const;
+  // The table a "modbus.NAME" or "modbus.INPUT.NAME" source reads from, if it defines that register.
+  const ModbusConfig* modbus_table_of(std::string_view source) const;
 };
 
 }  // namespace meter::controller

@@ -20,14 +20,16 @@ namespace meter::controller {
 enum class InputKind : std::uint8_t {
   Log,     // a recorded file: loaded whole, merged with the other logs, replayed on the log's clock
   CanBus,  // a live CAN bus: its frames decoded with its input's DBC
-  Modbus,  // live register values: the mapping's [modbus] table, no DBC, at most one such input
+  Modbus,  // live register values: the mapping's [modbus] table (several inputs: [modbus INPUT] each), no DBC
 };
 
-// What opening a live input may use: its address (the target after "scheme:"), its input index,
-// its DBC (none: nullptr), and the mapping and model (the ids it reads there: kernel filters).
+// What opening a live input may use: its address (the target after "scheme:"), its input index and
+// name ("" when unnamed), its DBC (none: nullptr), and the mapping and model (the ids it reads
+// there: kernel filters; a Modbus input's register table).
 struct LiveInputContext {
   std::string address;
   int index = 0;
+  std::string name;
   const Database* db = nullptr;
   const Mapping& map;
   const Model& model;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/run/input_schemes.hpp"
 
 namespace meter::controller {
@@ -23,7 +24,13 @@ struct InputSpec {
 // an unnamed --dbc); with several, each input has a distinct name and each --dbc names its input.
 // Throws std::invalid_argument naming the option and what was expected: a missing, repeated or
 // reserved name, a --dbc for no input or a second one for the same input, a CAN input among
-// several without a DBC, a DBC on a Modbus input among several, more than one Modbus input.
+// several without a DBC, a DBC on a Modbus input among several.
 std::vector<InputSpec> parse_input_specs(const std::vector<std::string>& inputs, const std::vector<std::string>& dbcs);
+
+// Pairs the Modbus inputs with the mapping's register tables: one Modbus input may read the
+// [modbus] table; with several, each reads its own [modbus NAME] table. Throws
+// std::invalid_argument naming the input or the table: a Modbus input among several without its
+// table, a [modbus NAME] table (while any Modbus input is given) that no Modbus input is named for.
+void check_modbus_tables(const std::vector<InputSpec>& specs, const Mapping& map);
 
 }  // namespace meter::controller
