@@ -5,7 +5,8 @@ checked, unpacked into a fresh root and run from there alone.
   1. cpack writes meter-controller, meter-view, meter-tools and meter-dev; lintian finds no error.
   2. Each package's Depends is satisfied on this machine (what dpkg -i would check); each is unpacked
      (dpkg -x) into a root under a temporary folder, outside the source and build trees.
-  3. The units in the root pass systemd-analyze verify (their programs are the root's).
+  3. The packages' users made in the root by systemd-sysusers; the units in the root pass
+     systemd-analyze verify (their programs are the root's).
   4. The demo's path from the root only, as the units run it: the controller replays the bundled
      drive log with the shipped vehicle files and configuration, the view draws the shipped scene
      from its link and dumps frames. Both run under strace: no path into the source or build tree is
@@ -86,6 +87,22 @@ def check_depends_and_unpack(debs, root):
         print(f"meter-{role}: Depends: {depends or '(none)'}")
         if subprocess.run(["dpkg", "-x", deb, root]).returncode != 0:
             fail(f"dpkg -x {deb} failed")
+
+
+def make_users(root):
+    """The packages' sysusers.d files applied to the root, as their postinst applies them."""
+    files = sorted(glob.glob(os.path.join(root, "usr/lib/sysusers.d/meter-*.conf")))
+    p = run(["systemd-sysusers", f"--root={root}", *files])
+    if p.returncode != 0 or len(files) != 2:
+        fail(f"systemd-sysusers on {files}:\n" + p.stdout + p.stderr)
+    passwd = open(os.path.join(root, "etc/passwd")).read()
+    group = open(os.path.join(root, "etc/group")).read()
+    for user in ("meter-controller", "meter-view"):
+        if not re.search(rf"^{user}:x:\d+:\d+:.*:/usr/sbin/nologin$", passwd, re.M):
+            fail(f"no system user {user} in the root's /etc/passwd:\n{passwd}")
+    if not re.search(r"^meter:x:\d+:meter-view$", group, re.M):
+        fail(f"the view's user is not in the group meter (the socket's):\n{group}")
+    print("users: meter-controller, meter-view (in the group meter)")
 
 
 def verify_units(root):
@@ -204,6 +221,7 @@ def main():
         lintian(debs)
         root = tmp + "/root"
         check_depends_and_unpack(debs, root)
+        make_users(root)
         verify_units(root)
         run_demo(root, tmp)
         check_dev_kit(root, tmp)
