@@ -22,6 +22,7 @@
 #include "meter/protocol/trace_events.hpp"
 #include "open_input.hpp"
 #include "publish_recording.hpp"
+#include "service_notify.hpp"
 
 namespace meter::controller {
 namespace {
@@ -139,6 +140,8 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     protocol::TraceEventFile events(o.trace_json, "meter-controller");
     events.thread_name(1, "controller loop");
     protocol::Publisher pub(protocol::endpoint_from_option(o.link), lo);
+    ControllerService service(err);  // the service manager: ready, keep-alives, stopping (docs/deploy.md)
+    service.listening(pub.endpoint().to_string());
     if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
 
     // --record: the same changes on the input's clock (the first tick changes every output: a SNAPSHOT).
@@ -162,6 +165,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     // the model's timeouts expire as on a live one.
     bool more = true, ended = false;
     while (!g_stop && !(ended && o.exit_at_end)) {
+      service.alive();
       const double wait_wall_ns = static_cast<double>(next_tick - input->now_ns()) / input->rate();
       // Rounded up: a 0 ms wait while the tick is still ahead would spin.
       const auto wait = std::chrono::milliseconds(std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil(wait_wall_ns / 1e6)), 1, 100));
@@ -210,10 +214,12 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     if (!g_stop && o.linger_s > 0) {
       const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.linger_s);
       while (!g_stop && std::chrono::steady_clock::now() < until) {
+        service.alive();
         pub.poll(std::chrono::milliseconds(20));
         report_health(input->now_ns());
       }
     }
+    service.stopping();
     print_stats(out, model, pub, health);
     return 0;
   } catch (const std::exception& e) {

@@ -22,6 +22,7 @@
 #include "meter/runner/png_writer.hpp"
 #include "meter/runner/process_signals.hpp"
 #include "meter/runner/script_log.hpp"
+#include "meter/runner/service_notify.hpp"
 #include "meter/runner/stage_wait.hpp"
 #include "meter/runner/trace_ring.hpp"
 #include "meter/runner/view_error.hpp"
@@ -282,11 +283,14 @@ void LiveLoop::after_frame() {
 }
 
 void LiveLoop::run() {
+  ViewService service(log_);  // the service manager: ready, keep-alives, stopping (docs/deploy.md)
   while (!stop_requested()) {
     if (options_.duration_s > 0 && pacer_.seconds_at(Clock::now()) >= options_.duration_s) break;
     frame(intake());
     after_frame();
+    service.frame_drawn();
   }
+  service.stopping();
   ctx_.pipeline.finish();
   if (policy_.dump_on_exit(frame_)) dump_.dump_standing(frame_ - 1, pacer_.seconds_at(Clock::now()), sub_.link_up());
   png_writer_.finish();  // every dumped frame is on disk before the exit status says so

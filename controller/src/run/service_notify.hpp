@@ -1,0 +1,26 @@
+// The controller's notifications to its service manager (systemd, docs/deploy.md): ready once the
+// link listens, a keep-alive from the run loop, stopping at the end. Without NOTIFY_SOCKET every
+// call does nothing, so the controller behaves as it does outside a service.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "meter/protocol/service_watchdog.hpp"
+
+namespace meter::controller {
+
+class ControllerService {
+ public:
+  explicit ControllerService(std::ostream& err);
+  // READY=1 with the endpoint views connect to as the unit's status line.
+  void listening(const std::string& endpoint);
+  // A keep-alive when one is due (a turn of the run loop).
+  void alive();
+  void stopping();
+
+ private:
+  protocol::ServiceWatchdog watchdog_;
+};
+
+}  // namespace meter::controller
