@@ -22,6 +22,7 @@
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/input_set.hpp"
 #include "meter/controller/run/input_specs.hpp"
+#include "meter/controller/run/decode_command.hpp"
 #include "meter/controller/run/run_command.hpp"
 #include "model_fixture.hpp"
 
@@ -300,4 +301,28 @@ TEST(RunInputs, TheRunLoopReadsTwoLogsEachWithItsDbc) {
   std::ostringstream out3, err3;
   EXPECT_EQ(run_command(o, out3, err3), 1);
   EXPECT_TRUE(contains(err3.str(), "--replay fast: with a live input (can:, modbus-) the logs replay in realtime only")) << err3.str();
+}
+
+// A log in which no line gives a frame (here candump's output without -L) is an error in
+// every command that reads logs, naming its first bad lines; decode once printed only its header.
+TEST(RunInputs, EveryCommandRefusesALogWithoutAUsableFrame) {
+  TempDir dir;
+  const std::string dbc = dir.write("body.dbc", kDbc);
+  const std::string log = dir.write("drive.log", "\n  can0  100   [2]  01 02\n");
+  std::ostringstream dout, derr;
+  EXPECT_EQ(decode_command(dbc, log, "", dout, derr), 1);
+  EXPECT_TRUE(contains(derr.str(), log + ": no usable CAN frame")) << derr.str();
+  EXPECT_TRUE(contains(derr.str(), log + ":2: timestamp: expected")) << derr.str();
+  EXPECT_EQ(dout.str(), "");  // not even the CSV header
+
+  RunOptions o;
+  o.inputs = {"log:" + log};
+  o.dbcs = {dbc};
+  o.map = dir.write("v.map", "[Vehicle.Speed]\nsource = Speed.WheelA\n");
+  o.replay = "fast";
+  o.exit_at_end = true;
+  o.link = "unix:" + (dir.path / "link.sock").string();
+  std::ostringstream rout, rerr;
+  EXPECT_EQ(run_command(o, rout, rerr), 1);
+  EXPECT_TRUE(contains(rerr.str(), log + ":2: timestamp: expected")) << rerr.str();
 }
