@@ -115,7 +115,8 @@ class AscReader {
   void event() {
     const auto t = parse_log_time(f_[0], 1000000000LL);
     if (!t) return bad("time: expected '<seconds>.<fraction>' at the start of an event");
-    const std::int64_t ts = (relative_ ? last_ns_ : start_ns_) + *t;
+    std::int64_t ts = 0;
+    if (__builtin_add_overflow(relative_ ? last_ns_ : start_ns_, *t, &ts)) return bad("time: beyond the nanosecond clock (year 2262)");
     last_ns_ = ts;
     if (f_.size() < 2) return bad("event: expected a channel, CANFD or an event name after the time");
     CanFrame fr;
@@ -234,6 +235,7 @@ ParsedLog parse_asc_log(std::string_view text) {
 
 ParsedLog read_asc_log(std::istream& in) {
   AscReader reader;
+  reserve_log_frames(in, 50, reader.log.frames);  // the shortest lines of the format's usual writers
   for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
   return std::move(reader.log);
 }

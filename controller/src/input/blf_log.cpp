@@ -4,6 +4,8 @@
 
 #include <zlib.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <string>
 
 #include "meter/controller/input/blf_log_writer.hpp"
@@ -81,8 +83,20 @@ class BlfReader {
                                      static_cast<int>(blf_u16(st + 8)), static_cast<int>(blf_u16(st + 10)), static_cast<int>(blf_u16(st + 12)),
                                      static_cast<std::int64_t>(blf_u16(st + 14) % 1000) * 1000000);
     start_ns_ = start.value_or(0);  // no start date: the objects' own times from 0
+    reserve(blf_u64(rest.data() + 16));
     offset_ = size;
     return true;
+  }
+
+  // Room for the frames of `objects_bytes` of objects (the header's uncompressed size; at least 48
+  // bytes an object), believed up to ten times the file's own size (a damaged header claims more).
+  void reserve(std::uint64_t objects_bytes) {
+    const auto here = in_.tellg();
+    if (here < 0 || !in_.seekg(0, std::ios::end)) return in_.clear();
+    const auto end = in_.tellg();
+    in_.seekg(here);
+    const std::uint64_t file_bytes = end > here ? static_cast<std::uint64_t>(end - here) : 0;
+    log_.frames.reserve(static_cast<std::size_t>(std::min(objects_bytes, file_bytes * 10) / 48));
   }
 
   std::string where(std::uint64_t at, std::uint32_t type) const {
@@ -180,8 +194,11 @@ class BlfReader {
                                                        std::to_string(header_size) + " bytes, expected version 1 (32) or 2 (40)"});
     const std::uint32_t flags = blf_u32(o.data() + 16);
     const std::uint64_t t = blf_u64(o.data() + 24);
+    const std::uint64_t unit = flags == 1 ? 10000 : 1;  // 10 us or 1 ns
+    if (t > static_cast<std::uint64_t>(INT64_MAX - std::max<std::int64_t>(start_ns_, 0)) / unit)
+      return log_.bad_lines.push_back({log_.lines, where(at, type) + ": time " + std::to_string(t) + " is beyond the nanosecond clock (year 2262)"});
     CanFrame f;
-    f.timestamp_ns = start_ns_ + static_cast<std::int64_t>(flags == 1 ? t * 10000 : t);  // 10 us or 1 ns units
+    f.timestamp_ns = start_ns_ + static_cast<std::int64_t>(t * unit);
     const std::string_view p = o.substr(header_size);
     std::string why;
     if (!frame(type, p, f, why)) {

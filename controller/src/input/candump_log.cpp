@@ -53,6 +53,7 @@ ParsedLog parse_candump_log(std::string_view text) {
 
 ParsedLog read_candump_log(std::istream& in) {
   CandumpReader reader;
+  reserve_log_frames(in, 40, reader.log.frames);  // the shortest lines of the format's usual writers
   for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
   return std::move(reader.log);
 }

@@ -7,12 +7,14 @@ namespace meter::controller {
 
 void split_log_fields(std::string_view line, std::vector<std::string_view>& out) {
   out.clear();
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-    if (i > start) out.push_back(line.substr(start, i - start));
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  for (;;) {
+    while (p != end && (*p == ' ' || *p == '\t')) ++p;
+    if (p == end) return;
+    const char* start = p;
+    while (p != end && *p != ' ' && *p != '\t') ++p;
+    out.emplace_back(start, static_cast<std::size_t>(p - start));
   }
 }
 
@@ -37,21 +39,9 @@ std::optional<std::int64_t> parse_log_time(std::string_view text, std::int64_t u
   return value * unit_ns + part;
 }
 
-std::optional<std::uint32_t> parse_log_number(std::string_view text, int base, std::uint32_t max) {
-  if (text.empty() || text.size() > 10) return std::nullopt;
-  std::uint64_t v = 0;
-  for (char c : text) {
-    int d = c >= '0' && c <= '9' ? c - '0' : c >= 'A' && c <= 'F' ? c - 'A' + 10 : c >= 'a' && c <= 'f' ? c - 'a' + 10 : 99;
-    if (d >= base) return std::nullopt;
-    v = v * static_cast<std::uint64_t>(base) + static_cast<std::uint64_t>(d);
-  }
-  if (v > max) return std::nullopt;
-  return static_cast<std::uint32_t>(v);
-}
-
 std::optional<std::int64_t> local_time_ns(int year, int month, int day, int hour, int minute, int second,
                                           std::int64_t fraction_ns) {
-  if (year < 1970 || year > 2200 || month < 1 || month > 12 || day < 1 || day > 31 || hour < 0 || hour > 23 ||
+  if (year < 1970 || year > 2262 || month < 1 || month > 12 || day < 1 || day > 31 || hour < 0 || hour > 23 ||
       minute < 0 || minute > 59 || second < 0 || second > 60)
     return std::nullopt;
   std::tm tm{};
@@ -64,7 +54,10 @@ std::optional<std::int64_t> local_time_ns(int year, int month, int day, int hour
   tm.tm_isdst = -1;  // as the zone says for that date
   const std::time_t t = std::mktime(&tm);
   if (t == static_cast<std::time_t>(-1) || tm.tm_mday != day) return std::nullopt;  // e.g. 31 February
-  return static_cast<std::int64_t>(t) * 1000000000LL + fraction_ns;
+  std::int64_t ns = 0;
+  if (__builtin_mul_overflow(static_cast<std::int64_t>(t), 1000000000LL, &ns) || __builtin_add_overflow(ns, fraction_ns, &ns))
+    return std::nullopt;  // beyond the nanosecond clock (April 2262)
+  return ns;
 }
 
 LocalTime local_time_of(std::int64_t seconds_since_epoch) {

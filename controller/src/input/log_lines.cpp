@@ -17,6 +17,14 @@ void for_each_log_line(std::string_view text, const std::function<void(std::stri
   }
 }
 
+void reserve_log_frames(std::istream& in, std::size_t bytes_per_frame, std::vector<CanFrame>& frames) {
+  const auto here = in.tellg();
+  if (here < 0 || !in.seekg(0, std::ios::end)) return in.clear();
+  const auto end = in.tellg();
+  in.seekg(here);
+  if (end > here) frames.reserve(static_cast<std::size_t>(end - here) / bytes_per_frame + 1);
+}
+
 void for_each_log_line(std::istream& in, const std::function<void(std::string_view)>& each_line) {
   constexpr std::size_t kBlock = 1 << 20;
   std::string buffer;

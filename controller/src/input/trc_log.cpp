@@ -151,6 +151,7 @@ ParsedLog parse_trc_log(std::string_view text) {
 
 ParsedLog read_trc_log(std::istream& in) {
   TrcReader reader;
+  reserve_log_frames(in, 60, reader.log.frames);  // the shortest lines of the format's usual writers
   for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
   return std::move(reader.log);
 }

@@ -3,6 +3,7 @@
 // which Vector's ASC and BLF files use for their start.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -17,8 +18,27 @@ void split_log_fields(std::string_view line, std::vector<std::string_view>& out)
 // digits only, at most 9 fraction digits and 12 integer digits; nullopt otherwise.
 std::optional<std::int64_t> parse_log_time(std::string_view text, std::int64_t unit_ns);
 
+// The value of a hex digit (0..15), else 16 and more.
+inline constexpr std::array<std::uint8_t, 256> kLogDigitValue = [] {
+  std::array<std::uint8_t, 256> v{};
+  v.fill(99);
+  for (int c = 0; c < 10; ++c) v[static_cast<std::size_t>('0' + c)] = static_cast<std::uint8_t>(c);
+  for (int c = 0; c < 6; ++c) v[static_cast<std::size_t>('A' + c)] = v[static_cast<std::size_t>('a' + c)] = static_cast<std::uint8_t>(10 + c);
+  return v;
+}();
+
 // An unsigned number in base 16 or 10, at most `max`; nullopt when not all digits or too large.
-std::optional<std::uint32_t> parse_log_number(std::string_view text, int base, std::uint32_t max);
+inline std::optional<std::uint32_t> parse_log_number(std::string_view text, int base, std::uint32_t max) {
+  if (text.empty() || text.size() > 10) return std::nullopt;
+  std::uint64_t v = 0;
+  for (char c : text) {
+    const unsigned d = kLogDigitValue[static_cast<unsigned char>(c)];
+    if (d >= static_cast<unsigned>(base)) return std::nullopt;
+    v = v * static_cast<std::uint64_t>(base) + d;
+  }
+  if (v > max) return std::nullopt;
+  return static_cast<std::uint32_t>(v);
+}
 
 // Nanoseconds since the epoch of a local wall time (the machine's time zone, as Vector's tools
 // write it), nullopt when the date does not exist.
