@@ -227,18 +227,10 @@ class AscReader {
 
 }  // namespace
 
-ParsedLog parse_asc_log(std::string_view text) {
-  AscReader reader;
-  for_each_log_line(text, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
+ParsedLog parse_asc_log(std::string_view text) { return read_log_lines<AscReader>(text); }
 
-ParsedLog read_asc_log(std::istream& in) {
-  AscReader reader;
-  reserve_log_frames(in, 50, reader.log.frames);  // the shortest lines of the format's usual writers
-  for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
+// Room for a frame every 50 bytes: the shortest lines its usual writers write.
+ParsedLog read_asc_log(std::istream& in) { return read_log_lines<AscReader>(in, 50); }
 
 bool sniff_asc_log(std::string_view head) {
   std::vector<std::string_view> f;

@@ -45,18 +45,10 @@ class CandumpReader {
 
 }  // namespace
 
-ParsedLog parse_candump_log(std::string_view text) {
-  CandumpReader reader;
-  for_each_log_line(text, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
+ParsedLog parse_candump_log(std::string_view text) { return read_log_lines<CandumpReader>(text); }
 
-ParsedLog read_candump_log(std::istream& in) {
-  CandumpReader reader;
-  reserve_log_frames(in, 40, reader.log.frames);  // the shortest lines of the format's usual writers
-  for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
+// Room for a frame every 40 bytes: the shortest lines its usual writers write.
+ParsedLog read_candump_log(std::istream& in) { return read_log_lines<CandumpReader>(in, 40); }
 
 ParsedLog load_candump_log(const std::string& path) { return parse_candump_log(read_log_file(path)); }
 

@@ -143,18 +143,7 @@ class TrcReader {
 
 }  // namespace
 
-ParsedLog parse_trc_log(std::string_view text) {
-  TrcReader reader;
-  for_each_log_line(text, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
-
-ParsedLog read_trc_log(std::istream& in) {
-  TrcReader reader;
-  reserve_log_frames(in, 60, reader.log.frames);  // the shortest lines of the format's usual writers
-  for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
+ParsedLog read_trc_log(std::istream& in) { return read_log_lines<TrcReader>(in, 60); }
 
 bool sniff_trc_log(std::string_view head) {
   if (head.find(";$FILEVERSION=") != std::string_view::npos) return true;

@@ -7,6 +7,7 @@
 // are kept.
 #pragma once
 
+#include <cstdint>
 #include <istream>
 #include <string_view>
 
@@ -16,14 +17,8 @@
 namespace meter::controller {
 
 // The BLF object types this reader knows (Vector's numbers).
-enum BlfObjectType : std::uint32_t {
-  kBlfCanMessage = 1,
-  kBlfLogContainer = 10,
-  kBlfCanErrorExt = 73,
-  kBlfCanMessage2 = 86,
-  kBlfCanFdMessage = 100,
-  kBlfCanFdMessage64 = 101,
-};
+inline constexpr std::uint32_t kBlfCanMessage = 1, kBlfLogContainer = 10, kBlfCanErrorExt = 73, kBlfCanMessage2 = 86,
+                               kBlfCanFdMessage = 100, kBlfCanFdMessage64 = 101;
 inline constexpr std::size_t kBlfFileHeaderSize = 144;
 
 // Reads a whole BLF file from `in`; the bad records' numbers are object numbers (1-based, in file

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/parsed_log.hpp"
 
 namespace meter::controller {
 
@@ -20,5 +21,21 @@ void reserve_log_frames(std::istream& in, std::size_t bytes_per_frame, std::vect
 
 // The same over text already in memory.
 void for_each_log_line(std::string_view text, const std::function<void(std::string_view)>& each_line);
+
+// A whole text log through a line reader (a class with `void line(std::string_view)` and a
+// `ParsedLog log`): from a stream, room reserved for a frame every `bytes_per_frame` bytes.
+template <class LineReader>
+ParsedLog read_log_lines(std::istream& in, std::size_t bytes_per_frame) {
+  LineReader reader;
+  reserve_log_frames(in, bytes_per_frame, reader.log.frames);
+  for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
+  return std::move(reader.log);
+}
+template <class LineReader>
+ParsedLog read_log_lines(std::string_view text) {
+  LineReader reader;
+  for_each_log_line(text, [&](std::string_view line) { reader.line(line); });
+  return std::move(reader.log);
+}
 
 }  // namespace meter::controller

@@ -14,8 +14,8 @@
 
 namespace meter::controller {
 
-ParsedLog parse_trc_log(std::string_view text);
-ParsedLog read_trc_log(std::istream& in);  // the same, a block at a time
+// The whole trace, a block at a time.
+ParsedLog read_trc_log(std::istream& in);
 
 // True when the head has a ";$FILEVERSION=" line, or one of its first lines is a 1.0 / 1.1
 // message line ("     1)      1841  0001  8  00 ...").
