@@ -70,6 +70,11 @@ TEST(TrcLog, Version13And20And21WithTheirColumns) {
   EXPECT_NE(why_of(v21, 0).find("type: expected"), std::string::npos) << why_of(v21, 0);
   EXPECT_NE(why_of(v21, 1).find("expected 16 columns (NOTBIdRLD with 8 data bytes), got 10"), std::string::npos) << why_of(v21, 1);
 
+  // Columns without a message number are read; columns without a length are refused (found by fuzzing).
+  const ParsedLog cols = read_sample("columns.trc");
+  ASSERT_EQ(cols.frames.size(), 1u) << why_of(cols, 0);
+  EXPECT_EQ(cols.frames[0].len, 2);
+  EXPECT_NE(why_of(cols, 0).find("columns: expected letters such as N,O,T,B,I,d,R,L,D with O, I and L (or l)"), std::string::npos);
   const ParsedLog v30 = read_sample("v3.0.trc");
   EXPECT_NE(why_of(v30, 0).find("file version: expected 1.0, 1.1, 1.2, 1.3, 2.0 or 2.1, got '3.0'"), std::string::npos);
 }

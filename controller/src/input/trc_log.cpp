@@ -57,8 +57,9 @@ class TrcReader {
       std::string cols;
       for (char c : t.substr(kColumns.size()))
         if (c != ',') cols += c;
-      if (cols.empty() || cols.find('D') != cols.size() - 1 || cols.find('O') == std::string::npos || cols.find('I') == std::string::npos)
-        return bad("columns: expected letters such as N,O,T,B,I,d,R,L,D with O and I, and D last");
+      const auto has = [&](char c) { return cols.find(c) != std::string::npos; };
+      if (cols.empty() || cols.find('D') != cols.size() - 1 || !has('O') || !has('I') || (!has('L') && !has('l')))
+        return bad("columns: expected letters such as N,O,T,B,I,d,R,L,D with O, I and L (or l), and D last");
       columns_ = cols;
     }  // any other ';' line is a comment
   }
@@ -74,8 +75,8 @@ class TrcReader {
     if (f_.size() < fixed)
       return bad("expected at least " + std::to_string(fixed) + " columns (" + columns_ + ", file version " +
                  std::to_string(version_ / 10) + "." + std::to_string(version_ % 10) + "), got " + std::to_string(f_.size()));
-    const std::string_view number = *field('N');
-    if (version_ < 20 && number.back() != ')') return bad("message number: expected '<n>)' in a version 1 file");
+    const auto number = field('N');
+    if (version_ < 20 && number && number->back() != ')') return bad("message number: expected '<n>)' in a version 1 file");
     const auto offset = parse_log_time(*field('O'), 1000000LL);
     if (!offset) return bad("time offset: expected milliseconds '<ms>[.<fraction>]'");
     CanFrame fr;
