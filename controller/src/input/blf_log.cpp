@@ -59,7 +59,7 @@ class BlfReader {
   std::size_t pos_ = 0;       // in inner_
   bool ok_ = true;
 
-  void fail(std::string why) {
+  void fail(std::string why) {  // a header error is record 0, an object's its number
     log_.bad_lines.push_back({log_.lines, std::move(why)});
     ok_ = false;
   }

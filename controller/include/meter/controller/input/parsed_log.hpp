@@ -12,7 +12,7 @@
 namespace meter::controller {
 
 struct BadLine {
-  std::size_t line;  // 1-based line of a text format (a binary format: its record number)
+  std::size_t line;  // 1-based line of a text format (a binary format: its record number, 0 its file header)
   std::string why;   // what was expected there
 };
 
