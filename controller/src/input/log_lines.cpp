@@ -1,4 +1,4 @@
-// Text logs line by line from a stream, a 1 MiB block at a time.
+// Text logs line by line from a stream, a 256 KiB block at a time.
 #include "meter/controller/input/log_lines.hpp"
 
 #include <string>
@@ -26,7 +26,7 @@ void reserve_log_frames(std::istream& in, std::size_t bytes_per_frame, std::vect
 }
 
 void for_each_log_line(std::istream& in, const std::function<void(std::string_view)>& each_line) {
-  constexpr std::size_t kBlock = 1 << 20;
+  constexpr std::size_t kBlock = 1 << 18;
   std::string buffer;
   std::size_t kept = 0;  // bytes of an unfinished line carried over from the last block
   for (;;) {
@@ -34,6 +34,7 @@ void for_each_log_line(std::istream& in, const std::function<void(std::string_vi
     in.read(buffer.data() + kept, static_cast<std::streamsize>(kBlock));
     const std::size_t got = static_cast<std::size_t>(in.gcount());
     const std::size_t size = kept + got;
+    buffer.resize(size);  // what was read: the unfinished line is all that moves to the front below
     const std::string_view text(buffer.data(), size);
     const std::size_t last_nl = text.rfind('\n');
     if (got == 0 || last_nl == std::string_view::npos) {
