@@ -37,7 +37,8 @@ void asc_frame_line(const CanFrame& f, std::int64_t offset_ns, std::string& out)
     out += buf;
     return;
   }
-  if (f.fd) {
+  const bool fd = f.fd && !f.rtr;  // CAN FD knows no remote frame: one logged as such is written as a classic one
+  if (fd) {
     std::snprintf(buf, sizeof buf, "CANFD %3d Rx %8s %d %d %x %2d", channel, id, (f.fd_flags & kCanFdBrs) ? 1 : 0,
                   (f.fd_flags & kCanFdEsi) ? 1 : 0, can_fd_len_to_dlc(f.len), f.len);
     out += buf;
@@ -51,7 +52,7 @@ void asc_frame_line(const CanFrame& f, std::int64_t offset_ns, std::string& out)
     out += kHex[f.data[i] >> 4];
     out += kHex[f.data[i] & 15];
   }
-  if (f.fd) {
+  if (fd) {
     const unsigned flags = 0x1000u | ((f.fd_flags & kCanFdBrs) ? 0x2000u : 0) | ((f.fd_flags & kCanFdEsi) ? 0x4000u : 0);
     std::snprintf(buf, sizeof buf, " 0 0 %X 0 0 0 0 0", flags);
     out += buf;

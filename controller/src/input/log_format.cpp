@@ -111,7 +111,7 @@ ParsedLog load_log_file(const std::string& path) {
   const LogFormat* format = find_log_format(path, head);
   if (!format) throw std::runtime_error(no_format_message(path, head));
   in.clear();
-  in.seekg(0);
+  if (!in.seekg(0)) throw std::runtime_error(path + ": cannot read the log from its start again after recognising it (a pipe?); give a file");
   ParsedLog log = format->read(in);
   log.format = format->name;
   if (in.bad()) throw std::runtime_error(path + ": read error in the log");
