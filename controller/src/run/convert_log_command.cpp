@@ -13,7 +13,7 @@
 namespace meter::controller {
 namespace {
 
-const LogFormat& output_format(const ConvertLogOptions& o) {
+const LogFormat& convert_output_format(const ConvertLogOptions& o) {
   std::string writable;
   for (const LogFormat& f : log_formats()) {
     if (!f.write) continue;
@@ -30,7 +30,7 @@ const LogFormat& output_format(const ConvertLogOptions& o) {
 
 int convert_log_command(const ConvertLogOptions& o, std::ostream& out_text, std::ostream& err) {
   try {
-    const LogFormat& format = output_format(o);
+    const LogFormat& format = convert_output_format(o);
     const LogAddress in = parse_log_address(o.in);
     std::error_code ec;
     if (std::filesystem::equivalent(in.path, o.out, ec)) throw std::invalid_argument(o.out + ": is the input itself; write to another file");
