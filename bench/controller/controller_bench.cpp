@@ -1,7 +1,9 @@
 // Controller benchmarks, measured side by side in one run:
 //  1. DBC decode throughput on the ft86 log held in memory vs python3-canmatrix on the same frames
 //     (ratio printed; goal >= 100x),
-//  2. meter-controller CPU share and peak RSS while replaying the ft86 log in real time
+//  2. each log reader (candump, ASC, BLF, TRC) vs python3-can reading the same file (goal >= 20x),
+//     BLF vs the candump reader (goal within 3x): log_readers.cpp,
+//  3. meter-controller CPU share and peak RSS while replaying the ft86 log in real time
 //     (goal < 1 % of a core at the real bus rate).
 #include <signal.h>
 #include <sys/resource.h>
@@ -18,6 +20,7 @@
 
 #include "meter/controller/dbc/codec.hpp"
 #include "meter/controller/dbc/database.hpp"
+#include "log_readers.hpp"
 #include "meter/controller/input/candump_log.hpp"
 
 using namespace meter::controller;
@@ -89,7 +92,10 @@ int main(int argc, char** argv) {
   std::printf("  python3-canmatrix  %12.0f frames/s\n", py_fps);
   std::printf("  ratio              %12.1fx  (goal >= 100x)\n", ours_fps / py_fps);
 
-  // 2. CPU share and RSS of meter-controller replaying the log in real time.
+  // 2. The log readers.
+  if (bench_log_readers(kLog) != 0) return 1;
+
+  // 3. CPU share and RSS of meter-controller replaying the log in real time.
   const std::string bin = std::string(METER_BINARY_DIR) + "/bin/meter-controller";
   const std::string map = std::string(METER_SOURCE_DIR) + "/controller/vehicles/ft86/ft86.map";
   const std::string sock = "unix:/tmp/meter-bench-" + std::to_string(::getpid()) + ".sock";

@@ -1,10 +1,13 @@
 // meter-controller: the vehicle-control process. A thin CLI11 front end over the library.
 #include <CLI/CLI.hpp>
+#include <unistd.h>
+
 #include <iostream>
 #include <optional>
 
 #include "meter/controller/input/log_format.hpp"
 #include "meter/controller/run/check_dbc_command.hpp"
+#include "meter/controller/run/convert_log_command.hpp"
 #include "meter/controller/run/decode_command.hpp"
 #include "meter/controller/run/dump_dbc_command.hpp"
 #include "meter/controller/run/input_schemes.hpp"
@@ -14,7 +17,7 @@
 
 int main(int argc, char** argv) {
   using namespace meter::controller;
-  CLI::App app{"meter-controller: reads CAN (SocketCAN, candump logs) or Modbus, decodes it with a DBC, "
+  CLI::App app{"meter-controller: reads CAN (SocketCAN, recorded logs: candump, Vector ASC and BLF, PCAN TRC) or Modbus, decodes it with a DBC, "
                "conditions the signals and publishes the cluster state to meter-view."};
   app.require_subcommand(1);
 
@@ -77,6 +80,13 @@ int main(int argc, char** argv) {
   c->add_option("DBC", check, "DBC file")->required()->check(CLI::ExistingFile);
   c->add_flag("--strict", check_strict, "Every problem is an error (exit 1)");
 
+  ConvertLogOptions convert;
+  auto* v = app.add_subcommand("convert-log", "Write a recorded CAN log (" + log_format_names() +
+                                                  ") as candump -L, Vector ASC or Vector BLF (docs/logs.md).");
+  v->add_option("IN", convert.in, "The log read (FILE#N: only its channel N)")->required();
+  v->add_option("OUT", convert.out, "The file written; its format by its extension (.log candump, .asc, .blf) or --format")->required();
+  v->add_option("--format", convert.format, "candump, asc or blf, whatever OUT is named");
+
   std::string dump;
   auto* u = app.add_subcommand("dump-dbc", "Print the parsed DBC as JSON: every message and signal field, value tables, warnings.");
   u->add_option("DBC", dump, "DBC file")->required()->check(CLI::ExistingFile);
@@ -100,6 +110,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     return decode_command(dbc, log, map, std::cout, std::cerr, decode_strict);
+  }
+  if (*v) {
+    convert.progress = ::isatty(2) != 0;
+    return convert_log_command(convert, std::cout, std::cerr);
   }
   if (*u) return dump_dbc_command(dump, std::cout, std::cerr);
   if (*o) return odometer_reset_command(reset_dir, reset_km, std::cout, std::cerr);

@@ -43,7 +43,7 @@ TEST(LogFormat, TheContentChoosesTheFormatAndTheExtensionOnlyWhenTheContentCanno
   EXPECT_EQ(find_log_format("drive.txt", "garbage\n"), nullptr);
   EXPECT_EQ(find_log_format("drive.txt", ""), nullptr);
   EXPECT_EQ(log_formats()[0].name, "candump");
-  EXPECT_EQ(log_format_names(), "candump");
+  EXPECT_EQ(log_format_names(), "candump, asc, blf, trc");
   // The example each format gives in its messages is a line of its own.
   for (const LogFormat& f : log_formats()) EXPECT_TRUE(f.sniff(f.example)) << f.name;
 }
@@ -66,5 +66,28 @@ TEST(LogFormat, LoadingGoesThroughTheFormatAndNamesTheFileAndLineWhenNoneFits) {
   EXPECT_NE(message_of(dir.write("empty.txt", "")).find("empty.txt: not a CAN log this build reads: it is empty"),
             std::string::npos);
   EXPECT_NE(message_of((dir.path / "missing.log").string()).find("missing.log: cannot open the log for reading"),
+            std::string::npos);
+}
+
+// A file in which not one record gives a frame is refused, whatever command reads it, naming the
+// file and its first bad lines; a log with some bad lines still loads with them reported.
+TEST(LogFormat, ALogWithoutAUsableFrameIsRefusedNamingItsFirstBadLines) {
+  TempDir dir;
+  // candump's default output (without -L), named like a candump -L log: no format reads its lines.
+  const std::string pcan = dir.write("drive.log",
+                                     "  can0  0D2   [8]  00 00 FF FF 10 00 00 00\n"
+                                     "  can0  0D3   [7]  00 06 E0 0F 00 00 11\n"
+                                     "  can0  0D4   [8]  00 00 00 00 00 00 00 00\n"
+                                     "  can0  25C   [8]  25 00 00 00 00 00 00 00\n"
+                                     "  can0  140   [8]  00 C2 06 43 00 00 09 A1\n"
+                                     "  can0  141   [8]  00 C2 06 43 00 00 09 A1\n");
+  // The extension claims it; none of its lines is a candump -L line.
+  const std::string why = message_of(pcan);
+  EXPECT_NE(why.find(pcan + ": no usable CAN frame"), std::string::npos) << why;
+  EXPECT_NE(why.find(pcan + ":1: timestamp: expected"), std::string::npos) << why;
+  EXPECT_NE(why.find(pcan + ":3: "), std::string::npos) << why;
+  EXPECT_EQ(why.find(pcan + ":6: "), std::string::npos) << why;  // the first three only, then a count
+  EXPECT_NE(why.find("and 3 more"), std::string::npos) << why;
+  EXPECT_NE(message_of(dir.write("blank.log", "\n\n")).find("blank.log: no usable CAN frame in this candump log: it holds no record"),
             std::string::npos);
 }

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "meter/controller/input/blf_log_writer.hpp"
 #include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/candump_log.hpp"
 #include "meter/controller/input/clocks.hpp"
@@ -22,6 +23,7 @@
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/input_set.hpp"
 #include "meter/controller/run/input_specs.hpp"
+#include "meter/controller/run/decode_command.hpp"
 #include "meter/controller/run/run_command.hpp"
 #include "model_fixture.hpp"
 
@@ -287,6 +289,22 @@ struct TempDir {
   }
 };
 
+// The two logs of the test below as the two channels of one BLF file: its frames in time order,
+// the body's (can0, first to appear) channel 1, the chassis' (can1) channel 2.
+std::string two_channel_blf(const TempDir& dir, const std::string& body, std::string chassis) {
+  for (std::size_t at = chassis.find(" can0 "); at != std::string::npos; at = chassis.find(" can0 ", at)) chassis.replace(at, 6, " can1 ");
+  std::istringstream lines(body + chassis);
+  std::vector<std::string> sorted;
+  for (std::string line; std::getline(lines, line);) sorted.push_back(line + "\n");
+  std::sort(sorted.begin(), sorted.end());  // fixed-width times: time order
+  std::string text;
+  for (const std::string& l : sorted) text += l;
+  const std::string path = (dir.path / "drive.blf").string();
+  std::ofstream file(path, std::ios::binary);
+  write_blf_log(parse_candump_log(text), file, [](std::size_t) {});
+  return path;
+}
+
 }  // namespace
 
 TEST(RunInputs, TheRunLoopReadsTwoLogsEachWithItsDbc) {
@@ -307,12 +325,21 @@ TEST(RunInputs, TheRunLoopReadsTwoLogsEachWithItsDbc) {
   o.exit_at_end = true;
   o.verbose = true;
   o.link = "unix:" + (dir.path / "link.sock").string();
-  std::ostringstream out, err;
-  ASSERT_EQ(run_command(o, out, err), 0) << err.str();
-  EXPECT_TRUE(contains(out.str(), " 80 frames (80 mapped, 0 unknown id")) << out.str();
-  EXPECT_TRUE(contains(err.str(), "final Vehicle.Powertrain.CombustionEngine.Speed = 29 (valid)")) << err.str();
-  // No needle damping or speedometer rule in this map: the shown speed is the last frame's.
-  EXPECT_TRUE(contains(err.str(), "final Vehicle.Speed = 1.764 (valid)")) << err.str();
+  const auto runs_both = [&] {
+    std::ostringstream out, err;
+    ASSERT_EQ(run_command(o, out, err), 0) << err.str();
+    EXPECT_TRUE(contains(out.str(), " 80 frames (80 mapped, 0 unknown id")) << out.str();
+    EXPECT_TRUE(contains(err.str(), "final Vehicle.Powertrain.CombustionEngine.Speed = 29 (valid)")) << err.str();
+    // No needle damping or speedometer rule in this map: the shown speed is the last frame's.
+    EXPECT_TRUE(contains(err.str(), "final Vehicle.Speed = 1.764 (valid)")) << err.str();
+  };
+  runs_both();
+  // The same two buses as the two channels of one BLF file, each a named input (log:FILE#N): the
+  // same frames reach the same values, on the file's one clock.
+  const std::string blf = two_channel_blf(dir, make_log(256, 100.0, 20, 50), make_log(768, 100.11, 30, 30));
+  o.inputs = {"body=log:" + blf + "#1", "chassis=log:" + blf + "#2"};
+  runs_both();
+  o.inputs = {"body=log:" + body_log, "chassis=log:" + chassis_log};
 
   // The same map with the two inputs' names swapped finds no Speed message on 'body'.
   o.dbcs = {"body=" + chassis_dbc, "chassis=" + body_dbc};
@@ -327,3 +354,28 @@ TEST(RunInputs, TheRunLoopReadsTwoLogsEachWithItsDbc) {
   EXPECT_EQ(run_command(o, out3, err3), 1);
   EXPECT_TRUE(contains(err3.str(), "--replay fast: with a live input (can:, modbus-) the logs replay in realtime only")) << err3.str();
 }
+
+// A log in which no line gives a frame (here candump's output without -L) is an error in
+// every command that reads logs, naming its first bad lines; decode once printed only its header.
+TEST(RunInputs, EveryCommandRefusesALogWithoutAUsableFrame) {
+  TempDir dir;
+  const std::string dbc = dir.write("body.dbc", kDbc);
+  const std::string log = dir.write("drive.log", "\n  can0  100   [2]  01 02\n");
+  std::ostringstream dout, derr;
+  EXPECT_EQ(decode_command(dbc, log, "", dout, derr), 1);
+  EXPECT_TRUE(contains(derr.str(), log + ": no usable CAN frame")) << derr.str();
+  EXPECT_TRUE(contains(derr.str(), log + ":2: timestamp: expected")) << derr.str();
+  EXPECT_EQ(dout.str(), "");  // not even the CSV header
+
+  RunOptions o;
+  o.inputs = {"log:" + log};
+  o.dbcs = {dbc};
+  o.map = dir.write("v.map", "[Vehicle.Speed]\nsource = Speed.WheelA\n");
+  o.replay = "fast";
+  o.exit_at_end = true;
+  o.link = "unix:" + (dir.path / "link.sock").string();
+  std::ostringstream rout, rerr;
+  EXPECT_EQ(run_command(o, rout, rerr), 1);
+  EXPECT_TRUE(contains(rerr.str(), log + ":2: timestamp: expected")) << rerr.str();
+}
+

@@ -60,6 +60,13 @@ def _path_of(spec):
     return spec.partition("=")[2] if "=" in spec else spec
 
 
+def _log_file(spec):
+    """A log's file: FILE#N is channel N of FILE (meter-controller's log:FILE#N)."""
+    path = _path_of(spec)
+    stem, sep, channel = path.rpartition("#")
+    return stem if sep and channel.isdigit() and not os.path.isfile(path) else path
+
+
 def _load_raw(file):
     try:
         with open(file, "rb") as f:
@@ -138,8 +145,9 @@ def load(file):
             _check_table(file, f"{where}.command[{j}]", c, COMMAND_KEYS, ["name", "argv"])
             if not c["argv"] or not all(isinstance(a, str) for a in c["argv"]):
                 raise ManifestError(f"{file}: {where}.command[{j}].argv: expected a non-empty list of strings")
-        for spec in drive["logs"] + drive["dbcs"] + [drive[k] for k in PATH_KEYS if drive.get(k)]:
-            if not os.path.isfile(_path_of(spec)):
-                raise ManifestError(f"{file}: {where}: no such file {_path_of(spec)}")
+        for path in [_log_file(spec) for spec in drive["logs"]] + [_path_of(spec) for spec in drive["dbcs"]] + \
+                [drive[k] for k in PATH_KEYS if drive.get(k)]:
+            if not os.path.isfile(path):
+                raise ManifestError(f"{file}: {where}: no such file {path}")
         drives.append(drive)
     return {"file": file, "dir": base, "drives": drives}

@@ -125,6 +125,10 @@ class LocalFleet(unittest.TestCase):
         p = fl.fleet(["run", missing, "--out", os.path.join(self.work, "bad"), "--bin", fl.BIN])
         self.assertEqual(p.returncode, 2)
         self.assertIn("drive 'y': no such file /nonexistent/drive.log", p.stderr)
+        # A log's channel (FILE#N, as meter-controller's log:FILE#N): the file is what must exist.
+        channel = self.write("channel.toml", self.header + toml_drive("z", "/nonexistent/drive.blf#2"))
+        p = fl.fleet(["run", channel, "--out", os.path.join(self.work, "bad"), "--bin", fl.BIN])
+        self.assertIn("drive 'z': no such file /nonexistent/drive.blf\n", p.stderr)
 
     def test_a_process_that_fails_is_an_error_with_its_message(self):
         # Not a scene package: meter-view exits 1 naming the file; the drive is an error, not a pass.

@@ -51,6 +51,12 @@ std::uint8_t can_fd_dlc_to_len(std::uint8_t dlc) {
   return k[dlc & 15];
 }
 
+std::uint8_t can_fd_len_to_dlc(std::size_t len) {
+  std::uint8_t dlc = 0;
+  while (dlc < 15 && can_fd_dlc_to_len(dlc) < len) ++dlc;
+  return dlc;
+}
+
 bool is_valid_fd_len(std::size_t len) {
   return len <= 8 || len == 12 || len == 16 || len == 20 || len == 24 || len == 32 || len == 48 ||
          len == 64;

@@ -1,31 +1,54 @@
 // A candump -L log file split into lines; bad lines are kept with their number and the reason.
 // The candump entry of the log formats (log_format.hpp).
 
-#include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/candump_log.hpp"
 
-namespace meter::controller {
+#include <algorithm>
+#include <ostream>
+#include <vector>
 
-ParsedLog parse_candump_log(std::string_view text) {
-  ParsedLog log;
-  std::size_t pos = 0;
-  std::string why;
-  while (pos < text.size()) {
-    std::size_t nl = text.find('\n', pos);
-    std::string_view line = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = nl == std::string_view::npos ? text.size() : nl + 1;
+#include "meter/controller/input/candump_line.hpp"
+#include "meter/controller/input/log_lines.hpp"
+
+namespace meter::controller {
+namespace {
+
+// One candump log being read: its interfaces become channels 1, 2, ... in order of appearance.
+class CandumpReader {
+ public:
+  void line(std::string_view t) {
     ++log.lines;
-    const std::string_view t = trim_line_end(line);
-    if (t.empty()) continue;  // blank lines are not errors
-    auto r = parse_candump_line(t, &why);
+    if (t.empty()) return;  // blank lines are not errors
+    auto r = parse_candump_line(t, &why_);
     if (!r) {
-      log.bad_lines.push_back({log.lines, why});
-      continue;
+      log.bad_lines.push_back({log.lines, why_});
+      return;
     }
+    r->frame.channel = channel_of(r->interface);
     log.frames.push_back(r->frame);
   }
-  return log;
-}
+  ParsedLog log;
+
+ private:
+  std::string why_;
+  std::vector<std::string> interfaces_;
+  std::uint8_t channel_of(const std::string& name) {
+    auto it = std::find(interfaces_.begin(), interfaces_.end(), name);
+    if (it == interfaces_.end()) {
+      if (interfaces_.size() == 255) return 255;  // more interfaces than channels: the last one holds the rest
+      interfaces_.push_back(name);
+      it = interfaces_.end() - 1;
+    }
+    return static_cast<std::uint8_t>(it - interfaces_.begin() + 1);
+  }
+};
+
+}  // namespace
+
+ParsedLog parse_candump_log(std::string_view text) { return read_log_lines<CandumpReader>(text); }
+
+// Room for a frame every 40 bytes: the shortest lines its usual writers write.
+ParsedLog read_candump_log(std::istream& in) { return read_log_lines<CandumpReader>(in, 40); }
 
 ParsedLog load_candump_log(const std::string& path) { return parse_candump_log(read_log_file(path)); }
 
@@ -50,10 +73,29 @@ bool sniff_candump_log(std::string_view head) {
   return false;
 }
 
+std::string candump_interface(const CanFrame& frame) {
+  return "can" + std::to_string(frame.channel > 0 ? frame.channel - 1 : 0);
+}
+
+void write_candump_log(const ParsedLog& log, std::ostream& out, const LogProgress& progress) {
+  std::string text;
+  for (std::size_t i = 0; i < log.frames.size(); ++i) {
+    const CanFrame& f = log.frames[i];
+    text += format_candump_line(f, candump_interface(f));
+    text += '\n';
+    if (text.size() > (1u << 20)) {
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+      text.clear();
+      progress(i + 1);
+    }
+  }
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+}
+
 const LogFormat& candump_log_format() {
   static constexpr std::string_view kExtensions[] = {".log"};
   static const LogFormat format{"candump", "(1631416514.717133) can0 0D2#0000FFFF10000000", kExtensions,
-                                sniff_candump_log, parse_candump_log};
+                                sniff_candump_log, read_candump_log, write_candump_log};
   return format;
 }
 

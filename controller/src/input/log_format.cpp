@@ -6,7 +6,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "meter/controller/input/asc_log.hpp"
+#include "meter/controller/input/blf_log.hpp"
 #include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/trc_log.hpp"
 
 namespace meter::controller {
 
@@ -14,6 +17,9 @@ std::span<const LogFormat> log_formats() {
   // The registration: one entry per format, asked in this order.
   static const std::array formats{
       candump_log_format(),
+      asc_log_format(),
+      blf_log_format(),
+      trc_log_format(),
   };
   return formats;
 }
@@ -41,6 +47,20 @@ std::string first_line(std::string_view head) {
   return "it is empty";
 }
 
+// "FILE: no usable CAN frame ...: FILE:1: why; FILE:2: why; FILE:3: why; and N more"
+std::string no_frame_message(const std::string& path, const LogFormat& format, const ParsedLog& log) {
+  std::string m = path + ": no usable CAN frame in this " + std::string(format.name) + " log";
+  if (log.bad_lines.empty()) {
+    m += log.skipped ? ": its " + std::to_string(log.skipped) + " record(s) hold no CAN frame" : ": it holds no record";
+    return m;
+  }
+  constexpr std::size_t kShown = 3;
+  for (std::size_t i = 0; i < log.bad_lines.size() && i < kShown; ++i)
+    m += (i == 0 ? ": " : "; ") + path + ":" + std::to_string(log.bad_lines[i].line) + ": " + log.bad_lines[i].why;
+  if (log.bad_lines.size() > kShown) m += "; and " + std::to_string(log.bad_lines.size() - kShown) + " more bad record(s)";
+  return m;
+}
+
 std::string no_format_message(const std::string& path, std::string_view head) {
   std::string known;
   for (const LogFormat& f : log_formats()) {
@@ -61,6 +81,14 @@ const LogFormat* find_log_format(std::string_view path, std::string_view head) {
   return nullptr;
 }
 
+const LogFormat* find_log_writer(std::string_view path) {
+  for (const LogFormat& f : log_formats())
+    if (f.write)
+      for (std::string_view ext : f.extensions)
+        if (has_extension(path, ext)) return &f;
+  return nullptr;
+}
+
 std::string read_log_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the log for reading");
@@ -75,11 +103,20 @@ std::string_view trim_line_end(std::string_view line) {
 }
 
 ParsedLog load_log_file(const std::string& path) {
-  const std::string contents = read_log_file(path);
-  const std::string_view head = std::string_view(contents).substr(0, kLogSniffBytes);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the log for reading");
+  std::string head(kLogSniffBytes, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
   const LogFormat* format = find_log_format(path, head);
   if (!format) throw std::runtime_error(no_format_message(path, head));
-  return format->parse(contents);
+  in.clear();
+  if (!in.seekg(0)) throw std::runtime_error(path + ": cannot read the log from its start again after recognising it (a pipe?); give a file");
+  ParsedLog log = format->read(in);
+  log.format = format->name;
+  if (in.bad()) throw std::runtime_error(path + ": read error in the log");
+  if (log.frames.empty()) throw std::runtime_error(no_frame_message(path, *format, log));
+  return log;
 }
 
 std::string log_format_names() {

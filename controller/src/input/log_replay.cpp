@@ -111,7 +111,7 @@ BusHealth LogReplay::health() const {
 
 std::string LogReplay::describe() const {
   std::string mode = opt_.mode == ReplayMode::Fast ? "fast" : opt_.mode == ReplayMode::Realtime ? "realtime" : "scale:" + std::to_string(opt_.scale);
-  return "candump log (" + std::to_string(log_.frames.size()) + " frames, " + std::to_string(log_.bad_lines.size()) +
+  return std::string(log_.format) + " log (" + std::to_string(log_.frames.size()) + " frames, " + std::to_string(log_.bad_lines.size()) +
          " bad lines, replay " + mode + ")";
 }
 

@@ -6,6 +6,7 @@ namespace meter::controller {
 ParsedLog merge_logs(std::vector<std::pair<int, ParsedLog>> logs) {
   ParsedLog out;
   std::size_t total = 0;
+  if (!logs.empty()) out.format = logs.front().second.format;
   for (auto& [index, log] : logs) {
     total += log.frames.size();
     out.lines += log.lines;

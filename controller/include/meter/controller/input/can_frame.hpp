@@ -17,6 +17,8 @@ struct CanFrame {
   std::uint8_t len = 0;           // payload bytes: 0..8 classic, 0..64 FD
   std::uint8_t len8_dlc = 0;      // classic frames with len 8: raw DLC 9..15 if the sender used one
   std::uint8_t input = 0;         // which of the controller's inputs (buses) delivered it, 0 = the first
+  std::uint8_t channel = 0;       // a recorded log's channel as the file numbers it (ASC, BLF, TRC bus: 1..;
+                                  // candump: its interfaces in order of first appearance, 1..); 0 = none
   std::array<std::uint8_t, 64> data{};
 };
 

@@ -33,6 +33,7 @@ std::string format_candump_line(const CanFrame& frame, std::string_view interfac
 
 // FD length <-> DLC mapping (ISO 11898-1).
 std::uint8_t can_fd_dlc_to_len(std::uint8_t dlc);
+std::uint8_t can_fd_len_to_dlc(std::size_t len);  // the smallest DLC that holds len bytes (len <= 64)
 bool is_valid_fd_len(std::size_t len);
 
 }  // namespace meter::controller

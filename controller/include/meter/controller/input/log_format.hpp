@@ -1,10 +1,14 @@
 // Recorded CAN log formats behind one small interface, and the one list of them. A format knows
-// its files (by their first lines, else by their extension) and parses a whole file into a
-// ParsedLog; `run` (every log:FILE input) and `decode` load logs only through load_log_file(), so
-// a new format (Vector ASC, BLF, PCAN TRC, ...) is its own file plus one entry in log_formats().
+// its files (by their first bytes, else by their extension), reads a whole file from a stream a
+// record at a time into a ParsedLog, and may write one; `run` (every log:FILE input), `decode` and
+// `convert-log` load logs only through load_log_file(), so a new format is its own file plus one
+// entry in log_formats().
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <istream>
+#include <ostream>
 #include <span>
 #include <string>
 #include <string_view>
@@ -13,14 +17,20 @@
 
 namespace meter::controller {
 
+// Told how many frames are written so far, now and then, while a long log is written.
+using LogProgress = std::function<void(std::size_t frames_written)>;
+
 struct LogFormat {
   std::string_view name;         // "candump": in messages and the help text
-  std::string_view example;      // one line of such a file, for the message when no format fits
+  std::string_view example;      // the start of such a file, for the message when no format fits
   std::span<const std::string_view> extensions;  // ".log": claims files whose start no format knows
   // True when the start of a file (up to kLogSniffBytes of it) is in this format.
   bool (*sniff)(std::string_view head);
-  // The whole file: its frames in file order and every record that breaks the grammar.
-  ParsedLog (*parse)(std::string_view contents);
+  // The whole file from its first byte, read a block or object at a time: its frames in file order,
+  // every record that breaks the grammar, the records of other kinds passed over.
+  ParsedLog (*read)(std::istream& in);
+  // Writes the frames as a file of this format; nullptr: this build reads the format only.
+  void (*write)(const ParsedLog& log, std::ostream& out, const LogProgress& progress) = nullptr;
 };
 
 // How much of a file the formats' sniff() sees.
@@ -32,10 +42,13 @@ std::span<const LogFormat> log_formats();
 // The format of a file that starts with `head`: the first whose sniff() accepts it; when none does
 // (a damaged first page), the first that claims the path's extension; nullptr when neither.
 const LogFormat* find_log_format(std::string_view path, std::string_view head);
+// The format that writes files named like `path` (its extension); nullptr when none does.
+const LogFormat* find_log_writer(std::string_view path);
 
 // Reads and parses a log in its format. Throws std::runtime_error naming the file when it cannot
-// be read, or when no format fits: with the first non-blank line and its number, the formats known
-// and their extensions.
+// be read; when no format fits (with the first non-blank line and its number, the formats known
+// and their extensions); and when not one of its records gives a frame (with its first bad
+// records, file:line and what was expected there).
 ParsedLog load_log_file(const std::string& path);
 
 // The whole file as bytes; throws std::runtime_error naming it when it cannot be read.
@@ -45,7 +58,7 @@ std::string read_log_file(const std::string& path);
 // errors in any text format).
 std::string_view trim_line_end(std::string_view line);
 
-// "candump" (the names of log_formats(), comma separated)
+// "candump, asc, blf, trc" (the names of log_formats(), comma separated)
 std::string log_format_names();
 
 }  // namespace meter::controller
