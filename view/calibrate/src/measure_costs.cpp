@@ -7,6 +7,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "meter/calibrate/merge_costs.hpp"
 #include "meter/calibrate/unit_isolation.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
@@ -153,6 +154,8 @@ CostMeasurements measure_costs(platform::GpuBackend& backend, const engine::Scen
     m.rungs.push_back(std::move(rs_g));
   }
   for (auto& r : rs) r->set_quality(full);
+  // The converter's break-even test's costs (merge_costs.hpp): more frames, the points are small.
+  m.concatenation = fit_merge_costs(merge_sample_points(backend, std::max(options.frames, 15), progress));
   return m;
 }
 

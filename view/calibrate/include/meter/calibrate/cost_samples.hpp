@@ -46,6 +46,7 @@ struct CostMeasurements {
   std::vector<std::vector<double>> unit_pixels;  // per node scale: each unit's pixels in the full frame
   std::vector<LevelSamples> levels;              // every unit at every level its ladder has
   std::vector<RungSamples> rungs;                // [0] = the renderer's own (full quality)
+  std::optional<engine::governor::ConcatenationCosts> concatenation{};  // oh, m, s (merge_costs.hpp)
 };
 
 // The median of `v` (0 for none).
