@@ -20,24 +20,35 @@ struct Cell {
 }  // namespace
 
 std::string shading_ladder_table(const CostMeasurements& m) {
-  // unit -> model -> (ms at node scale 1, PSNR), LOD 0 only.
+  std::string out = "shading ladder, whole frame (every unit at the most expensive of its shadings not above the rung, LOD 0):\n";
+  char buf[160];
+  int steps = 0, cheaper = 0;
+  for (std::size_t k = 0; k < m.shading_rungs.size(); ++k) {
+    const ShadingRungSamples& r = m.shading_rungs[k];
+    const double above = k ? m.shading_rungs[k - 1].frame_ms : r.frame_ms;
+    if (k) ++steps, cheaper += r.frame_ms < above ? 1 : 0;
+    std::snprintf(buf, sizeof buf, "  %-12s %9.3f ms%s", bridge::to_string(r.model), r.frame_ms, k ? "" : "  (own)");
+    out += buf;
+    if (r.psnr_db) std::snprintf(buf, sizeof buf, "  %6.1f dB  %+.1f %% vs the rung above", *r.psnr_db, 100.0 * (r.frame_ms - above) / above), out += buf;
+    out += "\n";
+  }
+  std::snprintf(buf, sizeof buf, "  each rung cheaper than the one above: %d of %d\n", cheaper, steps);
+  out += buf;
+  // unit -> model -> (ms at node scale 1, PSNR), LOD 0; units too small to time (0 ms at their own) left out.
   std::vector<std::map<ShadingModel, Cell>> rows(m.ladders.size());
   for (const auto& l : m.levels) {
     if (l.level.lod != 0 || l.samples.empty()) continue;
     const auto& ladder = m.ladders.at(static_cast<std::size_t>(l.unit));
     rows[static_cast<std::size_t>(l.unit)][ladder.shadings.at(static_cast<std::size_t>(l.level.shading))] = {l.samples.front().ms, l.psnr_db};
   }
-  std::string out = "shading ladder: each unit alone at LOD 0, ms over the empty frame (PSNR of the frame with it at that model)\n";
-  char buf[96];
+  out += "shading ladder per unit alone (ms over the empty frame; PSNR of the frame with that unit at that model):\n";
   std::snprintf(buf, sizeof buf, "  %-28s", "unit");
   out += buf;
   for (ShadingModel s : kModels) std::snprintf(buf, sizeof buf, " %-20s", bridge::to_string(s)), out += buf;
   out += "\n";
-  std::map<ShadingModel, double> total_ms, total_db;
-  int complete = 0, steps = 0, inversions = 0;
   for (std::size_t u = 0; u < rows.size(); ++u) {
     const auto& ladder = m.ladders[u];
-    if (ladder.safety || ladder.shadings.size() < 2) continue;
+    if (ladder.safety || ladder.shadings.size() < 2 || !(rows[u][ladder.shadings.front()].ms > 0.0)) continue;
     std::snprintf(buf, sizeof buf, "  %-28.28s", ladder.name.c_str());
     out += buf;
     for (ShadingModel s : kModels) {
@@ -48,24 +59,8 @@ std::string shading_ladder_table(const CostMeasurements& m) {
       out += buf;
     }
     out += "\n";
-    for (std::size_t k = 1; k < ladder.shadings.size(); ++k) {
-      ++steps;
-      inversions += rows[u][ladder.shadings[k]].ms >= rows[u][ladder.shadings[k - 1]].ms ? 1 : 0;
-    }
-    const bool has_all = rows[u].count(ShadingModel::Gouraud) && rows[u].count(ShadingModel::Flat) && rows[u].count(ShadingModel::Unlit);
-    if (!has_all) continue;
-    ++complete;
-    for (const auto& [s, c] : rows[u]) total_ms[s] += c.ms, total_db[s] += c.psnr_db.value_or(0.0);
   }
-  std::snprintf(buf, sizeof buf, "  %-28s", ("total, " + std::to_string(complete) + " units").c_str());
-  out += buf;
-  for (ShadingModel s : kModels) {
-    if (!total_ms.count(s)) std::snprintf(buf, sizeof buf, " %-20s", "-");
-    else std::snprintf(buf, sizeof buf, " %7.4f              ", total_ms[s]);
-    out += buf;
-  }
-  std::snprintf(buf, sizeof buf, "\n  rungs costing as much as or more than the rung above: %d of %d\n", inversions, steps);
-  return out + buf;
+  return out;
 }
 
 }  // namespace meter::calibrate

@@ -25,19 +25,23 @@ TEST(MergeCosts, FitRecoversTheCostsTheTimesWereMadeOf) {
   EXPECT_THROW(fit_merge_costs({{10, 4000, 1, 1, 1}, {10, 2000, 1, 1, 1}}), std::invalid_argument);
 }
 
-// One row per unit with shadings, models in ladder order, and rungs that cost more than the one
-// above counted.
-TEST(ShadingLadder, TableListsEveryRungAndCountsInversions) {
+// The whole-frame rungs with their PSNR and their cost against the rung above (one that costs more
+// is not counted as cheaper), then one row per timed unit with shadings.
+TEST(ShadingLadder, TableListsEveryRungAndCountsTheCheaperOnes) {
   CostMeasurements m;
   using bridge::ShadingModel;
   m.ladders.push_back({"Dial", false, {ShadingModel::PbrMetallicRoughness, ShadingModel::Gouraud, ShadingModel::Flat, ShadingModel::Unlit}, {0.0f}, {1.0f}});
   m.ladders.push_back({"Lamp", true, {ShadingModel::PbrMetallicRoughness}, {0.0f}, {1.0f}});
-  const double ms[] = {0.40, 0.20, 0.25, 0.10};  // flat costs more than Gouraud here: one inversion
-  for (int sh = 0; sh < 4; ++sh)
-    m.levels.push_back({0, {sh, 0}, {{1000.0, ms[sh]}}, sh ? std::optional<double>(50.0 - sh * 5) : std::nullopt});
+  const double ms[] = {0.40, 0.20, 0.25, 0.10};  // flat costs more than Gouraud here
+  for (int sh = 0; sh < 4; ++sh) {
+    const std::optional<double> db = sh ? std::optional<double>(50.0 - sh * 5) : std::nullopt;
+    m.levels.push_back({0, {sh, 0}, {{1000.0, ms[sh]}}, db});
+    m.shading_rungs.push_back({m.ladders[0].shadings[static_cast<std::size_t>(sh)], 10.0 * ms[sh], db});
+  }
   const std::string t = shading_ladder_table(m);
   EXPECT_NE(t.find("Dial"), std::string::npos) << t;
   EXPECT_EQ(t.find("Lamp"), std::string::npos) << t;  // a safety unit has no ladder
   EXPECT_NE(t.find(" 0.2500 ( 40.0 dB)"), std::string::npos) << t;
-  EXPECT_NE(t.find("as much as or more than the rung above: 1 of 3"), std::string::npos) << t;
+  EXPECT_NE(t.find("flat             2.500 ms    40.0 dB  +25.0 % vs the rung above"), std::string::npos) << t;
+  EXPECT_NE(t.find("each rung cheaper than the one above: 2 of 3"), std::string::npos) << t;
 }

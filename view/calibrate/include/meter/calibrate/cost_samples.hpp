@@ -39,6 +39,14 @@ struct RungSamples {
   std::optional<double> psnr_db; // rung 0: none
 };
 
+// Keio's shading ladder on the whole frame: every unit at the most expensive of its shadings that
+// is not above `model` (safety units and units with none at their own), at LOD 0.
+struct ShadingRungSamples {
+  bridge::ShadingModel model{};
+  double frame_ms = 0.0;          // node scale 1
+  std::optional<double> psnr_db;  // the top rung (every unit at its own): none
+};
+
 struct CostMeasurements {
   std::string backend, package;
   std::vector<engine::governor::UnitLadder> ladders;
@@ -47,6 +55,7 @@ struct CostMeasurements {
   std::vector<LevelSamples> levels;              // every unit at every level its ladder has
   std::vector<RungSamples> rungs;                // [0] = the renderer's own (full quality)
   std::optional<engine::governor::ConcatenationCosts> concatenation{};  // oh, m, s (merge_costs.hpp)
+  std::vector<ShadingRungSamples> shading_rungs;  // most expensive model first (shading_ladder.hpp)
 };
 
 // The median of `v` (0 for none).
