@@ -114,7 +114,12 @@ std::vector<ShadingRungSamples> shading_rungs(engine::Renderer& r, std::span<con
       r.render(true, false);
       if (f >= 0) ms[k].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
-  for (std::size_t k = 0; k < choices.size(); ++k) out[k].frame_ms = median(ms[k]);
+  for (std::size_t k = 0; k < choices.size(); ++k) {
+    out[k].frame_ms = median(ms[k]);
+    std::vector<double> ratio;
+    for (std::size_t f = 0; k > 0 && f < ms[k].size(); ++f) ratio.push_back(ms[k][f] / std::max(1e-9, ms[k - 1][f]));
+    if (k > 0) out[k].vs_above = median(ratio);
+  }
   return out;
 }
 
@@ -201,7 +206,8 @@ CostMeasurements measure_costs(platform::GpuBackend& backend, const engine::Scen
     if (progress) *progress << "meter-calibrate: rung MSAA " << g.msaa << " scale " << g.scale << ": " << rs_g.frame_ms.front() << " ms\n";
     m.rungs.push_back(std::move(rs_g));
   }
-  m.shading_rungs = shading_rungs(*rs.front(), ladders, state, reference, std::max(options.frames, 15));
+  // Whole frames, taking turns: three times the frames of a point (the rungs differ by a few %).
+  m.shading_rungs = shading_rungs(*rs.front(), ladders, state, reference, 3 * options.frames);
   for (auto& r : rs) r->set_quality(full);
   // The converter's break-even test's costs (merge_costs.hpp): more frames, the points are small.
   m.concatenation = fit_merge_costs(merge_sample_points(backend, std::max(options.frames, 15), progress));

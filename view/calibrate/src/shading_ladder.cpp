@@ -20,16 +20,17 @@ struct Cell {
 }  // namespace
 
 std::string shading_ladder_table(const CostMeasurements& m) {
-  std::string out = "shading ladder, whole frame (every unit at the most expensive of its shadings not above the rung, LOD 0):\n";
+  std::string out =
+      "shading ladder, whole frame (every unit at the most expensive of its shadings not above the rung, LOD 0; median frame, "
+      "PSNR, median ratio to the rung above drawn just before):\n";
   char buf[160];
   int steps = 0, cheaper = 0;
   for (std::size_t k = 0; k < m.shading_rungs.size(); ++k) {
     const ShadingRungSamples& r = m.shading_rungs[k];
-    const double above = k ? m.shading_rungs[k - 1].frame_ms : r.frame_ms;
-    if (k) ++steps, cheaper += r.frame_ms < above ? 1 : 0;
+    if (k) ++steps, cheaper += r.vs_above < 1.0 ? 1 : 0;
     std::snprintf(buf, sizeof buf, "  %-12s %9.3f ms%s", bridge::to_string(r.model), r.frame_ms, k ? "" : "  (own)");
     out += buf;
-    if (r.psnr_db) std::snprintf(buf, sizeof buf, "  %6.1f dB  %+.1f %% vs the rung above", *r.psnr_db, 100.0 * (r.frame_ms - above) / above), out += buf;
+    if (r.psnr_db) std::snprintf(buf, sizeof buf, "  %6.1f dB  %+.1f %% vs the rung above", *r.psnr_db, 100.0 * (r.vs_above - 1.0)), out += buf;
     out += "\n";
   }
   std::snprintf(buf, sizeof buf, "  each rung cheaper than the one above: %d of %d\n", cheaper, steps);

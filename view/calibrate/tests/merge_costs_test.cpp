@@ -36,7 +36,7 @@ TEST(ShadingLadder, TableListsEveryRungAndCountsTheCheaperOnes) {
   for (int sh = 0; sh < 4; ++sh) {
     const std::optional<double> db = sh ? std::optional<double>(50.0 - sh * 5) : std::nullopt;
     m.levels.push_back({0, {sh, 0}, {{1000.0, ms[sh]}}, db});
-    m.shading_rungs.push_back({m.ladders[0].shadings[static_cast<std::size_t>(sh)], 10.0 * ms[sh], db});
+    m.shading_rungs.push_back({m.ladders[0].shadings[static_cast<std::size_t>(sh)], 10.0 * ms[sh], sh ? ms[sh] / ms[sh - 1] : 1.0, db});
   }
   const std::string t = shading_ladder_table(m);
   EXPECT_NE(t.find("Dial"), std::string::npos) << t;

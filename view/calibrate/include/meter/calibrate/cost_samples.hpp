@@ -43,7 +43,10 @@ struct RungSamples {
 // is not above `model` (safety units and units with none at their own), at LOD 0.
 struct ShadingRungSamples {
   bridge::ShadingModel model{};
-  double frame_ms = 0.0;          // node scale 1
+  double frame_ms = 0.0;          // node scale 1, the median
+  // The median over the rounds of this rung's frame / the rung above's frame drawn just before it
+  // (paired: a load swing between rounds cancels); the top rung: 1.
+  double vs_above = 1.0;
   std::optional<double> psnr_db;  // the top rung (every unit at its own): none
 };
 
