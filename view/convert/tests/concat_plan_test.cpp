@@ -50,6 +50,20 @@ Scene scene_with(const std::vector<std::pair<std::string, glm::vec3>>& objects, 
   return s;
 }
 
+// An animation `name` moving node `node` from `from` to `to` over one second.
+Animation translation(const char* name, int node, glm::vec3 from, glm::vec3 to) {
+  Animation an;
+  an.name = name;
+  AnimSampler sm;
+  sm.components = 3;
+  sm.input = {0.0f, 1.0f};
+  sm.output = {from.x, from.y, from.z, to.x, to.y, to.z};
+  an.samplers.push_back(sm);
+  an.channels.push_back({0, node, TargetPath::Translation});
+  an.end = 1.0f;
+  return an;
+}
+
 std::string error_of(const Scene& s, const std::vector<Group>& g) {
   try {
     plan_groups(s, g, false, "test.json");
@@ -102,16 +116,7 @@ TEST(ConcatPlan, RejectsADrawOrderChangeAgainstANonMember) {
 TEST(ConcatPlan, ChecksOverTheAnimationRange) {
   // b slides from x = 3 to x = 0.3 (onto a) over one second: the rest pose alone would pass.
   Scene s = scene_with({{"a", {0, 0, 0}}, {"b", {3, 0, 0}}}, {0, 0});
-  Animation an;
-  an.name = "slide";
-  AnimSampler sm;
-  sm.components = 3;
-  sm.input = {0.0f, 1.0f};
-  sm.output = {3, 0, 0, 0.3f, 0, 0};
-  an.samplers.push_back(sm);
-  an.channels.push_back({0, 2, TargetPath::Translation});
-  an.end = 1.0f;
-  s.animations.push_back(an);
+  s.animations.push_back(translation("slide", 2, {3, 0, 0}, {0.3f, 0, 0}));
   const std::string e = error_of(s, {{"g", {"a", "b"}}});
   EXPECT_NE(e.find("overlap on screen"), std::string::npos) << e;
 }
@@ -180,16 +185,8 @@ TEST(MergeBreakEven, FollowsThePapersEquations) {
 // says why; without, the same groups are merged as before.
 TEST(MergeBreakEven, AGroupThatWouldNotPayStaysUnmerged) {
   Scene s = scene_with({{"a", {-3, 0, 0}}, {"b", {0, 0, 0}}, {"c", {3, 0, 0}}}, {0, 0, 0});
-  Animation an;  // "c" moves: its 4 vertices are transformed again every frame once merged
-  an.name = "bob";
-  AnimSampler sm;
-  sm.components = 3;
-  sm.input = {0.0f, 1.0f};
-  sm.output = {3, 0, 0, 3, 0.5f, 0};
-  an.samplers.push_back(sm);
-  an.channels.push_back({0, 3, TargetPath::Translation});
-  an.end = 1.0f;
-  s.animations.push_back(an);
+  // "c" moves: its 4 vertices are transformed again every frame once merged.
+  s.animations.push_back(translation("bob", 3, {3, 0, 0}, {3, 0.5f, 0}));
   const ConcatenationCosts cheap_draws{0.001, 0.0001, 0.01};  // s x 4 = 0.04 ms > one draw saved
   const ConcatPlan without = plan_groups(s, {{"row", {"a", "b", "c"}}}, false, "test.json");
   ASSERT_EQ(without.groups.size(), 1u);
