@@ -11,7 +11,12 @@
 // Part 2, the cluster (scenes/cluster with cluster.scene.json): draw calls per function
 // before/after (Table 2) and frame time before/after with the needles sweeping (Table 3).
 //
-// Output: CSV files + fit.txt in the output directory (default ./concat-bench), the plot is drawn
+// Part 3, the converter's break-even test: the costs measured as meter-calibrate measures them,
+// the prediction of eq. 1-3 for the split model at every N and for the cluster's groups, side by
+// side with the frames measured in this run (docs/concatenation.md, "Prediction against the
+// measured frame").
+//
+// Output: CSV files (prediction.csv for part 3) + fit.txt in the output directory (default ./concat-bench), the plot is drawn
 // by bench/concatenation/plot.py. Numbers are medians over the measured frames.
 #include <algorithm>
 #include <array>
