@@ -11,7 +11,12 @@
 // Part 2, the cluster (scenes/cluster with cluster.scene.json): draw calls per function
 // before/after (Table 2) and frame time before/after with the needles sweeping (Table 3).
 //
-// Output: CSV files + fit.txt in the output directory (default ./concat-bench), the plot is drawn
+// Part 3, the converter's break-even test: the costs measured as meter-calibrate measures them,
+// the prediction of eq. 1-3 for the split model at every N and for the cluster's groups, side by
+// side with the frames measured in this run (docs/concatenation.md, "Prediction against the
+// measured frame").
+//
+// Output: CSV files (prediction.csv for part 3) + fit.txt in the output directory (default ./concat-bench), the plot is drawn
 // by bench/concatenation/plot.py. Numbers are medians over the measured frames.
 #include <algorithm>
 #include <array>
@@ -27,8 +32,7 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/quaternion.hpp>
-
+#include "meter/calibrate/merge_costs.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/config/scene_config_parser.hpp"
@@ -47,105 +51,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kTotalVertices = 4000;
-constexpr float kHalf = 0.025f;  // object half size in scene units (~107 pixels per unit)
 
 
-// N ribbons (2 rows of v/2 vertices, indexed triangle lists) on a grid in front of the camera,
-// children of "Board", which the animation "Wobble" rotates about Z (a little, every frame).
-Scene split_model(int objects, int total_vertices = kTotalVertices) {
-  const int v = total_vertices / objects;
-  Scene s;
-  s.source_name = "split-" + std::to_string(objects);
-  s.config.size = {640, 480};
-  s.config.camera = "Camera";
-  s.config.clear_color = {0.0, 0.0, 0.0, 1.0};
-  Material mat;
-  mat.name = "Print";
-  mat.shading = shadergen::ShadingModel::Gouraud;  // per-vertex lighting: the per-vertex cost m is real
-  mat.base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
-  s.materials.push_back(mat);
-  Camera cam;
-  cam.yfov = 0.8f;
-  s.cameras.push_back(cam);
-  Light sun;
-  sun.intensity = 3.0f;
-  s.lights.push_back(sun);
-  auto add_node = [&](Node n, int parent) {
-    n.parent = parent;
-    const int i = static_cast<int>(s.nodes.size());
-    s.nodes.push_back(n);
-    if (parent < 0) s.roots.push_back(i);
-    else s.nodes[static_cast<std::size_t>(parent)].children.push_back(i);
-    return i;
-  };
-  Node c;
-  c.name = "Camera", c.camera = 0, c.translation = glm::vec3(0, 0, 6);
-  add_node(c, -1);
-  Node l;
-  l.name = "Sun", l.light = 0, l.rotation = glm::angleAxis(-0.5f, glm::vec3(1, 0, 0));
-  add_node(l, -1);
-  Node b;
-  b.name = "Board";
-  const int board = add_node(b, -1);
-  const int cols = static_cast<int>(std::ceil(std::sqrt(double(objects) * 1.3)));
-  const int rows = (objects + cols - 1) / cols;
-  const float w = 6.0f, h = 4.2f, cw = w / float(cols), ch = h / float(rows);
-  for (int o = 0; o < objects; ++o) {
-    Primitive p;
-    p.material = 0;
-    p.vertex_count = static_cast<std::uint32_t>(v);
-    p.stride = 6;
-    p.layout = {{shadergen::AttributeSemantic::Position, -1, 3, 0}, {shadergen::AttributeSemantic::Normal, -1, 3, 3}};
-    const int half = v / 2;
-    for (int i = 0; i < half; ++i) {
-      for (int r = 0; r < 2; ++r) {
-        // Every object the same small size (~6x6 pixels) whatever N: the fill cost stays
-        // negligible and equal, so the times show per-draw and per-vertex work (eqs. 1-2).
-        const float x = -kHalf + 2.0f * kHalf * float(i) / float(std::max(1, half - 1));
-        const float y = r ? kHalf : -kHalf;
-        p.vertices.insert(p.vertices.end(), {x, y, 0.0f, 0.0f, 0.0f, 1.0f});
-      }
-    }
-    for (int i = 0; i + 1 < half; ++i) {
-      const auto a = static_cast<std::uint32_t>(2 * i);
-      p.indices.insert(p.indices.end(), {a, a + 2, a + 1, a + 1, a + 2, a + 3});
-    }
-    p.bounds_min = glm::vec3(-kHalf, -kHalf, 0), p.bounds_max = glm::vec3(kHalf, kHalf, 0);
-    Mesh m;
-    m.name = "obj" + std::to_string(o);
-    m.primitives.push_back(std::move(p));
-    s.meshes.push_back(std::move(m));
-    Node n;
-    n.name = m.name;
-    n.mesh = o;
-    n.translation = glm::vec3(-w / 2 + cw * (float(o % cols) + 0.5f), -h / 2 + ch * (float(o / cols) + 0.5f), 0.0f);
-    add_node(n, board);
-    s.draws.push_back({static_cast<int>(s.nodes.size()) - 1, o, 0, 0});
-  }
-  Animation a;
-  a.name = "Wobble";
-  AnimSampler sm;
-  sm.components = 4;
-  sm.input = {0.0f, 1000.0f};
-  const glm::quat q0 = glm::angleAxis(0.0f, glm::vec3(0, 0, 1)), q1 = glm::angleAxis(0.2f, glm::vec3(0, 0, 1));
-  sm.output = {q0.x, q0.y, q0.z, q0.w, q1.x, q1.y, q1.z, q1.w};
-  a.samplers.push_back(sm);
-  a.channels.push_back({0, board, TargetPath::Rotation});
-  a.end = 1000.0f;
-  s.animations.push_back(a);
-  shadergen::MaterialFeatures f;
-  f.shading = shadergen::ShadingModel::Gouraud;
-  f.lights.directional = 1;
-  f.vertex_alpha = true;  // the same program draws both ways (constant alpha 1 when unmerged)
-  ProgramEntry pe;
-  pe.program = shadergen::generate(f);
-  s.programs.push_back(pe);
-  MergedGroup g;
-  g.name = "all";
-  for (int d = 0; d < objects; ++d) g.draws.push_back(d);
-  s.groups.push_back(g);
-  return s;
-}
+Scene split_model(int objects, int total_vertices = kTotalVertices) { return calibrate::split_model(objects, total_vertices); }
 
 struct Sample {
   double cpu = 0, gpu = 0;
@@ -197,6 +105,49 @@ std::string function_of(const std::string& node) {
   if (node.rfind("Fuel", 0) == 0 || node.rfind("Coolant", 0) == 0) return "Fuel+Temp";
   if (node.rfind("TT", 0) == 0) return "Telltales";
   return "Centre/panels";
+}
+
+// Part 3: the converter's break-even test (merge_break_even.hpp) with the costs meter-calibrate
+// measures (merge_costs.hpp, the same calls), against measured frames in this run: the split
+// model at every N (every member moving: the test's worst case), and the cluster's groups against
+// its unmerged / merged frame of part 2 (EGL).
+void predictions_against_frames(const fs::path& out_dir, int frames, const Scene& cluster, const std::array<double, 2>& cluster_frame_ms) {
+  auto backend = platform::create_backend(platform::BackendKind::Egl);
+  const ConcatenationCosts costs = calibrate::fit_merge_costs(calibrate::merge_sample_points(*backend, std::max(frames, 15), nullptr));
+  std::printf("\npart 3: break-even test (EGL) with meter-calibrate's costs: oh = %.5f ms/draw, m = %.7f ms/vertex, s = %.7f ms/vertex\n",
+              costs.draw_ms, costs.vertex_ms, costs.transform_ms);
+  std::printf("%6s %5s | %9s %9s %9s | %9s %9s %9s | %-9s %-9s\n", "N", "v", "pred_bef", "pred_aft", "pred_save", "meas_bef", "meas_aft",
+              "meas_save", "predicted", "measured");
+  std::ofstream csv(out_dir / "prediction.csv");
+  csv << "what,objects,vertices,predicted_before_ms,predicted_after_ms,predicted_saving_ms,measured_before_ms,measured_after_ms,measured_saving_ms\n";
+  int agree = 0, total = 0;
+  for (int n : {1, 2, 5, 10, 20, 50, 100, 250, 500, 1000}) {
+    const MergePrediction p = predict_merge(costs, n, kTotalVertices, kTotalVertices);
+    const calibrate::MergeSample m = calibrate::measure_merge(*backend, n, kTotalVertices, frames);
+    const double save = m.unmerged_ms - m.merged_moving_ms;
+    // The frame's constant part (clear, glFinish) is in the measured times, not in eq. 1-2: the
+    // savings compare, and whether merging paid.
+    std::printf("%6d %5d | %9.4f %9.4f %9.4f | %9.4f %9.4f %9.4f | %-9s %-9s\n", n, kTotalVertices / n, p.before_ms, p.after_ms,
+                p.before_ms - p.after_ms, m.unmerged_ms, m.merged_moving_ms, save, p.pays() ? "pays" : "no", save > 0 ? "paid" : "no");
+    csv << "split," << n << "," << kTotalVertices << "," << p.before_ms << "," << p.after_ms << "," << p.before_ms - p.after_ms << ","
+        << m.unmerged_ms << "," << m.merged_moving_ms << "," << save << "\n";
+    agree += p.pays() == (save > 0) ? 1 : 0;
+    ++total;
+  }
+  std::printf("decision agrees with the measured frame at %d of %d split points\n", agree, total);
+  const std::string dir = std::string(METER_SOURCE_DIR) + "/scenes/cluster/";
+  ConvertOptions opt;
+  opt.merge_costs = costs;
+  const ConvertResult r = convert_gltf(dir + "cluster.glb", meter::config::load_scene_config(dir + "cluster.scene.json"), opt);
+  std::printf("\ncluster with the break-even test (meter-convert --costs --report):\n%s", r.concat_report.c_str());
+  // The cluster's merged groups (part 2's conversion, every allowed group), predicted together,
+  // against part 2's measured frames.
+  double predicted_save = 0.0;
+  for (const MergePrediction& p : predict_groups(cluster, costs)) predicted_save += p.before_ms - p.after_ms;
+  const double measured_save = cluster_frame_ms[0] - cluster_frame_ms[1];
+  std::printf("cluster, all %zu groups merged: predicted saving %.4f ms, measured saving %.4f ms (unmerged %.3f ms, merged %.3f ms, part 2)\n",
+              cluster.groups.size(), predicted_save, measured_save, cluster_frame_ms[0], cluster_frame_ms[1]);
+  csv << "cluster,,,,," << predicted_save << "," << cluster_frame_ms[0] << "," << cluster_frame_ms[1] << "," << measured_save << "\n";
 }
 
 }  // namespace
@@ -310,6 +261,7 @@ int main(int argc, char** argv) {
   std::printf("%-16s %8d %8d\n", "total", tb, ta);
   t2 << "total," << tb << "," << ta << "\n";
 
+  std::array<double, 2> cluster_frame_ms{};  // EGL, unmerged and merged: part 3 compares them with the prediction
   std::ofstream t3(out_dir / "cluster_frame.csv");
   t3 << "backend,mode,cpu_ms,gpu_ms,frame_ms,draw_calls_per_frame,member_transforms_per_frame\n";
   std::printf("\ncluster frame time, 1280x480 MSAA 4, needles sweeping every frame, median of %d frames (Table 3)\n", frames);
@@ -349,8 +301,10 @@ int main(int argc, char** argv) {
       const std::string bn(platform::to_string(kind));
       std::printf("%-7s %-8s %9.3f %9.3f %9.3f %7.0f %10.1f\n", bn.c_str(), mode, c, g, c + g, draws, transforms);
       t3 << bn << "," << mode << "," << c << "," << g << "," << c + g << "," << draws << "," << transforms << "\n";
+      if (kind == platform::BackendKind::Egl) cluster_frame_ms[k] = c + g;
     }
   }
-  std::printf("\nwritten: %s/{split.csv,fit.txt,cluster_draws.csv,cluster_frame.csv}\n", out_dir.c_str());
+  predictions_against_frames(out_dir, frames, cluster, cluster_frame_ms);
+  std::printf("\nwritten: %s/{split.csv,fit.txt,cluster_draws.csv,cluster_frame.csv,prediction.csv}\n", out_dir.c_str());
   return 0;
 }

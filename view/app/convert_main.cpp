@@ -1,4 +1,4 @@
-// meter-convert IN.gltf|IN.glb --config SCENE.json -o OUT.msp [--report] [--optimize=off|on] [--integrity=egl|osmesa|off] [--levels=on|off]
+// meter-convert IN.gltf|IN.glb --config SCENE.json -o OUT.msp [--report] [--optimize=off|on] [--integrity=egl|osmesa|off] [--levels=on|off] [--costs FILE]
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -27,6 +27,10 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", o.quiet, "do not print repairs (warnings)");
   app.add_flag("--propose-groups", o.propose_groups,
                "merge ungrouped objects automatically (same material and blend state, no overlap; docs/concatenation.md)");
+  app.add_option("--costs", o.costs,
+                 "meter-calibrate's cost file (meter-costs/1): merge a group only where the DENSO break-even test says it pays "
+                 "(docs/concatenation.md); without it every allowed group is merged")
+      ->check(CLI::ExistingFile);
   CLI11_PARSE(app, argc, argv);
   return meter::convert::run_convert_tool(o, std::cout, std::cerr);
 }

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "meter/calibrate/calibration.hpp"
+#include "meter/calibrate/shading_ladder.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "meter/runner/governed_frame.hpp"
 #include "meter/runner/option_units.hpp"
@@ -56,6 +57,10 @@ int run_calibrate_tool(const CalibrateToolOptions& options, std::ostream& out, s
     file << text;
     file.close();
     if (!file) throw std::runtime_error(path + ": cannot write the cost file");
+    out << shading_ladder_table(m);
+    if (m.concatenation)
+      out << "concatenation costs (DENSO eq. 1-3): oh = " << m.concatenation->draw_ms << " ms/draw, m = " << m.concatenation->vertex_ms
+          << " ms/vertex, s = " << m.concatenation->transform_ms << " ms/merged vertex moved\n";
     std::size_t levels = m.levels.size();
     out << "meter-calibrate: " << m.ladders.size() << " draw units, " << levels << " unit levels, " << m.rungs.size()
         << " global rungs measured on " << backend->renderer_info() << " in "

@@ -119,6 +119,7 @@ gov::CostFile cost_file(const CostMeasurements& m) {
     return a.psnr_db.value_or(-1.0) > b.psnr_db.value_or(-1.0);
   });
   file.globals = std::move(rungs);
+  file.concatenation = m.concatenation;
   return file;
 }
 

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <memory>
 #include <set>
+#include <span>
 #include <stdexcept>
 
+#include "meter/calibrate/merge_costs.hpp"
 #include "meter/calibrate/unit_isolation.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
@@ -67,6 +69,58 @@ platform::Image drawn(engine::Renderer& r, const engine::BindingOutputs& outputs
   r.set_quality(choice);
   r.render(true, true);
   return r.last_image();
+}
+
+// Every unit at the most expensive of its shadings not above `model` (none: its own), LOD 0.
+gov::QualityChoice every_unit_at(std::span<const gov::UnitLadder> ladders, bridge::ShadingModel model) {
+  gov::QualityChoice c;
+  for (const auto& l : ladders) {
+    gov::UnitLevel level;
+    for (std::size_t sh = 0; sh < l.shadings.size() && !l.safety; ++sh)
+      if (int(l.shadings[sh]) <= int(model)) {
+        level.shading = static_cast<int>(sh);
+        break;
+      }
+    c.units.push_back(level);
+  }
+  return c;
+}
+
+// Keio's ladder on the whole frame: pbr, blinn-phong, gouraud, flat, unlit, each drawn where it
+// changes some unit's level from the rung above. The rungs take turns frame by frame (after one
+// untimed frame each), so load from other processes hits them alike: their differences are small
+// next to a busy machine's swings.
+std::vector<ShadingRungSamples> shading_rungs(engine::Renderer& r, std::span<const gov::UnitLadder> ladders,
+                                              const engine::BindingOutputs& state, const platform::Image& reference, int frames) {
+  using bridge::ShadingModel;
+  std::vector<ShadingRungSamples> out;
+  std::vector<gov::QualityChoice> choices;
+  for (ShadingModel model : {ShadingModel::PbrMetallicRoughness, ShadingModel::BlinnPhong, ShadingModel::Gouraud, ShadingModel::Flat,
+                             ShadingModel::Unlit}) {
+    const gov::QualityChoice c = every_unit_at(ladders, model);
+    if (!choices.empty() && c.units == choices.back().units) continue;
+    ShadingRungSamples s;
+    s.model = model;
+    if (!choices.empty()) s.psnr_db = psnr_or_identical(drawn(r, state, c), reference);
+    out.push_back(s);
+    choices.push_back(c);
+  }
+  r.apply(state);
+  std::vector<std::vector<double>> ms(choices.size());
+  for (int f = -1; f < frames; ++f)
+    for (std::size_t k = 0; k < choices.size(); ++k) {
+      r.set_quality(choices[k]);
+      const auto t0 = std::chrono::steady_clock::now();
+      r.render(true, false);
+      if (f >= 0) ms[k].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+  for (std::size_t k = 0; k < choices.size(); ++k) {
+    out[k].frame_ms = median(ms[k]);
+    std::vector<double> ratio;
+    for (std::size_t f = 0; k > 0 && f < ms[k].size(); ++f) ratio.push_back(ms[k][f] / std::max(1e-9, ms[k - 1][f]));
+    if (k > 0) out[k].vs_above = median(ratio);
+  }
+  return out;
 }
 
 }  // namespace
@@ -152,7 +206,11 @@ CostMeasurements measure_costs(platform::GpuBackend& backend, const engine::Scen
     if (progress) *progress << "meter-calibrate: rung MSAA " << g.msaa << " scale " << g.scale << ": " << rs_g.frame_ms.front() << " ms\n";
     m.rungs.push_back(std::move(rs_g));
   }
+  // Whole frames, taking turns: three times the frames of a point (the rungs differ by a few %).
+  m.shading_rungs = shading_rungs(*rs.front(), ladders, state, reference, 3 * options.frames);
   for (auto& r : rs) r->set_quality(full);
+  // The converter's break-even test's costs (merge_costs.hpp): more frames, the points are small.
+  m.concatenation = fit_merge_costs(merge_sample_points(backend, std::max(options.frames, 15), progress));
   return m;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "convert_context.hpp"
+#include "meter/convert/flat_geometry.hpp"
 
 namespace meter::convert {
 
@@ -46,12 +47,14 @@ Scene build_scene(ConvertContext& ctx) {
   convert_animations(ctx, s);
   resolve_config(s, ctx.cfg, ctx.file);
   // Groups are checked before programs exist: members need the vertex_alpha variant.
-  ctx.plan = plan_groups(s, ctx.cfg.groups, ctx.opt.propose_groups, ctx.file);
+  ctx.plan = plan_groups(s, ctx.cfg.groups, ctx.opt.propose_groups, ctx.file, ctx.opt.merge_costs ? &*ctx.opt.merge_costs : nullptr);
   for (const auto& g : ctx.plan.groups) {
     for (const auto& m : g.members) ctx.group_members.insert(s.find_node(m));
   }
   generate_programs(ctx, s);
   attach_groups(s, ctx.plan);
+  // Materials shaded Flat at full quality draw their faces' provoking vertices (levels add theirs).
+  prepare_flat_draws(s);
   return s;
 }
 

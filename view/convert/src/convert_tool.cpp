@@ -1,5 +1,8 @@
 #include "meter/convert/convert_tool.hpp"
 
+#include <fstream>
+#include <sstream>
+
 #include "meter/convert/converter.hpp"
 #include "meter/convert/integrity.hpp"
 #include "meter/convert/levels.hpp"
@@ -9,6 +12,23 @@
 
 namespace meter::convert {
 
+namespace {
+
+// The break-even test's costs from a meter-calibrate cost file; a file without them is refused.
+ConcatenationCosts merge_costs_from(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw SceneError(path + ": cannot read the cost file (--costs)");
+  const engine::governor::CostFile file = engine::governor::parse_costs(text.str(), path);
+  if (!file.concatenation)
+    throw SceneError(path + ": $.concatenation: expected the concatenation costs (draw_ms, vertex_ms, transform_ms); "
+                     "recalibrate with this build's meter-calibrate");
+  return *file.concatenation;
+}
+
+}  // namespace
+
 int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err) {
   try {
     const auto catalog = protocol::use_catalog_option(o.catalog);
@@ -16,6 +36,7 @@ int run_convert_tool(const ToolOptions& o, std::ostream& out, std::ostream& err)
     ConvertOptions opt;
     opt.optimize = o.optimize == "on";
     opt.propose_groups = o.propose_groups;
+    if (!o.costs.empty()) opt.merge_costs = merge_costs_from(o.costs);
     auto result = convert_gltf(o.input, config, opt);
     if (!o.quiet) {
       for (const auto& r : result.repairs) err << o.input << ": warning: " << r.path << ": " << r.message << "\n";

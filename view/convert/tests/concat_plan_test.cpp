@@ -50,6 +50,20 @@ Scene scene_with(const std::vector<std::pair<std::string, glm::vec3>>& objects, 
   return s;
 }
 
+// An animation `name` moving node `node` from `from` to `to` over one second.
+Animation translation(const char* name, int node, glm::vec3 from, glm::vec3 to) {
+  Animation an;
+  an.name = name;
+  AnimSampler sm;
+  sm.components = 3;
+  sm.input = {0.0f, 1.0f};
+  sm.output = {from.x, from.y, from.z, to.x, to.y, to.z};
+  an.samplers.push_back(sm);
+  an.channels.push_back({0, node, TargetPath::Translation});
+  an.end = 1.0f;
+  return an;
+}
+
 std::string error_of(const Scene& s, const std::vector<Group>& g) {
   try {
     plan_groups(s, g, false, "test.json");
@@ -102,16 +116,7 @@ TEST(ConcatPlan, RejectsADrawOrderChangeAgainstANonMember) {
 TEST(ConcatPlan, ChecksOverTheAnimationRange) {
   // b slides from x = 3 to x = 0.3 (onto a) over one second: the rest pose alone would pass.
   Scene s = scene_with({{"a", {0, 0, 0}}, {"b", {3, 0, 0}}}, {0, 0});
-  Animation an;
-  an.name = "slide";
-  AnimSampler sm;
-  sm.components = 3;
-  sm.input = {0.0f, 1.0f};
-  sm.output = {3, 0, 0, 0.3f, 0, 0};
-  an.samplers.push_back(sm);
-  an.channels.push_back({0, 2, TargetPath::Translation});
-  an.end = 1.0f;
-  s.animations.push_back(an);
+  s.animations.push_back(translation("slide", 2, {3, 0, 0}, {0.3f, 0, 0}));
   const std::string e = error_of(s, {{"g", {"a", "b"}}});
   EXPECT_NE(e.find("overlap on screen"), std::string::npos) << e;
 }
@@ -158,4 +163,42 @@ TEST(ConcatPackage, GroupsRoundTripAndBadGroupsAreRefused) {
   s.groups = {{"g", {0, 1}}};
   s.programs[0].program.attributes.pop_back();  // no vertex alpha: the runtime could not hide members
   EXPECT_NE(check_groups(s).find("no vertex alpha attribute"), std::string::npos);
+}
+
+// The paper's eq. 1-3 with our k = 0 (indexed triangle lists) and s only on moving members.
+TEST(MergeBreakEven, FollowsThePapersEquations) {
+  const ConcatenationCosts c{0.16, 0.00077, 0.0035};  // SH7776 (paper sec. 5.2)
+  const MergePrediction moving = predict_merge(c, 40, 4000, 4000);
+  EXPECT_DOUBLE_EQ(moving.before_ms, 0.16 * 40 + 0.00077 * 4000);
+  EXPECT_DOUBLE_EQ(moving.after_ms, 0.16 + 0.0035 * 4000 + 0.00077 * 4000);
+  EXPECT_FALSE(moving.pays());
+  EXPECT_DOUBLE_EQ(moving.break_even_objects, 1.0 + 0.0035 * 4000 / 0.16);  // 88.5 objects
+  EXPECT_TRUE(predict_merge(c, 89, 4000, 4000).pays());
+  EXPECT_FALSE(predict_merge(c, 88, 4000, 4000).pays());
+  // Nothing moves: no CPU transform after the first upload, two objects already pay.
+  EXPECT_TRUE(predict_merge(c, 2, 4000, 0).pays());
+  EXPECT_FALSE(predict_merge(c, 1, 4000, 0).pays());
+  EXPECT_NE(describe(moving).find("does not pay, stays unmerged"), std::string::npos) << describe(moving);
+}
+
+// With costs, a group that would not pay stays unmerged (configured or proposed) and the report
+// says why; without, the same groups are merged as before.
+TEST(MergeBreakEven, AGroupThatWouldNotPayStaysUnmerged) {
+  Scene s = scene_with({{"a", {-3, 0, 0}}, {"b", {0, 0, 0}}, {"c", {3, 0, 0}}}, {0, 0, 0});
+  // "c" moves: its 4 vertices are transformed again every frame once merged.
+  s.animations.push_back(translation("bob", 3, {3, 0, 0}, {3, 0.5f, 0}));
+  const ConcatenationCosts cheap_draws{0.001, 0.0001, 0.01};  // s x 4 = 0.04 ms > one draw saved
+  const ConcatPlan without = plan_groups(s, {{"row", {"a", "b", "c"}}}, false, "test.json");
+  ASSERT_EQ(without.groups.size(), 1u);
+  const ConcatPlan with = plan_groups(s, {{"row", {"a", "b", "c"}}}, false, "test.json", &cheap_draws);
+  EXPECT_TRUE(with.groups.empty());
+  const std::string report = concat_report(with);
+  EXPECT_NE(report.find("predicted before 0.0042 ms, after 0.0422 ms (3 draws, 12 vertices, 4 moving"), std::string::npos) << report;
+  EXPECT_NE(report.find("stays unmerged"), std::string::npos) << report;
+  // Proposed: the two still quads pay (one draw saved, nothing to transform); "c" would cost more
+  // to transform than the draw it saves, so it is left out.
+  const ConcatPlan proposed = plan_groups(s, {}, true, "test.json", &cheap_draws);
+  ASSERT_EQ(proposed.groups.size(), 1u) << concat_report(proposed);
+  EXPECT_EQ(proposed.groups[0].members, (std::vector<std::string>{"a", "b"}));
+  EXPECT_NE(concat_report(proposed).find("pays, merged"), std::string::npos) << concat_report(proposed);
 }

@@ -4,17 +4,22 @@
 // level 0 the frame is bit for bit the one a renderer that never changed level draws.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/quaternion.hpp>
+
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <map>
 
+#include "meter/convert/flat_geometry.hpp"
 #include "meter/convert/levels.hpp"
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/frame_plan/draw_units.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/protocol/catalog.hpp"
+#include "meter/shadergen/shadergen.hpp"
 #include "test_scenes.hpp"
 
 using namespace meter;
@@ -361,6 +366,81 @@ TEST_P(LevelsRender, BadChoicesAreRefusedNamingTheUnitAndLevel) {
   s.units[safety].shading = 1;
   EXPECT_NE(message(s).find("unit " + std::to_string(safety)), std::string::npos) << message(s);
   EXPECT_EQ(a.quality().units, std::vector<governor::UnitLevel>(units.size()));  // nothing applied
+}
+
+// A cushion: one quad whose corner normals lean outwards (a smooth surface's), lit by one sun,
+// with one program of `model`; `flat_lists`: the converter's Flat geometry prepared.
+Scene cushion(bridge::ShadingModel model, bool lean, bool flat_lists) {
+  Scene s;
+  s.config.size = {64, 64};
+  s.config.camera = "Camera";
+  Material mat;
+  mat.name = "Cushion";
+  mat.shading = model;
+  s.materials.push_back(mat);
+  s.cameras.push_back(test::perspective_camera("Camera", 0.9f));
+  Light sun;
+  sun.intensity = 2000.0f;  // lux: about 1 in the output after the Lambert term
+  s.lights.push_back(sun);
+  Primitive p = test::quad_primitive(0, 1.6f);
+  for (std::size_t v = 0; lean && v < 4; ++v)
+    p.vertices[v * 6 + 3] = v == 1 || v == 2 ? 0.5f : -0.5f, p.vertices[v * 6 + 4] = v < 2 ? -0.5f : 0.5f;
+  if (flat_lists) convert::prepare_flat_geometry(p);
+  s.meshes.push_back({"Cushion", {p}, {}});
+  Node cam, light, mesh;
+  cam.name = "Camera", cam.camera = 0, cam.translation = glm::vec3(0, 0, 2);
+  light.name = "Sun", light.light = 0, light.rotation = glm::angleAxis(-0.4f, glm::vec3(1, 0.3f, 0));
+  mesh.name = "Cushion", mesh.mesh = 0;
+  s.nodes = {cam, light, mesh};
+  s.roots = {0, 1, 2};
+  s.draws.push_back({2, 0, 0, 0});
+  bridge::MaterialFeatures f;
+  f.shading = model;
+  f.lights.directional = 1;
+  ProgramEntry e;
+  e.program = shadergen::generate(f);
+  s.programs.push_back(e);
+  return s;
+}
+
+// The colours at 16 points inside each of the quad's two triangles (either side of its diagonal
+// from the bottom-left to the top-right corner: x + y = 64 in the top-down image).
+std::vector<std::array<std::uint8_t, 4>> face_samples(const platform::Image& img, int face) {
+  std::vector<std::array<std::uint8_t, 4>> out;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      const int x = (face ? 16 : 38) + 3 * a, y = (face ? 16 : 38) + 3 * b;
+      const std::size_t i = (std::size_t(y) * std::size_t(img.width) + std::size_t(x)) * 4;
+      out.push_back({img.rgba[i], img.rgba[i + 1], img.rgba[i + 2], img.rgba[i + 3]});
+    }
+  return out;
+}
+
+// Keio's flat rung: one lighting per face. With the converter's Flat lists every pixel of a face
+// has the colour of the face lit at its own normal (here that of the same quad with hard normals),
+// where Gouraud over the leaning corner normals varies across the face, and the Flat program
+// without the lists lights each face at one leaning corner instead.
+TEST_P(LevelsRender, FlatRungDrawsOneColourPerFace) {
+  auto draw = [&](const Scene& s) {
+    RendererOptions o;
+    o.msaa = 1;
+    Renderer r(*backend_, s, o);
+    r.render(true, true);
+    return r.last_image();
+  };
+  using bridge::ShadingModel;
+  const platform::Image flat = draw(cushion(ShadingModel::Flat, true, true));
+  const platform::Image hard = draw(cushion(ShadingModel::Flat, false, true));
+  const platform::Image gouraud = draw(cushion(ShadingModel::Gouraud, true, false));
+  const platform::Image unprepared = draw(cushion(ShadingModel::Flat, true, false));
+  for (int face = 0; face < 2; ++face) {
+    const auto f = face_samples(flat, face), h = face_samples(hard, face), g = face_samples(gouraud, face), u = face_samples(unprepared, face);
+    for (const auto& px : f) EXPECT_EQ(px, f.front()) << "face " << face << ": one colour";
+    EXPECT_EQ(f, h) << "face " << face << ": lit at the face normal";
+    EXPECT_GT(f.front()[0], 40) << "face " << face << ": lit";
+    EXPECT_NE(g.front(), g.back()) << "face " << face << ": Gouraud varies over the leaning normals";
+    EXPECT_NE(u.front(), f.front()) << "face " << face << ": without the lists a corner's normal lights it";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, LevelsRender,

@@ -25,7 +25,7 @@ bool per_pixel_normal(ShadingModel m) {
 int attribute_count(const MaterialFeatures& f) {
   int n = 1;  // POSITION
   const bool normals = bridge::feature_terms::smooth_normals(f);
-  if (normals) ++n;
+  if (f.shading != ShadingModel::Unlit) ++n;  // NORMAL (Flat's: the face's, at the provoking vertex)
   if (f.normal_texture && f.has_tangents) ++n;
   bool uv0 = false, uv1 = false;
   for (int s = 0; s <= static_cast<int>(TextureSlot::Occlusion); ++s) {

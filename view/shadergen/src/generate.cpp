@@ -25,6 +25,7 @@ struct Needs {
   bool tangent = false;
   bool uv0 = false, uv1 = false;
   bool gouraud_light = false;
+  bool flat_light = false;        // Flat: the face's light from its provoking vertex
   bool morph_normals = false;     // morph targets move the normal too
 };
 
@@ -32,11 +33,13 @@ Needs analyse(const MaterialFeatures& f) {
   Needs n;
   const bool per_pixel = detail::per_pixel_normal(f.shading);
   const int lights = f.lights.total();
-  n.normal_attribute = f.shading != ShadingModel::Unlit && f.shading != ShadingModel::Flat;
+  // Flat reads the normal too: the converter gives each face's provoking vertex the face normal
+  // (Primitive::flat_indices), and the light computed there is the whole face's.
+  n.normal_attribute = f.shading != ShadingModel::Unlit;
   // PBR always needs N.V (Fresnel of the ambient term); Blinn-Phong only for highlights.
   n.view_vector = f.shading == ShadingModel::PbrMetallicRoughness ||
                   (f.shading == ShadingModel::BlinnPhong && (lights > 0 || f.environment_map_2d));
-  n.world_position = f.shading == ShadingModel::Flat || n.view_vector ||
+  n.world_position = n.view_vector ||
                      (per_pixel && (f.lights.point + f.lights.spot) > 0) || f.lights.shadows != 0 ||
                      (f.normal_texture && !f.has_tangents);
   n.normal_varying = per_pixel;
@@ -47,6 +50,7 @@ Needs analyse(const MaterialFeatures& f) {
     (bridge::feature_terms::texcoord1(f, slot) ? n.uv1 : n.uv0) = true;
   }
   n.gouraud_light = f.shading == ShadingModel::Gouraud && lights > 0;
+  n.flat_light = f.shading == ShadingModel::Flat && lights > 0;
   n.morph_normals = f.morph_normals && n.normal_attribute;
   return n;
 }
@@ -169,6 +173,7 @@ void declare_varyings(GlslBuilder& b, const MaterialFeatures& f, const Needs& ne
     b.varying("v_diffuse_light", "vec3");
     b.varying("v_specular_light", "vec3");
   }
+  if (need.flat_light) b.flat_varying("v_flat_light", "vec3");
 }
 
 // Morph targets, then skinning, move the model-space position (and normal, tangent).
@@ -233,6 +238,16 @@ void light_vertex(GlslBuilder& b, const MaterialFeatures& f) {
   vb += "  v_specular_light = specular_light * u_specular_color;\n";
 }
 
+// Flat shading: Lambert at each vertex, handed on without interpolation, so every fragment of a
+// face takes its provoking (last) vertex's light: one lighting per face, no per-fragment work.
+void light_vertex_flat(GlslBuilder& b, const MaterialFeatures& f) {
+  std::string& vb = b.vs_body;
+  b.vs_functions += light_helpers(f.lights);
+  vb += "  vec3 n = world_normal;\n  vec3 diffuse_light = vec3(0.0);\n";
+  vb += light_loop(b, Stage::Vertex, f.lights, "world.xyz", "    diffuse_light += e * (max(dot(n, l), 0.0) / PI);\n");
+  vb += "  v_flat_light = diffuse_light;\n";
+}
+
 void write_vertex_stage(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
   declare_attributes(b, f, need);
   declare_vertex_uniforms(b, f, need);
@@ -240,6 +255,7 @@ void write_vertex_stage(GlslBuilder& b, const MaterialFeatures& f, const Needs& 
   deform_vertex(b, f, need);
   write_vertex_outputs(b, f, need);
   if (need.gouraud_light) light_vertex(b, f);
+  if (need.flat_light) light_vertex_flat(b, f);
   b.vs_body += "  gl_Position = u_view_projection * world;\n";
 }
 
@@ -283,14 +299,10 @@ void base_color(GlslBuilder& b, const MaterialFeatures& f) {
   }
 }
 
-// The shading normal `n`: the face's (Flat), the interpolated one, then the normal map's.
+// The shading normal `n` of per-pixel models: the interpolated one, then the normal map's.
 void surface_normal(GlslBuilder& b, const MaterialFeatures& f) {
   std::string& fb = b.fs_body;
-  if (f.shading == ShadingModel::Flat) {
-    // Face normal from screen-space derivatives: always faces the viewer, so it is right for
-    // single- and double-sided faces alike.
-    fb += "  vec3 n = normalize(cross(dFdx(v_world_position), dFdy(v_world_position)));\n";
-  } else if (detail::per_pixel_normal(f.shading)) {
+  if (detail::per_pixel_normal(f.shading)) {
     fb += "  vec3 n = normalize(v_normal);\n";
     if (f.double_sided) fb += "  if (!gl_FrontFacing) n = -n;\n";
   }
@@ -348,9 +360,7 @@ std::string world_light(GlslBuilder& b, const MaterialFeatures& f) {
     b.fs_functions += detail::kAmbientCube;
     env_diffuse = "ambient_cube(n" + args + ")";
   }
-  if (detail::per_pixel_normal(f.shading) || f.shading == ShadingModel::Flat) {
-    if (f.lights.total() > 0) b.fs_functions += light_helpers(f.lights);
-  }
+  if (detail::per_pixel_normal(f.shading) && f.lights.total() > 0) b.fs_functions += light_helpers(f.lights);
   return env_diffuse;
 }
 
@@ -425,14 +435,10 @@ void shade_blinn_phong(GlslBuilder& b, const MaterialFeatures& f, const std::str
   }
 }
 
-// Flat: Lambert with the face normal.
-void shade_flat(GlslBuilder& b, const MaterialFeatures& f) {
-  std::string& fb = b.fs_body;
-  fb += "  vec3 color = vec3(0.0);\n";
-  if (f.lights.total() > 0)
-    fb += light_loop(b, Stage::Fragment, f.lights, "v_world_position",
-                     "    color += e * (max(dot(n, l), 0.0) / PI);\n");
-  fb += "  color = base_color.rgb * (color + u_ambient_light * ao);\n";
+// Flat: Lambert of the face, computed at its provoking vertex (light_vertex_flat).
+void shade_flat(GlslBuilder& b, const Needs& need) {
+  b.fs_body += need.flat_light ? "  vec3 color = base_color.rgb * (v_flat_light + u_ambient_light * ao);\n"
+                               : "  vec3 color = base_color.rgb * u_ambient_light * ao;\n";
 }
 
 // Gouraud: the lighting came from the vertex stage.
@@ -451,7 +457,7 @@ void shade_lit(GlslBuilder& b, const MaterialFeatures& f, const Needs& need) {
   switch (f.shading) {
     case ShadingModel::PbrMetallicRoughness: shade_pbr(b, f, env_diffuse); break;
     case ShadingModel::BlinnPhong: shade_blinn_phong(b, f, env_diffuse); break;
-    case ShadingModel::Flat: shade_flat(b, f); break;
+    case ShadingModel::Flat: shade_flat(b, need); break;
     default: shade_gouraud(b, need); break;
   }
 }

@@ -55,6 +55,12 @@ class GlslBuilder {
     fs_inputs_ += "in " + t + " " + name + ";\n";
   }
 
+  // A vertex output every fragment of a primitive takes from its provoking (last) vertex.
+  void flat_varying(const std::string& name, const std::string& type) {
+    vs_outputs_ += "flat out " + type + " " + name + ";\n";
+    fs_inputs_ += "flat in " + type + " " + name + ";\n";
+  }
+
   std::string vs_functions, vs_body, fs_functions, fs_body;
   Program& program() { return program_; }
 

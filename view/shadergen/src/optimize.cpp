@@ -208,17 +208,18 @@ std::string spirv_to_glsl(const std::vector<std::uint32_t>& spirv, int version, 
   return result;
 }
 
-// Makes `out T name;` a private global so spirv-opt can delete everything that only feeds it.
+// Makes `[flat ]out T name;` a private global so spirv-opt can delete everything that only feeds it.
 void demote_vertex_output(std::string& vs, const std::string& name) {
-  for (std::size_t pos = vs.find("\nout "); pos != std::string::npos;
-       pos = vs.find("\nout ", pos + 1)) {
-    const std::size_t end = vs.find(';', pos);
-    if (end == std::string::npos) break;
-    const std::string decl = vs.substr(pos + 5, end - pos - 5);  // "[highp ]type name"
-    const std::size_t space = decl.rfind(' ');
-    if (space != std::string::npos && decl.substr(space + 1) == name) {
-      vs.erase(pos + 1, 4);  // drop "out "
-      return;
+  for (const std::string qualifier : {"\nout ", "\nflat out "}) {
+    for (std::size_t pos = vs.find(qualifier); pos != std::string::npos; pos = vs.find(qualifier, pos + 1)) {
+      const std::size_t end = vs.find(';', pos);
+      if (end == std::string::npos) break;
+      const std::string decl = vs.substr(pos + qualifier.size(), end - pos - qualifier.size());  // "[highp ]type name"
+      const std::size_t space = decl.rfind(' ');
+      if (space != std::string::npos && decl.substr(space + 1) == name) {
+        vs.erase(pos + 1, qualifier.size() - 1);  // drop the qualifiers
+        return;
+      }
     }
   }
 }

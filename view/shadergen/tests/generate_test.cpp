@@ -110,7 +110,7 @@ std::vector<FeatureCase> feature_cases() {
        U{"u_shininess", "u_specular_color", "u_camera_position"}, A{}, {"v_diffuse_light"},
        {"blinn_phong_specular(", "v_specular_light ="}},
       {"flat lights", with(ShadingModel::Flat), [](auto& f) { f.lights.spot = 1; },
-       U{"u_light0_position"}, A{}, {"spot_attenuation("}, {}},
+       U{"u_light0_position"}, A{}, {"flat in vec3 v_flat_light"}, {"spot_attenuation("}},
   };
 }
 
@@ -196,9 +196,9 @@ TEST(Generate, EnvironmentCodeExistsOnlyWhenTheFeatureIsOn) {
 
 // Shadows exist only for the lights that cast them: one depth-compare sampler and one matrix per
 // casting light, with that light's index, and no shadow code at all in a program whose lights cast
-// none. Gouraud (per-vertex light) and unlit programs drop shadows in their canonical form.
+// none. Gouraud and Flat (per-vertex light) and unlit programs drop shadows in their canonical form.
 TEST(Generate, ShadowLookupsExistOnlyForCastingLights) {
-  for (ShadingModel m : {ShadingModel::Flat, ShadingModel::BlinnPhong, ShadingModel::PbrMetallicRoughness}) {
+  for (ShadingModel m : {ShadingModel::BlinnPhong, ShadingModel::PbrMetallicRoughness}) {
     SCOPED_TRACE(to_string(m));
     MaterialFeatures f = with(m);
     f.lights.directional = 1, f.lights.point = 1, f.lights.spot = 1;
@@ -219,7 +219,7 @@ TEST(Generate, ShadowLookupsExistOnlyForCastingLights) {
     EXPECT_TRUE(compiles(p));
     EXPECT_NE(program_key(f), program_key(with(m)));
   }
-  for (ShadingModel m : {ShadingModel::Unlit, ShadingModel::Gouraud}) {
+  for (ShadingModel m : {ShadingModel::Unlit, ShadingModel::Flat, ShadingModel::Gouraud}) {
     MaterialFeatures f = with(m);
     f.lights.directional = 1, f.lights.shadows = 1;
     EXPECT_EQ(canonical(f).lights.shadows, 0u) << to_string(m);
@@ -255,12 +255,19 @@ TEST(Generate, UnlitHasNoLightingAndNoNormals) {
   EXPECT_TRUE(compiles(p));
 }
 
-TEST(Generate, FlatUsesFaceNormalsNotVertexNormals) {
+// Flat lights once per face: in the vertex stage, at the normal the converter put on the face's
+// provoking vertex, handed to the fragments without interpolation; no per-fragment lighting.
+TEST(Generate, FlatLightsOncePerFaceAtTheProvokingVertex) {
   MaterialFeatures f = with(ShadingModel::Flat);
   f.lights.directional = 1;
   const Program p = generate(f);
-  EXPECT_EQ(p.find_attribute(AttributeSemantic::Normal), nullptr);
-  EXPECT_TRUE(contains(p.fragment_source, "cross(dFdx(v_world_position), dFdy(v_world_position))"));
+  EXPECT_NE(p.find_attribute(AttributeSemantic::Normal), nullptr);
+  EXPECT_TRUE(contains(p.vertex_source, "flat out vec3 v_flat_light;"));
+  EXPECT_TRUE(contains(p.fragment_source, "flat in vec3 v_flat_light;"));
+  EXPECT_TRUE(test::declares_uniform(p.vertex_source, "u_light0_color"));
+  EXPECT_FALSE(test::declares_uniform(p.fragment_source, "u_light0_color"));
+  for (const char* absent : {"dFdx", "v_world_position", "v_normal", "blinn_phong_specular"})
+    EXPECT_FALSE(contains(p.vertex_source + p.fragment_source, absent)) << absent;
   EXPECT_TRUE(compiles(p));
 }
 

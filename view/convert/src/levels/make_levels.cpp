@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "levels/level_stages.hpp"
+#include "meter/convert/flat_geometry.hpp"
 
 namespace meter::convert {
 
@@ -51,6 +52,9 @@ LevelsReport make_levels(Scene& s, const LevelOptions& o) {
   }
   for (std::size_t k = 0; k < tris_at.size(); ++k) r.triangle_fraction_at_lod[k] = double(tris_at[k]) / r.triangle_fraction_at_lod[k];
   if (o.shading) make_shading_levels(s, safety, o, r);
+  // After the shading levels (which draws are Flat) and the LODs (every list gets its Flat one).
+  const FlatGeometryReport flat = prepare_flat_draws(s);
+  r.flat_primitives = flat.primitives, r.flat_vertices = flat.vertices, r.flat_vertices_added = flat.added;
   r.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -62,6 +66,11 @@ std::string levels_report(const Scene& s, const LevelsReport& r) {
                 r.draws, r.safety_draws, r.primitives_with_lods, r.primitives, r.lod_levels, r.shading_levels,
                 r.draws_with_shadings, r.programs_added, r.shadings_skipped_identical, r.milliseconds);
   os << buf;
+  if (r.flat_primitives > 0) {
+    std::snprintf(buf, sizeof buf, "  flat: %d primitives drawn Flat, %llu face-normal vertices added to their %llu\n", r.flat_primitives,
+                  static_cast<unsigned long long>(r.flat_vertices_added), static_cast<unsigned long long>(r.flat_vertices));
+    os << buf;
+  }
   for (std::size_t k = 0; k < r.draws_at_lod.size(); ++k) {
     std::snprintf(buf, sizeof buf, "  lod %zu: %d draws, %.3f of their triangles\n", k + 1, r.draws_at_lod[k], r.triangle_fraction_at_lod[k]);
     os << buf;

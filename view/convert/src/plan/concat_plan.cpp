@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "meter/engine/merged_draws.hpp"
+#include "programs/program_features.hpp"
 
 namespace meter::convert {
 
@@ -69,8 +71,11 @@ struct Planner {
   std::set<int> used_nodes;
   std::map<int, std::string> unit_name;  // accepted group unit id -> group name
   ConcatPlan plan;
+  const ConcatenationCosts* costs = nullptr;  // the break-even test's; null: every allowed group is merged
+  std::vector<char> moving;                   // per node: its world matrix can change (dynamic_nodes)
 
-  explicit Planner(const Scene& scene) : s(scene), ext(draw_extents(scene)) {
+  Planner(const Scene& scene, const ConcatenationCosts* merge_costs)
+      : s(scene), ext(draw_extents(scene)), costs(merge_costs), moving(dynamic_nodes(scene)) {
     unit.resize(ext.size());
     for (std::size_t d = 0; d < ext.size(); ++d) {
       unit[d] = kSingle + static_cast<int>(d);
@@ -81,6 +86,34 @@ struct Planner {
   int draw_count() const { return static_cast<int>(ext.size()); }
   std::string node_name(int d) const { return "\"" + s.nodes[static_cast<std::size_t>(ext[static_cast<std::size_t>(d)].node)].name + "\""; }
   const std::string& material_name(int material) const { return s.materials[static_cast<std::size_t>(material)].name; }
+
+  // Eq. 1-3 for merging the draws of `nodes` (merge_break_even.hpp); nothing without costs.
+  std::optional<MergePrediction> predict(const std::vector<int>& nodes) const {
+    if (!costs) return std::nullopt;
+    int objects = 0;
+    std::uint64_t vertices = 0, moving_vertices = 0;
+    for (int node : nodes) {
+      const Node& n = s.nodes[static_cast<std::size_t>(node)];
+      for (int d : node_draws.at(node)) {
+        const auto prim = static_cast<std::size_t>(ext[static_cast<std::size_t>(d)].primitive);
+        const std::uint32_t v = s.meshes[static_cast<std::size_t>(n.mesh)].primitives[prim].vertex_count;
+        ++objects;
+        vertices += v;
+        if (moving[static_cast<std::size_t>(node)]) moving_vertices += v;
+      }
+    }
+    return predict_merge(*costs, objects, vertices, moving_vertices);
+  }
+
+  // Whether `node` joining `members` makes the merge save more (its draw saved is worth more than
+  // transforming its vertices when it moves); always without costs.
+  bool joining_pays(std::vector<int> members, int node) const {
+    if (!costs) return true;
+    const MergePrediction without = *predict(members);
+    members.push_back(node);
+    const MergePrediction with = *predict(members);
+    return with.before_ms - with.after_ms > without.before_ms - without.after_ms;
+  }
 
   // Puts every draw of `node` in unit `id` (kSingle: back on their own).
   void assign(int node, int id) {
@@ -147,6 +180,12 @@ struct Planner {
       nodes.push_back(node);
     }
     if (grp.members.size() < 2) errs.push_back("a group needs at least two members");
+    // A group that would not pay stays unmerged (its members are not proposed elsewhere either).
+    const std::optional<MergePrediction> cost = errs.empty() ? predict(nodes) : std::nullopt;
+    if (cost && !cost->pays()) {
+      plan.decisions.push_back({grp.name, false, grp.members, {describe(*cost)}});
+      return;
+    }
     if (errs.empty()) {
       for (int node : nodes) assign(node, id);
       for (auto& c : conflicts({id})) errs.push_back(c);
@@ -163,6 +202,7 @@ struct Planner {
     unit_name[id] = grp.name;
     dec.reasons.push_back("one material \"" + material_name(material) + "\", same vertex layout, no skin/morph");
     dec.reasons.push_back("no overlap among members and no draw-order change against other draws over all animation ranges");
+    if (cost) dec.reasons.push_back(describe(*cost));
     plan.decisions.push_back(std::move(dec));
   }
 
@@ -202,6 +242,10 @@ struct Planner {
     assign(cand[i], id);
     for (std::size_t j = i + 1; j < cand.size(); ++j) {
       if (taken[j]) continue;
+      if (!joining_pays(members, cand[j])) {
+        refused.push_back("\"" + s.nodes[static_cast<std::size_t>(cand[j])].name + "\" left out: transforming its vertices when it moves costs more than its draw");
+        continue;
+      }
       assign(cand[j], id);
       auto c = conflicts({id});
       if (c.empty()) {
@@ -230,7 +274,13 @@ struct Planner {
         const std::vector<int> members = grow_group(cand, i, id, taken, refused);
         GroupDecision dec;
         for (int m : members) dec.members.push_back(s.nodes[static_cast<std::size_t>(m)].name);
-        if (members.size() < 2) {
+        // Decided before any later group is checked against this one, so undoing it is safe.
+        const std::optional<MergePrediction> cost = members.size() < 2 ? std::nullopt : predict(members);
+        if (cost && !cost->pays()) {
+          for (int m : members) assign(m, kSingle);
+          dec.group = "(not merged)";
+          dec.reasons.push_back(describe(*cost));
+        } else if (members.size() < 2) {
           assign(cand[i], kSingle);
           dec.group = "(not proposed)";
           dec.reasons.push_back("no other object with material \"" + mat_name + "\" can join it without overlap or an order change");
@@ -240,6 +290,7 @@ struct Planner {
           unit_name[id] = dec.group;
           dec.reasons.push_back("same material \"" + mat_name + "\" (blend " + (ext[static_cast<std::size_t>(node_draws[cand[i]][0])].blend ? "on" : "off") +
                                 "), same vertex layout, no overlap / order change over the animation ranges");
+          if (cost) dec.reasons.push_back(describe(*cost));
           ++next_id;
         }
         // Only the first few refusals: a 40-member bucket would otherwise print 40 x 40 lines.
@@ -269,8 +320,9 @@ struct Planner {
 
 }  // namespace
 
-ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, bool propose, const std::string& origin) {
-  Planner pl(s);
+ConcatPlan plan_groups(const Scene& s, const std::vector<Group>& configured, bool propose, const std::string& origin,
+                       const ConcatenationCosts* costs) {
+  Planner pl(s, costs);
   for (std::size_t g = 0; g < configured.size(); ++g) pl.accept_configured(static_cast<int>(g), configured[g], origin);
   if (propose) pl.propose(static_cast<int>(configured.size()));
   return pl.finish();

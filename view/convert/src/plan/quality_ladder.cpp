@@ -9,6 +9,7 @@
 
 #include <meshoptimizer.h>
 
+#include "meter/convert/flat_geometry.hpp"
 #include "programs/program_features.hpp"
 
 namespace meter::convert {
@@ -76,6 +77,8 @@ void simplify(Primitive& p, float lod, QualityReport& report) {
   ++report.primitives_simplified;
   out.resize(n);
   p.indices.assign(out.begin(), out.end());
+  p.flat_indices.clear();  // made again for the new triangles (apply_quality's last step)
+  for (LodLevel& l : p.lods) l.flat_indices.clear();
 }
 
 }  // namespace
@@ -263,6 +266,8 @@ QualityReport apply_quality(Scene& s, const QualitySettings& q) {
   simplify_meshes(s, quality, report);
   if (q.filter) set_texture_filter(s, *q.filter, report);
   if (q.affine == true) make_programs_affine(s, report);
+  // Draws now shaded Flat, or simplified, get their Flat lists.
+  prepare_flat_draws(s);
   return report;
 }
 

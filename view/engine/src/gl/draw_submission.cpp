@@ -160,7 +160,8 @@ void DrawSubmission::draw_one(std::size_t index, const FrameState& frame, const 
   if (d->group) {
     gl_.DrawElements(GL_TRIANGLES, d->group->index_count, GL_UNSIGNED_INT, nullptr);
   } else {
-    const auto& [offset, count] = d->lods[std::min(static_cast<std::size_t>(state.lod), d->lods.size() - 1)];
+    const auto& lists = d->lists(sh);
+    const auto& [offset, count] = lists[std::min(static_cast<std::size_t>(state.lod), lists.size() - 1)];
     gl_.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, reinterpret_cast<const void*>(offset));
   }
 }

@@ -242,6 +242,15 @@ void GpuScene::build_draws(bool uber) {
       gd->lods.emplace_back(total * sizeof(std::uint32_t), static_cast<GLsizei>(l.indices.size()));
       total += l.indices.size();
     }
+    // Then the Flat lists, in the same order (the package reader checked they come on every level).
+    if (!prim.flat_indices.empty()) {
+      gd->flat_lods.emplace_back(total * sizeof(std::uint32_t), static_cast<GLsizei>(prim.flat_indices.size()));
+      total += prim.flat_indices.size();
+      for (const LodLevel& l : prim.lods) {
+        gd->flat_lods.emplace_back(total * sizeof(std::uint32_t), static_cast<GLsizei>(l.flat_indices.size()));
+        total += l.flat_indices.size();
+      }
+    }
     // A skinned primitive whose program reads normals gets a buffer per draw: its normals are
     // rewritten with the draw's pose.
     const bool skinned = scene_.nodes[static_cast<std::size_t>(d.node)].skin >= 0 && has_skinned_normals(prim) &&
@@ -259,6 +268,11 @@ void GpuScene::build_draws(bool uber) {
       for (std::size_t k = 0; k < prim.lods.size(); ++k)
         gl_.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(gd->lods[k + 1].first),
                           static_cast<GLsizeiptr>(prim.lods[k].indices.size() * sizeof(std::uint32_t)), prim.lods[k].indices.data());
+      for (std::size_t k = 0; k < gd->flat_lods.size(); ++k) {
+        const auto& list = k == 0 ? prim.flat_indices : prim.lods[k - 1].flat_indices;
+        gl_.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(gd->flat_lods[k].first),
+                          static_cast<GLsizeiptr>(list.size() * sizeof(std::uint32_t)), list.data());
+      }
       buffers_.insert(buffers_.end(), {b[0], b[1]});
       vbos[key] = {b[0], b[1]};
     }
@@ -268,6 +282,7 @@ void GpuScene::build_draws(bool uber) {
     own.shape = &scene_.programs[static_cast<std::size_t>(d.program)].program;
     own.program = programs_[uber ? 0 : static_cast<std::size_t>(d.program)].get();
     own.input = vertex_input(*own.program, prim, false, vbo, ebo);
+    own.flat_lists = own.shape->features.shading == ShadingModel::Flat && !gd->flat_lods.empty();
     gd->shadings.push_back(std::move(own));
     if (!uber && !scene_.draw_levels.empty()) {
       for (const ShadingLevel& l : scene_.draw_levels[di].shadings) {
@@ -276,6 +291,7 @@ void GpuScene::build_draws(bool uber) {
         sh.program = programs_[static_cast<std::size_t>(l.program)].get();
         sh.level = &l;
         sh.input = vertex_input(*sh.program, prim, false, vbo, ebo);
+        sh.flat_lists = sh.shape->features.shading == ShadingModel::Flat && !gd->flat_lods.empty();
         gd->shadings.push_back(std::move(sh));
       }
     }
@@ -339,6 +355,9 @@ void GpuScene::update_groups(const FrameState& frame, RendererStats& stats) {
       const auto draw = static_cast<std::size_t>(m.draw->item - scene_.draws.data());
       const int lod = frame.draws[draw].lod;
       if (lod != m.lod) m.lod = lod, rebuild = true;
+      const auto& shadings = m.draw->shadings;
+      const bool flat = shadings[std::min(static_cast<std::size_t>(frame.draws[draw].shading), shadings.size() - 1)].flat_lists;
+      if (flat != m.flat) m.flat = flat, rebuild = true;
       if (!m.uploaded || w != m.world) {
         transform_member(p, w, float(vis), dst);
         m.world = w;
@@ -367,7 +386,9 @@ void GpuScene::update_groups(const FrameState& frame, RendererStats& stats) {
       for (const auto& m : g->members) {
         if (!m.visible) continue;
         const Primitive& p = *m.draw->prim;
-        const auto& list = m.lod == 0 ? p.indices : p.lods[static_cast<std::size_t>(m.lod - 1)].indices;
+        const auto& list = m.lod == 0 ? (m.flat ? p.flat_indices : p.indices)
+                                      : (m.flat ? p.lods[static_cast<std::size_t>(m.lod - 1)].flat_indices
+                                                : p.lods[static_cast<std::size_t>(m.lod - 1)].indices);
         append_member_indices(std::span<const std::uint32_t>(list), m.first_vertex, m.mirrored, g->indices);
       }
       g->index_count = static_cast<GLsizei>(g->indices.size());

@@ -56,6 +56,7 @@ struct GpuShading {
   const bridge::Program* shape = nullptr;
   const ShadingLevel* level = nullptr;  // null: level 0, the material's own parameters
   GpuVertexInput input;                 // drawn on its own
+  bool flat_lists = false;              // a Flat program on a primitive with Flat lists: draws those
 };
 
 struct GpuDraw {
@@ -64,6 +65,10 @@ struct GpuDraw {
   std::vector<GpuShading> shadings;  // per DrawState::shading
   // Per DrawState::lod: byte offset of its index list in the primitive's index buffer, and count.
   std::vector<std::pair<std::uintptr_t, GLsizei>> lods;
+  // The same per LOD for the primitive's Flat lists (Primitive::flat_indices); empty without.
+  std::vector<std::pair<std::uintptr_t, GLsizei>> flat_lods;
+  // The index lists a shading level draws, per LOD.
+  const std::vector<std::pair<std::uintptr_t, GLsizei>>& lists(const GpuShading& sh) const { return sh.flat_lists ? flat_lods : lods; }
   GpuGroup* group = nullptr;  // set on a merged group's representative only
 };
 
@@ -83,6 +88,7 @@ struct GpuGroup {
     bool uploaded = false, mirrored = false;
     char visible = -1;
     int lod = 0;  // the LOD its indices were built at
+    bool flat = false;  // whether they are its Flat lists
   };
   std::vector<Member> members;
 };

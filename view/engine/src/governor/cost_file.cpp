@@ -142,7 +142,7 @@ CostFile parse_costs(const std::string& text, const std::string& origin) {
   }
   const Reader r{origin};
   const std::string root = "$";
-  r.object(doc, root, {"format", "backend", "package", "overhead", "globals", "units"});
+  r.object(doc, root, {"format", "backend", "package", "overhead", "globals", "units", "concatenation"});
   const std::string format = r.text(doc, root, "format");
   if (format != kCostFormat)
     r.fail(root + ".format", "expected \"" + std::string(kCostFormat) + "\", got \"" + format + "\"");
@@ -163,6 +163,14 @@ CostFile parse_costs(const std::string& text, const std::string& origin) {
   }
   const json& units = r.array(doc, root, "units");
   for (std::size_t i = 0; i < units.size(); ++i) f.units.push_back(unit(r, units[i], root + ".units[" + std::to_string(i) + "]"));
+  if (doc.contains("concatenation")) {
+    const json& c = r.member(doc, root, "concatenation");
+    const std::string at = root + ".concatenation";
+    r.object(c, at, {"draw_ms", "vertex_ms", "transform_ms"});
+    f.concatenation = ConcatenationCosts{r.number(c, at, "draw_ms", 0.0, limits::kMaxFixedMs),
+                                         r.number(c, at, "vertex_ms", 0.0, limits::kMaxFixedMs),
+                                         r.number(c, at, "transform_ms", 0.0, limits::kMaxFixedMs)};
+  }
   return f;
 }
 
@@ -193,6 +201,10 @@ std::string write_costs(const CostFile& file) {
     }
     doc["units"].push_back({{"name", u.name}, {"levels", levels}});
   }
+  if (file.concatenation)
+    doc["concatenation"] = {{"draw_ms", file.concatenation->draw_ms},
+                            {"vertex_ms", file.concatenation->vertex_ms},
+                            {"transform_ms", file.concatenation->transform_ms}};
   return doc.dump(2) + "\n";
 }
 

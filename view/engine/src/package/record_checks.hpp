@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "meter/engine/vocabulary.hpp"
 #include "record_decoder.hpp"
@@ -20,6 +21,16 @@ inline void check_record(const RecordDecoder& in, const VertexAttribute& a) {
   if (a.components < 1 || a.components > 4 || a.offset < 0) in.fail("vertex attribute outside the vertex record");
 }
 
+// A Flat list: empty, or the same number of triangles as the list it stands for, inside the vertices.
+inline void check_flat_list(const RecordDecoder& in, const Primitive& p, const std::vector<std::uint32_t>& flat,
+                            std::size_t size, const std::string& at) {
+  if (!flat.empty() && flat.size() != size)
+    in.fail_at(at, "expected " + std::to_string(size) + " indices (the triangles it draws flat), got " + std::to_string(flat.size()));
+  for (auto idx : flat)
+    if (idx >= p.vertex_count)
+      in.fail_at(at, "index " + std::to_string(idx) + " out of range of the " + std::to_string(p.vertex_count) + " vertices");
+}
+
 inline void check_record(const RecordDecoder& in, const Primitive& p) {
   for (const auto& a : p.layout)
     if (a.offset + a.components > p.stride) in.fail("vertex attribute outside the vertex record");
@@ -27,6 +38,7 @@ inline void check_record(const RecordDecoder& in, const Primitive& p) {
     in.fail("vertex data size does not match vertex_count * stride");
   for (auto idx : p.indices)
     if (idx >= p.vertex_count) in.fail("index out of range of the vertex data");
+  check_flat_list(in, p, p.flat_indices, p.indices.size(), ".flat_indices");
   for (std::size_t k = 0; k < p.lods.size(); ++k) {
     const LodLevel& l = p.lods[k];
     const std::string at = ".lods[" + std::to_string(k) + "]";
@@ -36,6 +48,9 @@ inline void check_record(const RecordDecoder& in, const Primitive& p) {
     for (auto idx : l.indices)
       if (idx >= p.vertex_count)
         in.fail_at(at + ".indices", "index " + std::to_string(idx) + " out of range of the " + std::to_string(p.vertex_count) + " vertices");
+    if (l.flat_indices.empty() != p.flat_indices.empty())
+      in.fail_at(at + ".flat_indices", "expected Flat lists on every level of the primitive or on none");
+    check_flat_list(in, p, l.flat_indices, l.indices.size(), at + ".flat_indices");
   }
 }
 

@@ -45,6 +45,10 @@ TEST(CostFile, WriteThenParseGivesTheSameFile) {
   const std::string text = write_costs(f);
   EXPECT_NE(text.find("\"format\": \"meter-costs/1\""), std::string::npos);
   EXPECT_EQ(parse_costs(text, kOrigin), f);
+  // With the converter's concatenation costs (meter-convert --costs).
+  CostFile c = f;
+  c.concatenation = ConcatenationCosts{0.0168, 0.0003, 6.2e-05};
+  EXPECT_EQ(parse_costs(write_costs(c), kOrigin), c);
 }
 
 TEST(CostFile, OptionalKeysMayBeLeftOut) {
@@ -55,6 +59,7 @@ TEST(CostFile, OptionalKeysMayBeLeftOut) {
   EXPECT_TRUE(f.backend.empty());
   EXPECT_FALSE(f.globals[0].psnr_db.has_value());
   EXPECT_FALSE(f.units[0].levels[0].psnr_db.has_value());
+  EXPECT_FALSE(f.concatenation.has_value());  // a file from before the concatenation costs still reads
   EXPECT_EQ(f.globals[0].level, (GlobalLevel{4, 1.0f}));
 }
 
@@ -137,6 +142,9 @@ TEST(CostFile, EveryBadFileNamesTheFieldAndWhatWasExpected) {
       {[](json& j) { j["units"][1]["colour"] = 1; }, "$.units[1].colour: unknown key (expected one of: levels, name)"},
       {[](json& j) { j["units"] = json::object(); }, "$.units: expected an array, got object"},
       {[](json& j) { j = json::array(); }, "$: expected an object, got array"},
+      {[](json& j) { j["concatenation"] = {{"draw_ms", 0.01}, {"vertex_ms", -1e-4}, {"transform_ms", 0}}; },
+       "$.concatenation.vertex_ms: expected a number in [0, 1000000]"},
+      {[](json& j) { j["concatenation"] = {{"draw_ms", 0.01}, {"vertex_ms", 0}}; }, "$.concatenation.transform_ms: missing"},
   };
   for (const BadCase& c : cases) {
     json doc = good;

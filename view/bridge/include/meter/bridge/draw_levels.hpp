@@ -29,6 +29,7 @@ struct LodLevel {
   float error = 0.0f;              // meshoptimizer's relative error (fraction of the mesh extent)
   float triangle_fraction = 1.0f;  // triangles kept / the full primitive's triangles, in (0, 1)
   std::vector<std::uint32_t> indices;  // triangles over the primitive's vertices (each < vertex_count)
+  std::vector<std::uint32_t> flat_indices{};  // the same triangles for Flat programs (Primitive::flat_indices)
   bool operator==(const LodLevel&) const = default;
 };
 

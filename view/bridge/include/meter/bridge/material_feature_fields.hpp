@@ -53,12 +53,13 @@ inline void flag(std::string& k, bool on, const char* code) {
 inline void none(std::string&, const MaterialFeatures&) {}
 inline bool always(const MaterialFeatures&) { return true; }
 inline bool lit(const MaterialFeatures& f) { return f.shading != ShadingModel::Unlit; }
-// Shadow lookups exist in per-pixel light loops (and Flat's): Gouraud lights per vertex, a cheaper
-// quality level that drops shadows with the rest of the per-pixel work.
+// Shadow lookups exist in per-pixel light loops only: Gouraud and Flat light per vertex, cheaper
+// quality levels that drop shadows with the rest of the per-pixel work.
 inline bool shadowed(const MaterialFeatures& f) {
-  return f.shading == ShadingModel::BlinnPhong || f.shading == ShadingModel::PbrMetallicRoughness ||
-         f.shading == ShadingModel::Flat;
+  return f.shading == ShadingModel::BlinnPhong || f.shading == ShadingModel::PbrMetallicRoughness;
 }
+// The vertex normal is interpolated (Flat reads only the face normal at the provoking vertex, so
+// morph targets' normal deltas are not applied there).
 inline bool smooth_normals(const MaterialFeatures& f) {
   return f.shading != ShadingModel::Unlit && f.shading != ShadingModel::Flat;
 }

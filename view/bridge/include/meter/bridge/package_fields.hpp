@@ -30,10 +30,10 @@ METER_PACKAGE_RECORD(Node, name, parent, children, translation, rotation, scale,
 
 METER_PACKAGE_RECORD(VertexAttribute, semantic, index, components, offset)
 
-METER_PACKAGE_RECORD(LodLevel, error, triangle_fraction, indices)
+METER_PACKAGE_RECORD(LodLevel, error, triangle_fraction, indices, flat_indices)
 
 METER_PACKAGE_RECORD(Primitive, material, vertex_count, stride, morph_targets, layout, vertices, indices,
-                     bounds_min, bounds_max, lods)
+                     bounds_min, bounds_max, lods, flat_indices)
 
 METER_PACKAGE_RECORD(Mesh, name, weights, primitives)
 

@@ -83,6 +83,11 @@ struct Primitive {
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // POSITION bounds (no morph)
   int morph_targets = 0;
   std::vector<LodLevel> lods;  // cheaper index lists, most detailed first (draw_levels.hpp)
+  // The triangles of `indices` as a Flat program draws them: each rotated (winding kept) so that
+  // its last, provoking vertex carries the face normal, on a copy of a corner appended to the
+  // vertices where no corner's own normal is the face's. Empty: no Flat program draws the
+  // primitive (or it is skinned: its normals follow the pose), and Flat draws `indices`.
+  std::vector<std::uint32_t> flat_indices{};
 };
 
 struct Mesh {

@@ -39,6 +39,17 @@ struct RungSamples {
   std::optional<double> psnr_db; // rung 0: none
 };
 
+// Keio's shading ladder on the whole frame: every unit at the most expensive of its shadings that
+// is not above `model` (safety units and units with none at their own), at LOD 0.
+struct ShadingRungSamples {
+  bridge::ShadingModel model{};
+  double frame_ms = 0.0;          // node scale 1, the median
+  // The median over the rounds of this rung's frame / the rung above's frame drawn just before it
+  // (paired: a load swing between rounds cancels); the top rung: 1.
+  double vs_above = 1.0;
+  std::optional<double> psnr_db;  // the top rung (every unit at its own): none
+};
+
 struct CostMeasurements {
   std::string backend, package;
   std::vector<engine::governor::UnitLadder> ladders;
@@ -46,6 +57,8 @@ struct CostMeasurements {
   std::vector<std::vector<double>> unit_pixels;  // per node scale: each unit's pixels in the full frame
   std::vector<LevelSamples> levels;              // every unit at every level its ladder has
   std::vector<RungSamples> rungs;                // [0] = the renderer's own (full quality)
+  std::optional<engine::governor::ConcatenationCosts> concatenation{};  // oh, m, s (merge_costs.hpp)
+  std::vector<ShadingRungSamples> shading_rungs;  // most expensive model first (shading_ladder.hpp)
 };
 
 // The median of `v` (0 for none).

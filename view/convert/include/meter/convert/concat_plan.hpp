@@ -20,6 +20,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meter/convert/merge_break_even.hpp"
 #include "meter/convert/vocabulary.hpp"
 
 namespace meter::convert {
@@ -52,9 +53,12 @@ struct ConcatPlan {
 
 // Checks the config's groups; with `propose`, also groups the remaining mesh nodes automatically
 // (greedy in draw order per material + layout + blend state). Throws SceneError naming the file,
-// the group and the objects when a configured group violates a constraint.
+// the group and the objects when a configured group violates a constraint. With `costs`, a group
+// (configured or proposed) that the break-even test says would not pay stays unmerged, and every
+// group's decision gives its predicted before / after (merge_break_even.hpp); without, every
+// allowed group is merged.
 ConcatPlan plan_groups(const Scene& scene, const std::vector<Group>& configured, bool propose,
-                       const std::string& origin);
+                       const std::string& origin, const ConcatenationCosts* costs = nullptr);
 
 // The `--report` section: each decision with its reasons.
 std::string concat_report(const ConcatPlan& plan);

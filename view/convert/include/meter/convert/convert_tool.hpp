@@ -17,6 +17,8 @@ struct ToolOptions {
   std::string integrity = "egl";
   // "on": cheaper LOD and shading levels of every non-safety draw (meter/convert/levels.hpp); "off": none.
   std::string levels = "on";
+  // meter-costs/1 file whose "concatenation" block feeds the merge break-even test; empty: none.
+  std::string costs;
 };
 
 // Returns the process exit code (0 written, 1 error); `out` gets the report, `err` the repairs,

@@ -6,9 +6,11 @@
 // (docs/engine.md, "Repairs"); everything else is an error and nothing is written.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "meter/convert/merge_break_even.hpp"
 #include "meter/convert/vocabulary.hpp"
 #include "meter/shadergen/program_cache.hpp"
 
@@ -32,6 +34,9 @@ struct ConvertOptions {
   // Optimized programs from earlier conversions (the preview keeps one across reloads); null: a
   // cache for this conversion only. Hits are byte-identical to fresh programs (program_cache.hpp).
   shadergen::ProgramCache* program_cache = nullptr;
+  // The break-even test's costs (meter-convert --costs: a meter-costs/1 file's "concatenation"
+  // block); none: every allowed group is merged.
+  std::optional<ConcatenationCosts> merge_costs{};
 };
 
 struct ConvertResult {

@@ -11,11 +11,14 @@
 //                   the program keeps every other feature (vertex alpha of merged groups, skin,
 //                   morphs, alpha mode), and a PBR material gets its Blinn-Phong-style parameters.
 //                   A merged group's members get the same levels (one program per level).
+//                   A primitive some draw shades Flat gets its Flat lists (flat_geometry.hpp):
+//                   faces lit once, at a provoking vertex carrying the face normal.
 //
 // Safety items get no levels: every draw under a node or with a material that the integrity
 // table or a safety binding of the config names (safety_draws).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,6 +45,8 @@ struct LevelsReport {
   int programs_added = 0;              // shading-level programs (deduplicated)
   int draws_with_shadings = 0, shading_levels = 0;
   int shadings_skipped_identical = 0;  // a lower model whose program equals a kept one
+  int flat_primitives = 0;             // primitives given Flat lists (meter/convert/flat_geometry.hpp)
+  std::uint64_t flat_vertices = 0, flat_vertices_added = 0;  // their vertices, and the face-normal copies added
   double milliseconds = 0.0;           // wall time of make_levels
 };
 

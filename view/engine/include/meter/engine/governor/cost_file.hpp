@@ -16,8 +16,13 @@
 //         {"shading": "pbr", "lod": 0, "a_ms_per_pixel": 2e-5, "b_ms": 0.1},
 //         {"shading": "gouraud", "lod": 0, "a_ms_per_pixel": 1e-5, "b_ms": 0.1, "psnr_db": 42.0}
 //       ]}
-//     ]
+//     ],
+//     "concatenation": {"draw_ms": 0.0016, "vertex_ms": 0.0004, "transform_ms": 0.000012}   (optional)
 //   }
+//
+// The concatenation block holds the DENSO paper's costs (eq. 1-3) that the converter's break-even
+// test reads (meter-convert --costs): the overhead of one draw, the main (draw) cost of a vertex
+// and the CPU cost of transforming a merged member's vertex; each >= 0, in ms of frame time.
 //
 // Every number is finite; a_ms_per_pixel >= 0; pixel_factor > 0; msaa >= 1; scale in (0, 1];
 // psnr_db > 0 (identical frames: write a large value such as 100). Shading names are
@@ -26,6 +31,7 @@
 // expected".
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,6 +48,14 @@ struct UnitCostEntry {
   bool operator==(const UnitCostEntry&) const = default;
 };
 
+// The paper's oh, m and s (eq. 1-3), measured by meter-calibrate on synthetic split models.
+struct ConcatenationCosts {
+  double draw_ms = 0.0;       // oh: one draw call more
+  double vertex_ms = 0.0;     // m: one vertex more, drawn
+  double transform_ms = 0.0;  // s: one merged vertex transformed on the CPU
+  bool operator==(const ConcatenationCosts&) const = default;
+};
+
 // A cost file as written: units keyed by name, levels by (shading name, lod index).
 struct CostFile {
   std::string backend;
@@ -49,6 +63,7 @@ struct CostFile {
   LinearCost overhead;
   std::vector<GlobalCost> globals;
   std::vector<UnitCostEntry> units;
+  std::optional<ConcatenationCosts> concatenation{};
   bool operator==(const CostFile&) const = default;
 };
 
