@@ -51,12 +51,15 @@ meter_pkg(EGL egl libegl-dev)
 meter_pkg(GLESV2 glesv2 libgles-dev)
 meter_pkg(OSMESA osmesa libosmesa6-dev)
 # meter-view's displays: a Wayland client (--output wayland), its protocols' glue generated from
-# wayland-protocols' XML by wayland-scanner at build time.
+# wayland-protocols' XML by wayland-scanner at build time ...
 meter_pkg(WAYLAND_CLIENT wayland-client libwayland-dev)
 meter_pkg(WAYLAND_EGL wayland-egl libwayland-dev)
 meter_pkg(WAYLAND_PROTOCOLS wayland-protocols wayland-protocols)
 pkg_get_variable(METER_WAYLAND_PROTOCOLS_DIR wayland-protocols pkgdatadir)
 find_program(METER_WAYLAND_SCANNER wayland-scanner)
+# ... and KMS without a compositor (--output drm): GBM buffers, libdrm's atomic modesetting.
+meter_pkg(GBM gbm libgbm-dev)
+meter_pkg(DRM libdrm libdrm-dev)
 if(NOT METER_WAYLAND_SCANNER)
   meter_missing("wayland-scanner" libwayland-bin)
 endif()

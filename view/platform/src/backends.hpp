@@ -12,5 +12,6 @@ namespace meter::platform::detail {
 std::unique_ptr<GpuBackend> create_egl_backend(const BackendOptions& options);
 std::unique_ptr<GpuBackend> create_osmesa_backend(const BackendOptions& options);
 std::unique_ptr<DisplayBackend> create_wayland_display(const DisplayOptions& options);
+std::unique_ptr<DisplayBackend> create_drm_display(const DisplayOptions& options);
 
 }  // namespace meter::platform::detail

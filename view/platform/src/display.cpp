@@ -10,7 +10,9 @@ std::unique_ptr<DisplayBackend> open_display(const DisplayOptions& options) {
                        std::to_string(options.height) + ")");
   if (options.target == "wayland" || options.target.rfind("wayland:", 0) == 0)
     return detail::create_wayland_display(options);
-  throw BackendError("--output: unknown display '" + options.target + "' (expected offscreen, wayland or wayland:SOCKET)");
+  if (options.target == "drm" || options.target.rfind("drm:", 0) == 0) return detail::create_drm_display(options);
+  throw BackendError("--output: unknown display '" + options.target +
+                     "' (expected offscreen, wayland, wayland:SOCKET, drm or drm:/dev/dri/cardN)");
 }
 
 }  // namespace meter::platform
