@@ -1,9 +1,11 @@
 #include "meter/runner/display_sink.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "meter/platform/display_damage.hpp"
+#include "meter/protocol/trace_events.hpp"
 
 namespace meter::runner {
 
@@ -14,7 +16,17 @@ DisplaySink::DisplaySink(RenderContext& ctx, std::ostream& log) : ctx_(ctx), log
 void DisplaySink::on_frame(const engine::FrameRecord& frame) {
   const auto damage = ctx_.renderer.take_written(engine::Renderer::WrittenReader::Display);
   if (!damage.empty()) {
+    const std::int64_t began = protocol::monotonic_now_ns();
+    if (frame.render_ended_ns) summary_.after_render_ms += double(began - frame.render_ended_ns) / 1e6;
     ctx_.display->present(ctx_.renderer.resolved_target(), damage, frame.request.frame);
+    summary_.present_ms += double(protocol::monotonic_now_ns() - began) / 1e6;
+    // A frame callback or page flip that did not come: the display froze (counted, first logged).
+    if (const std::uint64_t stalls = ctx_.display->stalls(); stalls > summary_.stalls) {
+      if (summary_.stalls == 0)
+        log_ << "meter-view: display: frame " << frame.request.frame
+             << ": the previous frame was never shown within the wait (no frame callback or page flip): frozen display\n";
+      summary_.stalls = stalls;
+    }
     ++summary_.presents;
     summary_.pixels_damaged += static_cast<std::uint64_t>(platform::area(damage));
     last_frame_ = frame.request.frame;
@@ -34,7 +46,9 @@ void DisplaySink::finish() {
   log_ << "meter-view: display: " << summary_.presents << " frames presented, " << summary_.presented
        << " shown, " << summary_.discarded << " discarded, " << late << " shown later than the next refresh, "
        << summary_.stalls << " frame-callback stalls; refresh " << summary_.refresh_ns / 1e6 << " ms; copied "
-       << summary_.pixels_copied << " pixels for " << summary_.pixels_damaged << " damaged\n";
+       << summary_.pixels_copied << " pixels for " << summary_.pixels_damaged << " damaged; per frame "
+       << summary_.after_render_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms from render end to the copy, "
+       << summary_.present_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms in present\n";
 }
 
 void DisplaySink::take(int wait_ms) {

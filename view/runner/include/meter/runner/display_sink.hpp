@@ -22,6 +22,10 @@ struct PresentationSummary {
   std::uint64_t presents = 0, presented = 0, discarded = 0, stalls = 0;
   std::uint64_t pixels_copied = 0, pixels_damaged = 0;
   std::uint32_t refresh_ns = 0;
+  // Per presented frame, summed: from the render's end to the copy (the sinks before the display:
+  // the integrity monitor's reads, the dump's, the CSVs) and the present itself (the wait for the
+  // previous frame's callback or flip, the copy, the swap).
+  double after_render_ms = 0.0, present_ms = 0.0;
   std::int64_t first_presented_ns = 0;  // CLOCK_MONOTONIC; 0: none yet
   // Refresh periods between consecutive presented frames (1: one refresh apart; more: a refresh
   // without a new frame while one was due; 0: the same refresh, never expected).
