@@ -45,7 +45,7 @@ void DisplaySink::finish() {
   for (std::uint64_t r : summary_.refreshes_between) late += r > 1;
   log_ << "meter-view: display: " << summary_.presents << " frames presented, " << summary_.presented
        << " shown, " << summary_.discarded << " discarded, " << late << " shown later than the next refresh, "
-       << summary_.stalls << " frame-callback stalls; refresh " << summary_.refresh_ns / 1e6 << " ms; copied "
+       << summary_.stalls << " stalls (a frame callback or page flip that did not come); refresh " << summary_.refresh_ns / 1e6 << " ms; copied "
        << summary_.pixels_copied << " pixels for " << summary_.pixels_damaged << " damaged; per frame "
        << summary_.after_render_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms from render end to the copy, "
        << summary_.present_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms in present\n";
