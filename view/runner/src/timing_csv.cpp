@@ -56,7 +56,7 @@ void TimingCsv::flush(std::uint64_t frame, const platform::PresentedFrame* shown
     const Waiting& w = waiting_.front();
     out_ << w.text << ",";
     if (shown && w.frame == frame)
-      out_ << shown->presented_ns << "," << shown->sequence << "," << std::setprecision(3) << double(shown->presented_ns - w.render_ended_ns) / 1e6;
+      out_ << shown->presented_ns << "," << shown->sequence << "," << std::fixed << std::setprecision(3) << double(shown->presented_ns - w.render_ended_ns) / 1e6;
     else
       out_ << ",,";
     out_ << "\n";
