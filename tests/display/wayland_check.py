@@ -11,6 +11,8 @@ Cases, in order (the last one stops Weston):
   pacing      a recording played (40 frames at 60 fps): every frame presented (presentation
               feedback in the timing CSV), the times strictly increasing and never two frames in one
               refresh; each frame presented after its render ended;
+  frozen      Weston stopped (SIGSTOP) for 1.5 s while a recording plays: the frame callback that
+              does not come is a stall, logged as a frozen display; the play ends normally after SIGCONT;
   no_compositor  --output wayland:NAME with no compositor there: exit 1 naming the socket;
   compositor_gone  Weston killed while a frame is shown: meter-view exits 3 ("the display went away").
 Pixels are read with ImageMagick (`convert ... rgb:`), no Python packages.
@@ -107,6 +109,7 @@ def main():
         target = "wayland:" + socket
         screenshot(view, msp, target, env, work)
         pacing(view, msp, target, env, work)
+        frozen(view, msp, target, env, work, weston)
         no_compositor(view, msp, env, work)
         compositor_gone(view, msp, target, env, work, weston)
     finally:
@@ -146,14 +149,19 @@ def screenshot(view, msp, target, env, work):
     print(f"screenshot: the displayed {fw}x{fh} frame equals the offscreen render byte for byte, centred at x={x0}")
 
 
-def pacing(view, msp, target, env, work):
-    rec = os.path.join(work, "ramp.rec")
-    with open(rec, "w") as f:
-        f.write("# Vehicle.Speed rising 3 km/h a frame at 60 frames/s\n")
+def ramp(path, frames):
+    """A link recording: Vehicle.Speed changing every 1/60 s (a new frame each refresh)."""
+    with open(path, "w") as f:
+        f.write("# Vehicle.Speed changing every frame at 60 frames/s\n")
         f.write("(100.000000000) SNAPSHOT seq=1 sent=100.000000000 complete=1 Vehicle.Speed=0:valid\n")
-        for k in range(1, 40):
+        for k in range(1, frames):
             t = 100 + k / 60
-            f.write(f"({t:.9f}) DELTA seq={k + 1} sent={t:.9f} Vehicle.Speed={3 * k}:valid\n")
+            f.write(f"({t:.9f}) DELTA seq={k + 1} sent={t:.9f} Vehicle.Speed={(3 * k) % 250}:valid\n")
+    return path
+
+
+def pacing(view, msp, target, env, work):
+    rec = ramp(os.path.join(work, "ramp.rec"), 40)
     timing = os.path.join(work, "pacing.csv")
     v = View([view, "--scene", msp, "--play", rec, "--fps", "60", "--output", target, "--out",
               os.path.join(work, "pacing"), "--timing-csv", timing], env, os.path.join(work, "pacing.log"))
@@ -173,6 +181,23 @@ def pacing(view, msp, target, env, work):
     gaps_ms = sorted(g / 1e6 for g in gaps)
     print(f"pacing: 40 frames presented, gaps {gaps_ms[0]:.1f} / {gaps_ms[len(gaps_ms) // 2]:.1f} / "
           f"{gaps_ms[-1]:.1f} ms (min / median / max)")
+
+
+def frozen(view, msp, target, env, work, weston):
+    rec = ramp(os.path.join(work, "long.rec"), 150)
+    v = View([view, "--scene", msp, "--play", rec, "--fps", "60", "--output", target, "--info", "--out",
+              os.path.join(work, "frozen")], env, os.path.join(work, "frozen.log"))
+    v.wait_for("meter-view: display: wayland")
+    time.sleep(0.7)  # the first frames are on screen
+    weston.send_signal(signal.SIGSTOP)
+    time.sleep(1.5)
+    weston.send_signal(signal.SIGCONT)
+    if v.wait() != 0:
+        fail("the play after the compositor froze and came back did not exit 0:\n" + v.text())
+    stalls = [line for line in v.text().splitlines() if " stalls (" in line]
+    if "frozen display" not in v.text() or not stalls or " 0 stalls (" in stalls[0]:
+        fail("a compositor stopped for 1.5 s was not reported as a frozen display:\n" + v.text())
+    print("frozen: " + [line for line in v.text().splitlines() if "frozen display" in line][0])
 
 
 def no_compositor(view, msp, env, work):
