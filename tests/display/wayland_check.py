@@ -107,11 +107,14 @@ def main():
                 fail("weston did not start: " + open(os.path.join(work, "weston.log")).read()[-2000:])
             time.sleep(0.05)
         target = "wayland:" + socket
-        screenshot(view, msp, target, env, work)
-        pacing(view, msp, target, env, work)
-        frozen(view, msp, target, env, work, weston)
-        no_compositor(view, msp, env, work)
-        compositor_gone(view, msp, target, env, work, weston)
+        for case, run in (("screenshot", lambda: screenshot(view, msp, target, env, work)),
+                          ("pacing", lambda: pacing(view, msp, target, env, work)),
+                          ("frozen", lambda: frozen(view, msp, target, env, work, weston)),
+                          ("no_compositor", lambda: no_compositor(view, msp, env, work)),
+                          ("compositor_gone", lambda: compositor_gone(view, msp, target, env, work, weston))):
+            began = time.monotonic()
+            run()
+            print(f"  ({case}: {time.monotonic() - began:.1f} s)")
     finally:
         if weston.poll() is None:
             weston.terminate()
@@ -184,7 +187,7 @@ def pacing(view, msp, target, env, work):
 
 
 def frozen(view, msp, target, env, work, weston):
-    rec = ramp(os.path.join(work, "long.rec"), 150)
+    rec = ramp(os.path.join(work, "long.rec"), 100)
     v = View([view, "--scene", msp, "--play", rec, "--fps", "60", "--output", target, "--info", "--out",
               os.path.join(work, "frozen")], env, os.path.join(work, "frozen.log"))
     v.wait_for("meter-view: display: wayland")
