@@ -68,12 +68,18 @@ class DrmDisplay final : public EglDisplayBackend {
   ~DrmDisplay() override { release(); }
 
   void present(const RenderTarget& frame, std::span<const PixelRegion> damage, std::uint64_t frame_number) override {
-    if (!kms_.wait_for_flip()) return;  // the last flip never completed: a stall, counted; this frame is not shown
+    if (!kms_.wait_for_flip()) {
+      // The last flip never completed: a stall (counted); this frame is not shown, and its damage
+      // goes with the next one that is.
+      carried_.insert(carried_.end(), damage.begin(), damage.end());
+      return;
+    }
     if (shown_bo_ && queued_bo_) gbm_surface_release_buffer(surface_, std::exchange(shown_bo_, nullptr));
     if (queued_bo_) shown_bo_ = std::exchange(queued_bo_, nullptr);
     // Damage in the mode's pixels: the frame's boxes moved to where it is centred.
     std::vector<PixelRegion> moved;
-    for (const auto& r : damage) moved.push_back({r.x + origin_x_, r.y + origin_y_, r.width, r.height});
+    carried_.insert(carried_.end(), damage.begin(), damage.end());
+    for (const auto& r : std::exchange(carried_, {})) moved.push_back({r.x + origin_x_, r.y + origin_y_, r.width, r.height});
     std::vector<PixelRegion> repaint = damage_.repaint(egl_->buffer_age(), moved);
     const Gl& gl = egl_->gl();
     if (repaint.size() == 1 && repaint[0] == PixelRegion{0, 0, kms_.width(), kms_.height()}) {
@@ -130,6 +136,7 @@ class DrmDisplay final : public EglDisplayBackend {
   gbm_surface* surface_ = nullptr;
   gbm_bo* shown_bo_ = nullptr;
   gbm_bo* queued_bo_ = nullptr;
+  std::vector<PixelRegion> carried_;  // damage of frames a stall kept off the screen
   std::uint64_t copied_ = 0;
 };
 
