@@ -1,8 +1,10 @@
 """The VM harness's contract beyond CAN: a TCP port of the guest reachable from the host
 (--hostfwd, how meter-view on the host talks to meter-controller in the VM), the command's exit
 code propagated, bounded boot with the guest console printed on failure, the host's /tmp
-visible to the guest (a checkout may live there) without the guest writing to it, and the harness
-run from a git clone under /tmp with its build folder and ../shared."""
+visible to the guest (a checkout may live there) without the guest writing to it, a virtio-gpu
+display with a QMP socket (--display, --qmp: meter-view --output drm checked by
+tests/display/drm_check.py in the same boot), and the harness run from a git clone under /tmp with
+its build folder and ../shared."""
 import functools
 import os
 import shutil
@@ -15,6 +17,8 @@ import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
 import vcanlib as v  # noqa: E402
+sys.path.insert(0, os.path.join(v.SOURCE_DIR, "tests", "display"))
+import drm_check  # noqa: E402
 
 
 @functools.lru_cache(maxsize=None)
@@ -24,11 +28,31 @@ def on_vm_path():
         subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "setup-vcan"), "probe"]).returncode != 0
 
 
+def display_part(out):
+    """The DRM display's guest command and the host's screendump watcher (tests/display); None in
+    a build without meter-view and meter-convert (the display case then fails naming them, the
+    others keep their boot)."""
+    view, convert = (os.path.join(v.BINARY_DIR, "bin", name) for name in ("meter-view", "meter-convert"))
+    if not (os.path.exists(view) and os.path.exists(convert)):
+        return "true", [], None
+    display_out = os.path.join(out, "display")
+    os.makedirs(display_out)
+    msp = drm_check.prepare(convert, v.SOURCE_DIR, out)
+    qmp_dir = tempfile.mkdtemp(prefix="meter-qmp-", dir="/tmp")  # a socket path must stay short
+    qmp = os.path.join(qmp_dir, "qmp.sock")
+    watcher = drm_check.ScreenWatcher(qmp, display_out)
+    watcher.start()
+    vm_args = ["--display", drm_check.DISPLAY, "--qmp", qmp]
+    return drm_check.guest_command(view, msp, display_out), vm_args, {"out": display_out, "watcher": watcher,
+                                                                       "qmp_dir": qmp_dir}
+
+
 class HarnessVm(unittest.TestCase):
-    """Two of the cases need a whole boot each: the forwarded port with the exit code, and the
-    host's /tmp. On the VM path (this kernel has no CAN, so with-vcan boots the VM too) both run in
-    one boot, the /tmp checks first, and each case judges its own part of it; on a CAN kernel
-    with-vcan runs directly and the /tmp case boots run-in-vm of its own."""
+    """Three of the cases need a whole boot each: the forwarded port with the exit code, the
+    host's /tmp, and the display. On the VM path (this kernel has no CAN, so with-vcan boots the VM
+    too) all run in one boot, the /tmp checks first, then the display's, and each case judges its
+    own part of it; on a CAN kernel with-vcan runs directly and the /tmp and display cases boot
+    run-in-vm of their own."""
     shared = None     # the combined boot's results, on the VM path
 
     @staticmethod
@@ -56,9 +80,9 @@ class HarnessVm(unittest.TestCase):
                 f"touch /tmp/meter-guest-scratch && echo scratch-ok >> {out}/wrote.txt")
 
     @staticmethod
-    def talk(p, port):
+    def talk(p, port, wait_s=80):
         """Sends "exit 7" to the guest's echo server through the forwarded port; its reply."""
-        deadline = time.monotonic() + 80
+        deadline = time.monotonic() + wait_s
         # qemu accepts on the host side at once and drops the connection while nothing listens in
         # the guest, so connect-and-retry until the guest server answers.
         while time.monotonic() < deadline and p.poll() is None:
@@ -81,15 +105,41 @@ class HarnessVm(unittest.TestCase):
         out = v.fresh_dir("harness_vm_shared")
         host = tempfile.mkdtemp(prefix="meter-vm-host-tmp-", dir="/tmp")
         port = v.free_port()
-        guest = cls.host_tmp_guest(out, host) + "; " + cls.hostfwd_guest(out, port)
-        p = v.with_vcan(["bash", "-c", guest], out, timeout=110, hostfwd=[f"{port}:{port}"])
-        reply = cls.talk(p, port)
-        cls.shared = {"out": out, "host": host, "reply": reply, "rc": p.wait(timeout=60)}
+        display, vm_args, shown = display_part(out)
+        guest = cls.host_tmp_guest(out, host) + "; " + display + "; " + cls.hostfwd_guest(out, port)
+        # 170 s: the boot, the /tmp and port checks, and the display's three views.
+        p = v.with_vcan(["bash", "-c", guest], out, timeout=170, hostfwd=[f"{port}:{port}"], vm_args=vm_args)
+        reply = cls.talk(p, port, wait_s=140)
+        cls.shared = {"out": out, "host": host, "reply": reply, "rc": p.wait(timeout=60), "display": shown}
 
     @classmethod
     def tearDownClass(cls):
         if cls.shared:
             shutil.rmtree(cls.shared["host"], ignore_errors=True)
+            if cls.shared["display"]:
+                shutil.rmtree(cls.shared["display"]["qmp_dir"], ignore_errors=True)
+
+    def test_drm_display_in_the_vm(self):
+        if self.shared and self.shared["display"] is None:
+            self.fail(f"meter-view and meter-convert are not built in {v.BINARY_DIR}/bin: nothing to show")
+        # meter-view --output drm on the guest's virtio-gpu: the QMP screendump equals its offscreen
+        # render byte for byte (centred, black around), a second view on the card is refused, a
+        # view killed with SIGKILL leaves the card free for the next (tests/display/drm_guest.sh).
+        if self.shared:
+            shown = self.shared["display"]
+        else:
+            out = v.fresh_dir("harness_display")
+            display, vm_args, shown = display_part(out)
+            if shown is None:
+                self.fail(f"meter-view and meter-convert are not built in {v.BINARY_DIR}/bin: nothing to show")
+            p = subprocess.run([os.path.join(v.SOURCE_DIR, "vcan", "vm", "run-in-vm"), "--share-out", out, *vm_args,
+                                "--timeout", "120", "--", "bash", "-c", display],
+                               capture_output=True, text=True, timeout=150)
+            shutil.rmtree(shown["qmp_dir"], ignore_errors=True)
+            self.assertEqual(p.returncode, 0, p.stderr[-3000:])
+        shown["watcher"].join(timeout=30)
+        errors = drm_check.judge(shown["out"], shown["watcher"])
+        self.assertEqual(errors, [], "\n".join(errors))
 
     def test_hostfwd_and_exit_code(self):
         if self.shared:

@@ -60,10 +60,11 @@ def fresh_dir(name):
 
 
 def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, boot_timeout=75, guest_clock=None,
-              **popen):
+              vm_args=(), **popen):
     """Starts `vcan/with-vcan` running args; returns the Popen. The timing file in share_out
     receives the VM's boot/command times (vm path only). guest_clock="instructions": the guest's
-    clock counts its own instructions (vm path only; see vcan/vm/run-in-vm --help)."""
+    clock counts its own instructions (vm path only; see vcan/vm/run-in-vm --help). vm_args: more
+    run-in-vm options (--display, --qmp), passed on by with-vcan on the vm path."""
     cmd = [WITH_VCAN, "--share-out", share_out, "--timeout", str(timeout)]
     if guest_clock and os.environ.get("METER_VCAN_MODE_FORCE", "auto") != "direct":
         cmd += ["--guest-clock", guest_clock]
@@ -73,6 +74,7 @@ def with_vcan(args, share_out, timeout=110, hostfwd=(), env=(), cpus=None, boot_
         cmd += ["--env", e]
     if cpus:
         cmd += ["--cpus", str(cpus)]
+    cmd += list(vm_args)
     # 12 s on an idle 2-core host; a host loaded by parallel builds has been seen at 59 s.
     cmd += ["--boot-timeout", str(boot_timeout)]
     if os.environ.get("METER_VCAN_MODE_FORCE", "auto") != "direct":

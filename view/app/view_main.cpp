@@ -1,4 +1,5 @@
-// meter-view: the graphics-MCU process. Renders a scene package offscreen (EGL or OSMesa).
+// meter-view: the graphics-MCU process. Renders a scene package offscreen (EGL or OSMesa), and shows
+// it on a display with --output wayland.
 // A thin CLI11 front end over meter_view_runner (view/runner).
 //
 //   offline:  meter-view --scene S.msp --set Vehicle.Speed=100 [--values v.csv --at 12.5s] --out DIR
@@ -23,6 +24,10 @@ int main(int argc, char** argv) {
   app.add_option("--scene", o.scene_path, "scene package written by meter-convert (.msp)")->required();
   app.add_option("--backend", o.backend, "egl (Mesa surfaceless / EGL device, GLES 3) or osmesa (software)")
       ->check(CLI::IsMember({"egl", "osmesa"}))->capture_default_str();
+  app.add_option("--output", o.output,
+                 "where frames are shown: offscreen (none; the default), wayland (a toplevel on $WAYLAND_DISPLAY's "
+                 "compositor, fullscreen) or wayland:SOCKET; the PNG dump keeps working (docs/display.md)")
+      ->capture_default_str();
   app.add_option("--size", o.size, "render size WxH (default: the scene config's size)");
   app.add_option("--msaa", o.msaa, "MSAA samples: 1, 2, 4 or 8")->check(CLI::IsMember({1, 2, 4, 8}))->capture_default_str();
   app.add_option("--out", o.out_dir, "output directory for PNGs, frames.csv")->capture_default_str();
@@ -39,7 +44,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)->excludes(link_opt)->excludes(set_opt)->excludes(values_opt);
   app.add_option("--fps", o.fps, "live: render rate; play: frames per second of recording time")->check(CLI::Range(1.0, 240.0))->capture_default_str();
   app.add_option("--dump-every", o.dump_every, "live: write every Nth frame as PNG (0 = none)")->check(CLI::NonNegativeNumber);
-  app.add_option("--duration", o.duration_s, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM); play: SEC seconds of the recording (0 = all)")->check(CLI::NonNegativeNumber);
+  app.add_option("--duration", o.duration_s, "live: stop after SEC seconds (0 = until SIGINT/SIGTERM); play: SEC seconds of the recording (0 = all); offline with --output: how long the frame stays shown (0 = until SIGINT/SIGTERM)")->check(CLI::NonNegativeNumber);
   app.add_flag("--dump-last", o.dump_last, "live: write the final frame on exit");
   app.add_option("--dump-at", o.dump_at,
                  "live and play: write the first frame at or after each time on the view's clock (frames.csv time_s), "

@@ -107,7 +107,7 @@ int Renderer::warm_up(std::span<const governor::QualityChoice> choices) {
   watched_ = std::move(watched);
   fault_ = fault;
   clean_.clear();
-  written_ = {platform::PixelRegion{0, 0, width_, height_}};
+  written_all();
   return frames;
 }
 
@@ -133,7 +133,7 @@ FramePlan Renderer::plan_at_quality(bool force, bool read_back, FrameState& now)
       }
       text_height_ = draw_height_;
     }
-    written_ = {platform::PixelRegion{0, 0, width_, height_}};  // every pixel is drawn anew
+    written_all();  // every pixel is drawn anew
     global_changed_ = false;
   }
   now = evaluator_.evaluate(draw_width_, draw_height_, *text_);

@@ -16,7 +16,7 @@
 #include "meter/platform/program_cache.hpp"
 #include "meter/preview/controls_panel.hpp"
 #include "meter/preview/file_watcher.hpp"
-#include "meter/preview/frame_blit.hpp"
+#include "meter/platform/frame_blit.hpp"
 #include "meter/preview/preview_options.hpp"
 #include "meter/preview/preview_window.hpp"
 #include "meter/preview/scene_reloader.hpp"
@@ -97,7 +97,7 @@ class PreviewLoop {
     }
     window_ = create_glfw_window(window_size_for(reloader_.scene().get(), options_.panel_width),
                                  "meter-preview: " + status_.files);
-    blit_ = std::make_unique<FrameBlit>(window_->gpu().gl());
+    blit_ = std::make_unique<platform::FrameBlit>(window_->gpu().gl());
     programs_ = std::make_unique<platform::ProgramCache>(window_->gpu().gl());
     ui_ = std::make_unique<UiLayer>(*window_);
     if (first_ok) adopt(Clock::now());
@@ -303,7 +303,7 @@ class PreviewLoop {
   std::optional<ValuesPlayer> player_;
   std::optional<protocol::Subscriber> subscriber_;
   std::unique_ptr<PreviewWindow> window_;
-  std::unique_ptr<FrameBlit> blit_;
+  std::unique_ptr<platform::FrameBlit> blit_;
   std::unique_ptr<UiLayer> ui_;
   std::unique_ptr<platform::ProgramCache> programs_;  // outlives every shown scene, not the window
   std::unique_ptr<ShownScene> shown_;

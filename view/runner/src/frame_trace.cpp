@@ -48,12 +48,23 @@ void FrameTrace::on_frame(const engine::FrameRecord& f) {
   if (events_.on()) {
     trace_frame_events(events_, f);
     if (f.governor) trace_governor(events_, f);
+    if (f.timing.drawn) rendered_.emplace_back(f.request.frame, f.render_ended_ns);
+    if (rendered_.size() > 64) rendered_.pop_front();  // no display, or feedback that never comes
   }
   const std::int64_t frame_ns = protocol::monotonic_now_ns() - f.evaluate_began_ns;
   if (const std::string file = events_.frame_ended(f.request.frame, frame_ns); !file.empty()) {
     log_ << "meter-view: frame " << f.request.frame << " took " << frame_ns / 1'000'000 << " ms (--trace-on-overrun "
          << overrun_ms_ << "): the last seconds of trace in " << file << "\n";
   }
+}
+
+void FrameTrace::on_presented(const platform::PresentedFrame& shown) {
+  while (!rendered_.empty() && rendered_.front().first < shown.frame) rendered_.pop_front();
+  if (rendered_.empty() || rendered_.front().first != shown.frame) return;
+  if (!shown.discarded)
+    events_.complete("presented", "display", rendered_.front().second, shown.presented_ns, 1,
+                     {{"frame", static_cast<std::int64_t>(shown.frame)}});
+  rendered_.pop_front();
 }
 
 }  // namespace meter::runner

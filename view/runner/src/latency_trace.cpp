@@ -32,4 +32,12 @@ void LatencyTrace::png_written(std::uint64_t n) {
   out_ << "w," << now() << "," << n << "\n";
 }
 
+void LatencyTrace::on_presented(const platform::PresentedFrame& shown) {
+  if (!out_.is_open() || shown.discarded) return;
+  // The feedback is on CLOCK_MONOTONIC; this trace's clock is CLOCK_REALTIME.
+  const std::int64_t t = shown.presented_ns - protocol::monotonic_now_ns() + now();
+  std::lock_guard lock(mutex_);
+  out_ << "p," << t << "," << shown.frame << "\n";
+}
+
 }  // namespace meter::runner

@@ -11,6 +11,7 @@
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "meter/protocol/wire.hpp"
+#include "meter/runner/display_sink.hpp"
 #include "meter/runner/dump_policy.hpp"
 #include "meter/runner/frame_dump.hpp"
 #include "meter/runner/frame_pacing.hpp"
@@ -141,6 +142,11 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
   ctx_.pipeline.set_governor(&ctx.governed);  // docs/uniform-frame-rate.md
   for (engine::FrameSink* sink : std::initializer_list<engine::FrameSink*>{&ctx.timing, &trace_, &integrity_, &dump_, &frame_trace_})
     ctx_.pipeline.add_sink(*sink);
+  if (ctx.display_sink) {  // last: shows what the monitor passed; its feedback to the traces
+    ctx_.pipeline.add_sink(*ctx.display_sink);
+    ctx.display_sink->add_listener(trace_);
+    ctx.display_sink->add_listener(frame_trace_);
+  }
 }
 
 // A link poll that applied changes is an intake slice, from the poll's start (so a poll that

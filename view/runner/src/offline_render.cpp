@@ -1,13 +1,33 @@
 #include "meter/runner/offline_render.hpp"
 
+#include <thread>
+
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/runner/frames_csv.hpp"
+#include "meter/runner/display_sink.hpp"
 #include "meter/runner/option_units.hpp"
+#include "meter/runner/process_signals.hpp"
 #include "meter/runner/script_log.hpp"
 #include "meter/runner/values_input.hpp"
 
 namespace meter::runner {
+
+namespace {
+
+// The one frame stays on the display until --duration seconds passed (0: until SIGINT/SIGTERM);
+// the display going away ends the process (platform::DisplayLost).
+void hold_on_display(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
+  install_stop_handlers();
+  log << "meter-view: frame 0 on the display; holding it " << (options.duration_s > 0 ? std::to_string(options.duration_s) + " s" : std::string("until SIGINT/SIGTERM")) << std::endl;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.duration_s);
+  while (!stop_requested() && (options.duration_s <= 0 || std::chrono::steady_clock::now() < until)) {
+    ctx.display->take_presented(50);  // reads the compositor's events: a lost display throws
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+}  // namespace
 
 // Offline mode: a policy over the engine's frame pipeline with one frame, forced and read back: the
 // state from --values / --set; its sink the timing CSV; the PNG and its frames.csv row written here.
@@ -19,6 +39,7 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
   for (const auto& s : options.sets) parse_set(s, values, "--set");
   engine::FramePipeline& pipeline = ctx.pipeline;
   pipeline.add_sink(ctx.timing);
+  if (ctx.display_sink) pipeline.add_sink(*ctx.display_sink);
   pipeline.evaluate(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
   log_script_messages(ctx.pipeline.evaluator(), log);
   pipeline.render(engine::FrameRequest{0, 0.0, true, true, false, false});  // read back; written below, not by a sink
@@ -32,6 +53,7 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
         << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ctx.started).count() << " ms\n";
     log_script_stats(ctx.pipeline.evaluator(), log);
   }
+  if (ctx.display) hold_on_display(ctx, options, log);
 }
 
 }  // namespace meter::runner

@@ -7,6 +7,7 @@
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/signal_table.hpp"
 #include "meter/engine/pipeline/frame_pipeline.hpp"
+#include "meter/runner/display_sink.hpp"
 #include "meter/runner/dump_policy.hpp"
 #include "meter/runner/frame_dump.hpp"
 #include "meter/runner/frames_csv.hpp"
@@ -119,6 +120,7 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   pipeline.set_governor(&ctx.governed);
   pipeline.add_sink(ctx.timing);
   pipeline.add_sink(dump);
+  if (ctx.display_sink) pipeline.add_sink(*ctx.display_sink);
   const double dt = 1.0 / options.fps;
   for (std::uint64_t k = 0; k < times.size(); ++k) {
     const double t = times[k];

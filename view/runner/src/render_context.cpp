@@ -2,15 +2,27 @@
 
 #include <system_error>
 
+#include "meter/runner/display_sink.hpp"
 #include "meter/runner/option_units.hpp"
 #include "meter/runner/view_error.hpp"
 
 namespace meter::runner {
 namespace {
 
-std::unique_ptr<platform::GpuBackend> backend_named(const std::string& name) {
-  const auto kind = platform::parse_backend_kind(name);
-  if (!kind) throw ViewError("--backend: unknown backend \"" + name + "\" (egl or osmesa)");
+// The offscreen backend --backend names, or the display --output names (its own EGL context, the
+// frame's size: --size or the scene config's).
+std::unique_ptr<platform::GpuBackend> backend_for(const ViewOptions& options, const engine::Scene& scene) {
+  if (options.output != "offscreen") {
+    if (options.backend != "egl")
+      throw ViewError("--output " + options.output + ": a display renders through EGL, not --backend " + options.backend);
+    platform::DisplayOptions d;
+    d.target = options.output;
+    d.width = scene.config.size[0], d.height = scene.config.size[1];
+    if (!options.size.empty()) std::tie(d.width, d.height) = parse_size(options.size);
+    return platform::open_display(d);
+  }
+  const auto kind = platform::parse_backend_kind(options.backend);
+  if (!kind) throw ViewError("--backend: unknown backend \"" + options.backend + "\" (egl or osmesa)");
   return platform::create_backend(*kind);
 }
 
@@ -28,7 +40,8 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
     : started(std::chrono::steady_clock::now()),
       out_dir(options.out_dir),
       scene(engine::read_package(options.scene_path)),
-      backend(backend_named(options.backend)),
+      backend(backend_for(options, scene)),
+      display(dynamic_cast<platform::DisplayBackend*>(backend.get())),
       renderer(*backend, scene, renderer_options(options)),
       pipeline(scene, renderer),
       governed(renderer, options, log) {
@@ -40,6 +53,14 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw ViewError(options.out_dir + ": cannot create output directory: " + ec.message());
   timing = TimingCsv(options.timing_csv, governed.governing());
+  if (display) {
+    display_sink = std::make_unique<DisplaySink>(*this, log);
+    display_sink->add_listener(timing);
+    timing.await_presentation();
+    if (options.info) log << "meter-view: display: " << display->display_info() << "\n";
+  }
 }
+
+RenderContext::~RenderContext() = default;
 
 }  // namespace meter::runner

@@ -1,5 +1,6 @@
 #include "meter/runner/run_view.hpp"
 
+#include "meter/platform/display.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/runner/live_loop.hpp"
 #include "meter/runner/offline_render.hpp"
@@ -25,6 +26,9 @@ int run_view(const ViewOptions& options, std::ostream& log) {
       run_live(ctx, options, log);
     }
     return 0;
+  } catch (const platform::DisplayLost& e) {
+    log << "meter-view: error: the display went away: " << e.what() << "\n";
+    return kExitDisplayLost;
   } catch (const std::exception& e) {
     log << "meter-view: error: " << e.what() << "\n";
     return 1;

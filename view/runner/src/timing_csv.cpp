@@ -1,6 +1,7 @@
 #include "meter/runner/timing_csv.hpp"
 
 #include <iomanip>
+#include <sstream>
 
 #include "output_file.hpp"
 
@@ -16,10 +17,51 @@ TimingCsv::TimingCsv(const std::string& path, bool governor) : governor_(governo
 
 void TimingCsv::row(std::uint64_t frame, double t, const engine::FrameTiming& timing, const GovernorCells* governor) {
   if (!out_.is_open()) return;
-  out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << timing.update_ms << "," << timing.submit_ms
-       << "," << timing.gpu_readback_ms << "," << timing.drawn;
-  if (governor_) out_ << governor_cells_text(governor ? *governor : GovernorCells{});
+  cells(out_, frame, t, timing, governor);
   out_ << "\n";
+}
+
+void TimingCsv::cells(std::ostream& out, std::uint64_t frame, double t, const engine::FrameTiming& timing,
+                      const GovernorCells* governor) const {
+  out << frame << "," << std::fixed << std::setprecision(4) << t << "," << timing.update_ms << "," << timing.submit_ms
+      << "," << timing.gpu_readback_ms << "," << timing.drawn;
+  if (governor_) out << governor_cells_text(governor ? *governor : GovernorCells{});
+}
+
+void TimingCsv::on_frame(const engine::FrameRecord& frame) {
+  if (!presentation_) return row(frame.request.frame, frame.request.t, frame.timing, frame.governor);
+  std::ostringstream text;
+  cells(text, frame.request.frame, frame.request.t, frame.timing, frame.governor);
+  waiting_.push_back({frame.request.frame, text.str(), frame.render_ended_ns});
+}
+
+void TimingCsv::await_presentation() {
+  if (presentation_ || !out_.is_open()) return;
+  presentation_ = true;
+  // The header is written: it gains the display's columns at its end.
+  out_.seekp(-1, std::ios_base::cur);
+  out_ << ",presented_ns,refresh_seq,to_presented_ms\n";
+}
+
+void TimingCsv::on_presented(const platform::PresentedFrame& shown) {
+  if (presentation_) flush(shown.frame, shown.discarded ? nullptr : &shown);
+}
+
+void TimingCsv::presentation_done() {
+  if (presentation_) flush(UINT64_MAX, nullptr);
+}
+
+void TimingCsv::flush(std::uint64_t frame, const platform::PresentedFrame* shown) {
+  while (!waiting_.empty() && waiting_.front().frame <= frame) {
+    const Waiting& w = waiting_.front();
+    out_ << w.text << ",";
+    if (shown && w.frame == frame)
+      out_ << shown->presented_ns << "," << shown->sequence << "," << std::fixed << std::setprecision(3) << double(shown->presented_ns - w.render_ended_ns) / 1e6;
+    else
+      out_ << ",,";
+    out_ << "\n";
+    waiting_.pop_front();
+  }
 }
 
 }  // namespace meter::runner

@@ -109,6 +109,40 @@ TEST(TimingCsv, OneRowPerFrameByStage) {
                                       "0,0.0000,0.1235,1.5000,20.0000,1", "1,0.0333,0.1235,1.5000,20.0000,0"}));
 }
 
+// With a display: each row waits for its frame's presentation feedback; a frame replaced before
+// it was shown, or never presented, gets empty cells; the end of the feedback writes the rest.
+TEST(TimingCsv, DisplayColumnsWaitForPresentationFeedback) {
+  const auto dir = testing::scratch_dir();
+  {
+    TimingCsv timing((dir / "timing.csv").string());
+    timing.await_presentation();
+    engine::FrameRecord f;
+    f.timing.drawn = true;
+    for (std::uint64_t n = 0; n < 4; ++n) {
+      f.request.frame = n;
+      f.request.t = double(n) / 60;
+      f.render_ended_ns = 1'000'000'000 + std::int64_t(n) * 16'000'000;
+      timing.on_frame(f);
+    }
+    EXPECT_EQ(testing::read_lines(dir / "timing.csv").size(), 1u);  // only the header: no feedback yet
+    platform::PresentedFrame shown;
+    shown.frame = 1;  // frame 0 was never presented (skipped by the display)
+    shown.presented_ns = 1'000'000'000 + 16'000'000 + 2'500'000;
+    shown.sequence = 7;
+    timing.on_presented(shown);
+    platform::PresentedFrame gone;
+    gone.frame = 2;
+    gone.discarded = true;
+    timing.on_presented(gone);
+    timing.presentation_done();  // frame 3's feedback never came
+  }
+  EXPECT_EQ(testing::read_lines(dir / "timing.csv"),
+            (std::vector<std::string>{
+                "frame,time_s,update_ms,submit_ms,gpu_readback_ms,drawn,presented_ns,refresh_seq,to_presented_ms",
+                "0,0.0000,0.0000,0.0000,0.0000,1,,,", "1,0.0167,0.0000,0.0000,0.0000,1,1018500000,7,2.500",
+                "2,0.0333,0.0000,0.0000,0.0000,1,,,", "3,0.0500,0.0000,0.0000,0.0000,1,,,"}));
+}
+
 TEST(TimingCsv, NoPathNoFile) {
   TimingCsv timing("");
   timing.row(0, 0.0, engine::FrameTiming{});  // does nothing

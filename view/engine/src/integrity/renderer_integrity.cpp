@@ -51,9 +51,9 @@ void Renderer::resolve_watched(const FramePlan& plan) {
   clean_after_ = draws_;
 }
 
-std::vector<platform::PixelRegion> Renderer::take_written() {
+std::vector<platform::PixelRegion> Renderer::take_written(WrittenReader reader) {
   // A wide resolve filter carries a change up to its margin beyond the box it was drawn in.
-  std::vector<platform::PixelRegion> out = std::exchange(written_, {});
+  std::vector<platform::PixelRegion> out = std::exchange(written_[std::size_t(reader)], {});
   // The margin is in drawn pixels; below scale 1 it spans more output pixels.
   const float scale = quality_.global.scale;
   if (const int m = int(std::ceil(float(target_->resolve_margin_px()) / scale)); m > 0)
@@ -66,16 +66,22 @@ std::vector<platform::PixelRegion> Renderer::take_written() {
 
 void Renderer::note_written(const FramePlan& plan) {
   ++draws_;
-  // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
-  if (plan.full || written_.size() > 64) written_ = {platform::PixelRegion{0, 0, width_, height_}};
-  if (!plan.full)
-    for (const auto& r : plan.regions) written_.push_back(to_output(r));
+  for (auto& written : written_) {
+    // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
+    if (plan.full || written.size() > 64) written = {platform::PixelRegion{0, 0, width_, height_}};
+    if (!plan.full)
+      for (const auto& r : plan.regions) written.push_back(to_output(r));
+  }
+}
+
+void Renderer::written_all() {
+  for (auto& written : written_) written = {platform::PixelRegion{0, 0, width_, height_}};
 }
 
 void Renderer::note_written(const platform::PixelRegion& drawn, const platform::PixelRegion& output) {
   ++draws_;
   unresolved_.push_back(drawn);
-  written_.push_back(output);
+  for (auto& written : written_) written.push_back(output);
 }
 
 void Renderer::fill(const platform::PixelRegion& output_region, const glm::vec4& linear_colour) {

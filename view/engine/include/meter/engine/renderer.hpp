@@ -18,6 +18,7 @@
 //                 frame-wide MSAA and scale, drawn from the next render(); see "Quality levels".
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -169,8 +170,10 @@ class Renderer {
   void resolve_with_frame(std::vector<platform::PixelRegion> boxes);
   // The target's boxes (GL window coordinates) drawn since the last call: each drawn frame's
   // regions (all of it for a full frame) as planned, safe-path redraws and injected covers. Only
-  // these can hold pixels other than the ones read before.
-  std::vector<platform::PixelRegion> take_written();
+  // these can hold pixels other than the ones read before. Each reader has its own list: the
+  // integrity monitor's reads and a display's copies (meter/platform/display.hpp) take them apart.
+  enum class WrittenReader { Monitor = 0, Display = 1 };
+  std::vector<platform::PixelRegion> take_written(WrittenReader reader = WrittenReader::Monitor);
   // Safe path for an item whose check failed: `region` of the target becomes one solid colour
   // (linear RGBA), or without a colour the static layer's copy (the clear colour when there is no
   // layer). The next frame is drawn in full, so the item's own drawing comes back as soon as it is
@@ -282,7 +285,8 @@ class Renderer {
   bool redraw_all_ = false;
   std::optional<FaultInjection> fault_;
   std::vector<glm::mat4> held_world_;
-  std::vector<platform::PixelRegion> written_;  // see take_written()
+  std::array<std::vector<platform::PixelRegion>, 2> written_;  // per WrittenReader, see take_written()
+  void written_all();  // every reader's list: the whole target
   // Quality levels (see set_quality()).
   DrawUnits units_;
   governor::QualityChoice quality_;             // units always has draw_units().size() entries

@@ -5,6 +5,8 @@
 //   a,<t_ns>,<sender monotonic ns>,<sequence>      a poll applied changes (newest frame's stamp)
 //   r,<t_ns update>,<frame>,<t_ns rendered>          frame drawn and read back
 //   w,<t_ns>,<frame>                                 its PNG written (writer thread)
+//   p,<t_ns>,<frame>                                 it turned into light on the display (--output:
+//                                                    the compositor's presentation feedback)
 #pragma once
 
 #include <cstdint>
@@ -13,11 +15,12 @@
 #include <string>
 
 #include "meter/engine/pipeline/frame_sink.hpp"
+#include "meter/runner/presentation_listener.hpp"
 
 namespace meter::runner {
 
-// A frame sink: the "r" row of every frame.
-class LatencyTrace : public engine::FrameSink {
+// A frame sink: the "r" row of every frame; with a display, the "p" row of every frame shown.
+class LatencyTrace : public engine::FrameSink, public PresentationListener {
  public:
   // An empty path: no trace (every call does nothing).
   explicit LatencyTrace(const std::string& path);
@@ -32,6 +35,7 @@ class LatencyTrace : public engine::FrameSink {
   void on_frame(const engine::FrameRecord& f) override {
     frame(f.request.frame, f.evaluate_began_realtime_ns, f.render_ended_realtime_ns);
   }
+  void on_presented(const platform::PresentedFrame& shown) override;
 
  private:
   std::mutex mutex_;

@@ -1,6 +1,7 @@
-// What every mode renders with: the scene package, the GL backend, the renderer, the engine's frame
-// pipeline (which owns the binding evaluator), the governor, the output directory and the timing
-// CSV, set up from the options in that order.
+// What every mode renders with: the scene package, the GL backend (offscreen, or a display's:
+// --output), the renderer, the engine's frame pipeline (which owns the binding evaluator), the
+// governor, the output directory, the timing CSV and the display's sink, set up from the options in
+// that order.
 #pragma once
 
 #include <chrono>
@@ -13,27 +14,34 @@
 #include "meter/engine/package_reader.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
+#include "meter/platform/display.hpp"
 #include "meter/runner/governed_frame.hpp"
 #include "meter/runner/timing_csv.hpp"
 #include "meter/runner/view_options.hpp"
 
 namespace meter::runner {
 
+class DisplaySink;
+
 struct RenderContext {
   // Throws (ViewError, engine or platform errors) with a message naming what failed. With
   // options.info, prints the GL renderer line and scene statistics to `log`.
   RenderContext(const ViewOptions& options, std::ostream& log);
+  ~RenderContext();
 
   std::chrono::steady_clock::time_point started;  // before the package was read
   std::filesystem::path out_dir;
   engine::Scene scene;
   std::unique_ptr<platform::GpuBackend> backend;
+  platform::DisplayBackend* display = nullptr;  // the backend, when --output names a display
   engine::Renderer renderer;
   // The engine's frame pipeline over the renderer, with the binding evaluator it owns; each mode
   // adds its sinks (and, live and play, the governor) and runs it.
   engine::FramePipeline pipeline;
   GovernedFrames governed;  // the frame pipeline's quality input in the live and play modes
   TimingCsv timing;         // a sink of every mode's frame pipeline
+  // With a display: the sink that shows each frame (added last by every mode), else nullptr.
+  std::unique_ptr<DisplaySink> display_sink;
 };
 
 }  // namespace meter::runner

@@ -7,7 +7,12 @@
 
 namespace meter::runner {
 
-// Returns the exit status: 0, or 1 after "meter-view: error: <message>" on `log`.
+// The exit status when the display (--output) went away: the compositor closed the connection or
+// the window.
+inline constexpr int kExitDisplayLost = 3;
+
+// Returns the exit status: 0, 1 after "meter-view: error: <message>" on `log`, or
+// kExitDisplayLost.
 int run_view(const ViewOptions& options, std::ostream& log);
 
 }  // namespace meter::runner

@@ -1,32 +1,53 @@
 // --timing-csv: per-frame timing by stage. Header "frame,time_s,update_ms,submit_ms,
 // gpu_readback_ms,drawn", one row per rendered frame; with the frame-rate governor on, its columns
-// last (frames_csv.hpp: kGovernorColumns).
+// next (frames_csv.hpp: kGovernorColumns); with a display (--output),
+// "presented_ns,refresh_seq,to_presented_ms" last: when the frame turned into light
+// (CLOCK_MONOTONIC, the compositor's presentation feedback), the output's refresh counter then, and
+// how long after its render ended; all empty for a frame never shown (skipped, or replaced
+// before a refresh). Such rows are written once their frame's feedback came.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <fstream>
+#include <ostream>
 #include <string>
 
 #include "meter/engine/pipeline/frame_sink.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/runner/frames_csv.hpp"
+#include "meter/runner/presentation_listener.hpp"
 
 namespace meter::runner {
 
 // A frame sink: one row per frame the pipeline renders.
-class TimingCsv : public engine::FrameSink {
+class TimingCsv : public engine::FrameSink, public PresentationListener {
  public:
   // An empty path: no file (row() does nothing). Throws ViewError when the file cannot be written.
   TimingCsv() = default;  // no file
   explicit TimingCsv(const std::string& path, bool governor = false);
   void row(std::uint64_t frame, double t, const engine::FrameTiming& timing, const GovernorCells* governor = nullptr);
-  void on_frame(const engine::FrameRecord& frame) override {
-    row(frame.request.frame, frame.request.t, frame.timing, frame.governor);
-  }
+  void on_frame(const engine::FrameRecord& frame) override;
+  // The display's columns: each row waits for its frame's presentation feedback.
+  void await_presentation();
+  void on_presented(const platform::PresentedFrame& shown) override;
+  void presentation_done() override;
 
  private:
+  struct Waiting {
+    std::uint64_t frame;
+    std::string text;  // the row up to the display's columns
+    std::int64_t render_ended_ns;
+  };
+  void cells(std::ostream& out, std::uint64_t frame, double t, const engine::FrameTiming& timing,
+             const GovernorCells* governor) const;
+  // Writes the waiting rows before `frame` without feedback, and `frame`'s with `shown`.
+  void flush(std::uint64_t frame, const platform::PresentedFrame* shown);
+
   std::ofstream out_;
   bool governor_ = false;
+  bool presentation_ = false;
+  std::deque<Waiting> waiting_;
 };
 
 }  // namespace meter::runner

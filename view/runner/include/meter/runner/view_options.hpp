@@ -9,6 +9,8 @@ namespace meter::runner {
 struct ViewOptions {
   std::string scene_path;        // .msp written by meter-convert
   std::string backend = "egl";   // egl | osmesa
+  // Where frames go besides the PNG dump: offscreen (none), wayland[:SOCKET] (docs/display.md).
+  std::string output = "offscreen";
   std::string size;              // WxH; empty = the scene config's size
   int msaa = 4;
   std::string out_dir = ".";

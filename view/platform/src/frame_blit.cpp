@@ -1,6 +1,6 @@
-#include "meter/preview/frame_blit.hpp"
+#include "meter/platform/frame_blit.hpp"
 
-namespace meter::preview {
+namespace meter::platform {
 namespace {
 
 // One triangle covering the viewport.
@@ -33,13 +33,13 @@ void main() {
 
 }  // namespace
 
-FrameBlit::FrameBlit(const platform::Gl& gl) : gl_(gl) {
-  program_ = platform::compile_program(gl_, kVertex, kFragment, "meter-preview frame copy");
+FrameBlit::FrameBlit(const Gl& gl) : gl_(gl) {
+  program_ = compile_program(gl_, kVertex, kFragment, "the frame copy to a window");
   origin_loc_ = gl_.GetUniformLocation(program_, "origin");
   encode_loc_ = gl_.GetUniformLocation(program_, "encode_srgb");
   frame_loc_ = gl_.GetUniformLocation(program_, "frame");
   gl_.GenVertexArrays(1, &vao_);
-  platform::check_gl(gl_, "meter-preview: creating the frame copy");
+  check_gl(gl_, "creating the frame copy to a window");
 }
 
 FrameBlit::~FrameBlit() {
@@ -47,7 +47,8 @@ FrameBlit::~FrameBlit() {
   gl_.DeleteProgram(program_);
 }
 
-void FrameBlit::draw(const platform::RenderTarget& frame, int x, int y, int framebuffer_height) {
+void FrameBlit::draw(const RenderTarget& frame, int x, int y, int framebuffer_height,
+                     std::span<const PixelRegion> only) {
   const int gl_y = framebuffer_height - y - frame.height();
   gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl_.Viewport(x, gl_y, frame.width(), frame.height());
@@ -65,10 +66,16 @@ void FrameBlit::draw(const platform::RenderTarget& frame, int x, int y, int fram
   gl_.Uniform2i(origin_loc_, x, gl_y);
   gl_.Uniform1i(encode_loc_, frame.srgb() ? 1 : 0);
   gl_.BindVertexArray(vao_);
-  gl_.DrawArrays(GL_TRIANGLES, 0, 3);
+  if (only.empty()) gl_.DrawArrays(GL_TRIANGLES, 0, 3);
+  for (const PixelRegion& r : only) {
+    gl_.Enable(GL_SCISSOR_TEST);
+    gl_.Scissor(r.x, r.y, r.width, r.height);
+    gl_.DrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  gl_.Disable(GL_SCISSOR_TEST);
   gl_.BindVertexArray(0);
   gl_.UseProgram(0);
-  platform::check_gl(gl_, "meter-preview: copying the frame into the window");
+  check_gl(gl_, "copying the frame into the window");
 }
 
-}  // namespace meter::preview
+}  // namespace meter::platform

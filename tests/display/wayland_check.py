@@ -1,0 +1,227 @@
+#!/usr/bin/env python3
+"""meter-view --output wayland against a real compositor: Weston 10's headless backend with its GL
+renderer (llvmpipe), one Weston for every case, in a private XDG_RUNTIME_DIR.
+
+  usage: wayland_check.py METER_CONVERT METER_VIEW SCENES_DIR WORKDIR
+
+Cases, in order (the last one stops Weston):
+  screenshot  one state (--set) held on the display; Weston's own screenshot (weston-screenshooter,
+              weston --debug) holds meter-view's offscreen render of that state (its PNG dump) byte
+              for byte, centred on the 1280x480 output (the 640x480 gauge; the compositor's fill around it);
+  pacing      a recording played (40 frames at 60 fps): every frame presented (presentation
+              feedback in the timing CSV), the times strictly increasing and never two frames in one
+              refresh; each frame presented after its render ended;
+  frozen      Weston stopped (SIGSTOP) for 1.5 s while a recording plays: the frame callback that
+              does not come is a stall, logged as a frozen display; the play ends normally after SIGCONT;
+  no_compositor  --output wayland:NAME with no compositor there: exit 1 naming the socket;
+  compositor_gone  Weston killed while a frame is shown: meter-view exits 3 ("the display went away").
+Pixels are read with ImageMagick (`convert ... rgb:`), no Python packages.
+"""
+import csv
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+REFRESH_NS = 1e9 / 60  # Weston headless's output mode: 60 Hz
+WESTON_INI = """[core]
+idle-time=0
+# Repaint as soon as the last frame finished: the headless backend's frame takes 16 ms of timer
+# after its repaint, so the default window (7 ms) makes its cycle ~26 ms instead of ~17.
+repaint-window=16
+[shell]
+startup-animation=none
+animation=none
+close-animation=none
+panel-position=none
+background-color=0xff000000
+"""
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+def rgb(path):
+    out = subprocess.run(["convert", path, "-depth", "8", "rgb:-"], check=True, capture_output=True).stdout
+    size = subprocess.run(["identify", "-format", "%w %h", path], check=True, capture_output=True, text=True).stdout
+    w, h = map(int, size.split())
+    return w, h, out
+
+
+class View:
+    """One meter-view process whose stderr is read line by line."""
+
+    def __init__(self, argv, env, log):
+        self.log_path = log
+        self.proc = subprocess.Popen(argv, env=env, stderr=open(log, "w"), stdout=subprocess.DEVNULL)
+
+    def text(self):
+        with open(self.log_path) as f:
+            return f.read()
+
+    def wait_for(self, needle, timeout=60):
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            if needle in self.text():
+                return
+            if self.proc.poll() is not None:
+                fail(f"meter-view exited {self.proc.returncode} before '{needle}':\n{self.text()}")
+            time.sleep(0.05)
+        fail(f"no '{needle}' in {timeout} s:\n{self.text()}")
+
+    def wait(self, timeout=60):
+        try:
+            return self.proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            fail(f"meter-view hung:\n{self.text()}")
+
+
+def main():
+    convert, view, scenes, work = sys.argv[1:5]
+    for tool in ("weston", "weston-screenshooter", "convert"):
+        if not shutil.which(tool):
+            fail(f"{tool} not found: run scripts/install-deps test (weston, imagemagick)")
+    shutil.rmtree(work, ignore_errors=True)
+    xdg = os.path.join(work, "xdg")
+    os.makedirs(xdg, mode=0o700)
+    ini = os.path.join(work, "weston.ini")
+    with open(ini, "w") as f:
+        f.write(WESTON_INI)
+    msp = os.path.join(work, "gauge.msp")
+    subprocess.run([convert, os.path.join(scenes, "minimal-gauge", "minimal-gauge.glb"), "-c",
+                    os.path.join(scenes, "minimal-gauge", "minimal-gauge.scene.json"), "-o", msp, "-q"], check=True)
+    socket = f"meter-display-{os.getpid()}"
+    env = dict(os.environ, XDG_RUNTIME_DIR=xdg, WAYLAND_DISPLAY=socket)
+    weston = subprocess.Popen(["weston", "--config=" + ini, "--backend=headless-backend.so", "--use-gl", "--width=1280",
+                               "--height=480", "--socket=" + socket, "--debug"],
+                              env=env, stdout=subprocess.DEVNULL, stderr=open(os.path.join(work, "weston.log"), "w"))
+    try:
+        end = time.monotonic() + 20
+        while not os.path.exists(os.path.join(xdg, socket)):
+            if weston.poll() is not None or time.monotonic() > end:
+                fail("weston did not start: " + open(os.path.join(work, "weston.log")).read()[-2000:])
+            time.sleep(0.05)
+        target = "wayland:" + socket
+        for case, run in (("screenshot", lambda: screenshot(view, msp, target, env, work)),
+                          ("pacing", lambda: pacing(view, msp, target, env, work)),
+                          ("frozen", lambda: frozen(view, msp, target, env, work, weston)),
+                          ("no_compositor", lambda: no_compositor(view, msp, env, work)),
+                          ("compositor_gone", lambda: compositor_gone(view, msp, target, env, work, weston))):
+            began = time.monotonic()
+            run()
+            print(f"  ({case}: {time.monotonic() - began:.1f} s)")
+    finally:
+        if weston.poll() is None:
+            weston.terminate()
+            weston.wait(10)
+    print("PASS")
+
+
+def screenshot(view, msp, target, env, work):
+    out = os.path.join(work, "screenshot")
+    os.makedirs(out)
+    v = View([view, "--scene", msp, "--set", "Vehicle.Speed=88", "--output", target, "--out", out],
+             env, os.path.join(work, "screenshot.log"))
+    v.wait_for("on the display")
+    subprocess.run(["weston-screenshooter"], env=env, cwd=out, check=True, timeout=30)
+    shots = [f for f in os.listdir(out) if f.startswith("wayland-screenshot")]
+    if len(shots) != 1:
+        fail(f"weston-screenshooter wrote {shots}")
+    v.proc.send_signal(signal.SIGTERM)
+    if v.wait() != 0:
+        fail("meter-view did not exit 0 on SIGTERM:\n" + v.text())
+    fw, fh, frame = rgb(os.path.join(out, "frame.png"))
+    sw, sh, shot = rgb(os.path.join(out, shots[0]))
+    if (sw, sh) != (1280, 480) or (fw, fh) != (640, 480):
+        fail(f"sizes: screenshot {sw}x{sh}, frame {fw}x{fh}")
+    x0 = (sw - fw) // 2
+    differ = 0
+    for y in range(fh):
+        row = shot[(y * sw + x0) * 3:(y * sw + x0 + fw) * 3]
+        differ += sum(a != b for a, b in zip(row, frame[y * fw * 3:(y + 1) * fw * 3]))
+        border = shot[y * sw * 3:(y * sw + x0) * 3] + shot[(y * sw + x0 + fw) * 3:(y + 1) * sw * 3]
+        if border != border[:3] * (len(border) // 3):
+            fail(f"row {y}: the compositor's border around the centred frame is not one colour")
+    if differ:
+        fail(f"{differ} bytes of the displayed frame differ from the offscreen render")
+    print(f"screenshot: the displayed {fw}x{fh} frame equals the offscreen render byte for byte, centred at x={x0}")
+
+
+def ramp(path, frames):
+    """A link recording: Vehicle.Speed changing every 1/60 s (a new frame each refresh)."""
+    with open(path, "w") as f:
+        f.write("# Vehicle.Speed changing every frame at 60 frames/s\n")
+        f.write("(100.000000000) SNAPSHOT seq=1 sent=100.000000000 complete=1 Vehicle.Speed=0:valid\n")
+        for k in range(1, frames):
+            t = 100 + k / 60
+            f.write(f"({t:.9f}) DELTA seq={k + 1} sent={t:.9f} Vehicle.Speed={(3 * k) % 250}:valid\n")
+    return path
+
+
+def pacing(view, msp, target, env, work):
+    rec = ramp(os.path.join(work, "ramp.rec"), 40)
+    timing = os.path.join(work, "pacing.csv")
+    v = View([view, "--scene", msp, "--play", rec, "--fps", "60", "--output", target, "--out",
+              os.path.join(work, "pacing"), "--timing-csv", timing], env, os.path.join(work, "pacing.log"))
+    if v.wait() != 0:
+        fail("play exited non-zero:\n" + v.text())
+    rows = list(csv.DictReader(open(timing)))
+    shown = [int(r["presented_ns"]) for r in rows if r["presented_ns"]]
+    if len(rows) != 40 or len(shown) != 40:
+        fail(f"{len(rows)} frames, {len(shown)} presented (40 expected):\n" + v.text())
+    gaps = [b - a for a, b in zip(shown, shown[1:])]
+    if min(gaps) < 0.9 * REFRESH_NS:
+        fail(f"two frames within one refresh: gaps (ms) {[round(g / 1e6, 1) for g in gaps]}")
+    if any(float(r["to_presented_ms"]) <= 0 for r in rows):
+        fail("a frame presented before its render ended")
+    if "0 discarded" not in v.text() or "0 stalls" not in v.text():
+        fail("frames discarded or callbacks stalled:\n" + v.text())
+    gaps_ms = sorted(g / 1e6 for g in gaps)
+    print(f"pacing: 40 frames presented, gaps {gaps_ms[0]:.1f} / {gaps_ms[len(gaps_ms) // 2]:.1f} / "
+          f"{gaps_ms[-1]:.1f} ms (min / median / max)")
+
+
+def frozen(view, msp, target, env, work, weston):
+    rec = ramp(os.path.join(work, "long.rec"), 100)
+    v = View([view, "--scene", msp, "--play", rec, "--fps", "60", "--output", target, "--info", "--out",
+              os.path.join(work, "frozen")], env, os.path.join(work, "frozen.log"))
+    v.wait_for("meter-view: display: wayland")
+    time.sleep(0.7)  # the first frames are on screen
+    weston.send_signal(signal.SIGSTOP)
+    time.sleep(1.5)
+    weston.send_signal(signal.SIGCONT)
+    if v.wait() != 0:
+        fail("the play after the compositor froze and came back did not exit 0:\n" + v.text())
+    stalls = [line for line in v.text().splitlines() if " stalls (" in line]
+    if "frozen display" not in v.text() or not stalls or " 0 stalls (" in stalls[0]:
+        fail("a compositor stopped for 1.5 s was not reported as a frozen display:\n" + v.text())
+    print("frozen: " + [line for line in v.text().splitlines() if "frozen display" in line][0])
+
+
+def no_compositor(view, msp, env, work):
+    v = View([view, "--scene", msp, "--set", "Vehicle.Speed=1", "--output", "wayland:nobody-here", "--out",
+              os.path.join(work, "none")], env, os.path.join(work, "none.log"))
+    if v.wait() != 1 or "cannot connect to the compositor at 'nobody-here'" not in v.text():
+        fail("no compositor: expected exit 1 naming the socket:\n" + v.text())
+    print("no_compositor: " + v.text().strip().splitlines()[-1])
+
+
+def compositor_gone(view, msp, target, env, work, weston):
+    v = View([view, "--scene", msp, "--set", "Vehicle.Speed=10", "--output", target, "--out",
+              os.path.join(work, "gone")], env, os.path.join(work, "gone.log"))
+    v.wait_for("on the display")
+    weston.kill()
+    weston.wait(10)
+    rc = v.wait(30)
+    if rc != 3 or "the display went away" not in v.text():
+        fail(f"compositor gone: expected exit 3, got {rc}:\n" + v.text())
+    print("compositor_gone: " + v.text().strip().splitlines()[-1])
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,67 @@
+// A GL backend whose frames reach a display: a Wayland compositor's surface (xdg-shell toplevel)
+// or, later, a KMS CRTC. The renderer draws into its RenderTarget FBOs on this backend's context as
+// on the offscreen backends; present() copies the resolved frame 1:1 into the surface's back buffer
+// (the boxes that changed since that buffer was last shown, by its buffer age) and shows it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "meter/platform/backend.hpp"
+#include "meter/platform/render_target.hpp"
+
+namespace meter::platform {
+
+struct DisplayOptions {
+  // "wayland" (the compositor of $WAYLAND_DISPLAY) or "wayland:NAME" (socket NAME in
+  // $XDG_RUNTIME_DIR, or an absolute path).
+  std::string target;
+  int width = 0, height = 0;  // the frame's size: the surface's buffers are this size
+  bool fullscreen = true;     // xdg_toplevel.set_fullscreen; a smaller frame is centred by the compositor
+  int frame_wait_ms = 1000;   // a frame callback later than this counts as a stall (a frozen display)
+};
+
+// When a frame reached the screen, from the compositor's presentation feedback.
+struct PresentedFrame {
+  std::uint64_t frame = 0;        // the number present() was given
+  bool discarded = false;         // replaced before it was shown (never on screen)
+  std::int64_t presented_ns = 0;  // CLOCK_MONOTONIC: the time the frame turned into light
+  std::uint32_t refresh_ns = 0;   // the output's refresh period (0: unknown)
+  std::uint64_t sequence = 0;     // the output's refresh counter (vblank), when it has one
+  std::uint32_t flags = 0;        // wp_presentation_feedback kinds: 1 vsync, 2 hw_clock, 4 hw_completion, 8 zero_copy
+};
+
+// The display went away (the compositor closed the connection or the window): the process ends
+// with its own exit code (ViewExit::DisplayLost).
+class DisplayLost : public BackendError {
+ public:
+  using BackendError::BackendError;
+};
+
+class DisplayBackend : public GpuBackend {
+ public:
+  // Copies `frame` (the renderer's resolved target, frame-sized) into the back buffer and shows
+  // it. `damage`: the boxes of the frame (GL window coordinates) written since the last present.
+  // Waits first for the compositor's frame callback of the previous present (the pacing: at most
+  // one frame queued ahead of the screen). Throws DisplayLost when the display is gone.
+  virtual void present(const RenderTarget& frame, std::span<const PixelRegion> damage,
+                       std::uint64_t frame_number) = 0;
+  // The feedback that has arrived, in the order the frames were presented (taken once). With
+  // `wait_ms` > 0, waits that long at most for the feedback of every frame presented so far.
+  virtual std::vector<PresentedFrame> take_presented(int wait_ms = 0) = 0;
+  // Frame callbacks that came later than DisplayOptions::frame_wait_ms (the display froze).
+  virtual std::uint64_t stalls() const = 0;
+  // Pixels copied into back buffers so far, and pixels of the frames' damage: a partial redraw
+  // stays partial on the display when the first stays close to the second.
+  virtual std::uint64_t pixels_copied() const = 0;
+  // One line for logs: the protocol, the surface, what the compositor offered.
+  virtual std::string display_info() const = 0;
+};
+
+// Opens the display named by options.target. Throws BackendError naming what was tried.
+std::unique_ptr<DisplayBackend> open_display(const DisplayOptions& options);
+
+}  // namespace meter::platform

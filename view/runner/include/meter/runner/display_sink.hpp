@@ -1,0 +1,63 @@
+// --output wayland: the frame pipeline's display. After every frame that wrote pixels (drawn, or a
+// safe-path repaint of the integrity monitor, which runs before it), the renderer's resolved
+// target is copied to the display and shown with the boxes written since the last present as its
+// damage; the compositor's presentation feedback (when each frame turned into light) reaches the
+// PresentationListeners (the timing CSV, frames.csv, the trace) as it arrives.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <vector>
+
+#include "meter/engine/pipeline/frame_sink.hpp"
+#include "meter/platform/display.hpp"
+#include "meter/runner/presentation_listener.hpp"
+#include "meter/runner/render_context.hpp"
+
+namespace meter::runner {
+
+// What a run's presentation feedback adds up to (the summary line, the benchmarks).
+struct PresentationSummary {
+  std::uint64_t presents = 0, presented = 0, discarded = 0, stalls = 0;
+  std::uint64_t pixels_copied = 0, pixels_damaged = 0;
+  std::uint32_t refresh_ns = 0;
+  // Per presented frame, summed: from the render's end to the copy (the sinks before the display:
+  // the integrity monitor's reads, the dump's, the CSVs) and the present itself (the wait for the
+  // previous frame's callback or flip, the copy, the swap).
+  double after_render_ms = 0.0, present_ms = 0.0;
+  std::int64_t first_presented_ns = 0;  // CLOCK_MONOTONIC; 0: none yet
+  // Refresh periods between consecutive presented frames (1: one refresh apart; more: a refresh
+  // without a new frame while one was due; 0: the same refresh, never expected).
+  std::vector<std::uint64_t> refreshes_between;
+};
+
+class DisplaySink : public engine::FrameSink {
+ public:
+  // ctx.display must be set (RenderContext opens it for --output).
+  DisplaySink(RenderContext& ctx, std::ostream& log);
+  void add_listener(PresentationListener& listener) { listeners_.push_back(&listener); }
+
+  void on_frame(const engine::FrameRecord& frame) override;
+  // Waits (at most 1 s) for the feedback of the frames presented, tells the listeners, logs the
+  // summary.
+  void finish() override;
+
+  const PresentationSummary& summary() const { return summary_; }
+  // The frame last presented (shown, or still queued), or nullopt before the first present.
+  std::optional<std::uint64_t> last_presented_frame() const { return last_frame_; }
+
+ private:
+  void take(int wait_ms);
+
+  RenderContext& ctx_;
+  std::ostream& log_;
+  std::vector<PresentationListener*> listeners_;
+  PresentationSummary summary_;
+  std::optional<std::uint64_t> last_frame_;
+  std::int64_t last_shown_ns_ = 0;
+  std::uint64_t last_sequence_ = 0;
+  bool finished_ = false;
+};
+
+}  // namespace meter::runner
