@@ -72,7 +72,7 @@ Bottleneck find_bottleneck(const PipelineWindow& w) {
       break;
     }
   }
-  if (waiter) {
+  if (waiter && (waiter->wait_out_ns > 0 || w.dropped > 0)) {
     b.text += ", " + waiter->name + " waited " + pct(waiter->wait_out_ns, w.wall_ns) + " on it";
   } else {
     for (std::size_t i = top + 1; i < w.stages.size(); ++i) {
