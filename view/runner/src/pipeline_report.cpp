@@ -76,7 +76,7 @@ Bottleneck find_bottleneck(const PipelineWindow& w) {
     b.text += ", " + waiter->name + " waited " + pct(waiter->wait_out_ns, w.wall_ns) + " on it";
   } else {
     for (std::size_t i = top + 1; i < w.stages.size(); ++i) {
-      if (w.stages[i].lane != s.lane) {
+      if (w.stages[i].lane != s.lane && w.stages[i].wait_in_ns > 0) {
         b.text += ", " + w.stages[i].name + " waited " + pct(w.stages[i].wait_in_ns, w.wall_ns) + " for its output";
         break;
       }

@@ -35,6 +35,30 @@ TEST(PipelineReport, ARenderBoundLoopNamesRenderAndTheStarvedWriter) {
       << "render's producer shares its thread, so the downstream wait is quoted";
 }
 
+// The overlapped pipeline: the GPU is a lane of its own after render; render waiting for a frame
+// still executing is a wait for output space, so the GPU is named, as CUBE named scan conversion.
+TEST(PipelineReport, ARenderStageWaitingOnTheGpuNamesTheGpu) {
+  const auto w = window({stage("intake", 1, 5, 0, 0), stage("evaluate", 1, 20, 0, 0), stage("plan", 1, 10, 0, 0),
+                         stage("render", 1, 30, 0, 800), stage("gpu", 3, 880, 0, 0), stage("readback", 1, 0, 0, 0),
+                         stage("check", 2, 0, 990, 0), stage("encode", 2, 0, 0, 0)});
+  const auto b = find_bottleneck(w);
+  EXPECT_EQ(b.stage, "gpu");
+  EXPECT_EQ(b.text, "gpu busy 88 %, render waited 80 % on it: gpu is the bottleneck");
+}
+
+// A saturated CPU stage with the GPU after it: the GPU, never waiting for the loop, is not quoted
+// as waiting for the stage's output; nor is a stage upstream that never waited on it.
+TEST(PipelineReport, ASlowCpuStageBeforeTheGpuQuotesNoIdleWait) {
+  const auto w = window({stage("intake", 1, 5, 0, 0), stage("evaluate", 1, 850, 0, 0), stage("plan", 1, 10, 0, 0),
+                         stage("render", 1, 30, 0, 0), stage("gpu", 3, 40, 0, 0), stage("readback", 1, 60, 0, 0),
+                         stage("check", 2, 2, 900, 0), stage("encode", 2, 50, 0, 0)});
+  EXPECT_EQ(find_bottleneck(w).text,
+            "evaluate busy 85 % (its thread 96 %), check waited 90 % for its output: evaluate is the bottleneck");
+  const auto r = window({stage("intake", 1, 5, 0, 0), stage("render", 1, 30, 0, 0), stage("gpu", 3, 40, 0, 0),
+                         stage("readback", 1, 800, 0, 0), stage("check", 2, 2, 0, 0), stage("encode", 2, 50, 0, 0)});
+  EXPECT_EQ(find_bottleneck(r).text, "readback busy 80 % (its thread 84 %): readback is the bottleneck");
+}
+
 TEST(PipelineReport, AClockPacedPipelineHasNoBottleneck) {
   const auto w = window({stage("intake", 1, 5, 850, 0), stage("render", 1, 90, 0, 0), stage("check", 2, 1, 900, 0),
                          stage("encode", 2, 60, 0, 0)});
