@@ -6,6 +6,7 @@
 // the trace-json slices.
 #include "meter/runner/live_loop.hpp"
 
+#include <algorithm>
 #include <optional>
 
 #include "meter/engine/pipeline/frame_pipeline.hpp"
@@ -220,9 +221,13 @@ FramePacer::FrameTime LiveLoop::intake() {
   if (concurrent_) dump_.collect(false);
   if (overlapped_) ctx_.pipeline.poll_in_flight();
   const std::int64_t wait_began = protocol::monotonic_now_ns();
+  // Idle with a frame in flight: it is handed on as soon as it is seen finished (its "drawn" stamp
+  // within 2 ms of its end), but not waited for here: were the GPU still busy when the next frame
+  // falls due, that frame's intake, evaluation and plan would not overlap it.
   auto wait_poll = [this](std::chrono::milliseconds t) {
     if (!ctx_.pipeline.in_flight()) return poll(t);
-    complete(nullptr, false);  // about to idle: the frame in flight is waited for and handed on first
+    if (!ctx_.pipeline.poll_in_flight()) return poll(std::min(t, std::chrono::milliseconds(2)));
+    complete(nullptr, false);
     return false;
   };
   if (concurrent_) {

@@ -28,16 +28,24 @@ TEST(SlowStage, EveryStageNamedWithItsDelay) {
 }
 
 TEST(SlowStage, BadTextIsRefusedNamingWhatWasExpected) {
-  EXPECT_NE(refusal("encode").find("expected STAGE:MS"), std::string::npos);
-  EXPECT_NE(refusal("gpu:5").find("unknown stage \"gpu\" (expected one of intake, evaluate"), std::string::npos);
-  EXPECT_NE(refusal("encode:fast").find("\"fast\" is not a delay in milliseconds"), std::string::npos);
-  EXPECT_NE(refusal("encode:0").find("not a delay"), std::string::npos);
-  EXPECT_NE(refusal("encode:-3").find("not a delay"), std::string::npos);
-  EXPECT_NE(refusal("encode:5000").find("(0, 1000]"), std::string::npos);
-  EXPECT_NE(refusal("encode:nan").find("not a delay"), std::string::npos);
-  // Plan and render are inside the engine's one render call outside the overlapped loop.
-  EXPECT_NE(refusal("plan:5", false).find("use --pipeline overlapped"), std::string::npos);
-  EXPECT_EQ(refusal("intake:5", false), "accepted");
+  struct Case {
+    const char* text;
+    bool overlapped;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"encode", true, "expected STAGE:MS"},
+      {"gpu:5", true, "unknown stage \"gpu\" (expected one of intake, evaluate"},
+      {"encode:fast", true, "\"fast\" is not a delay in milliseconds"},
+      {"encode:0", true, "not a delay"},
+      {"encode:-3", true, "not a delay"},
+      {"encode:5000", true, "(0, 1000]"},
+      {"encode:nan", true, "not a delay"},
+      // Plan and render are inside the engine's one render call outside the overlapped loop.
+      {"plan:5", false, "use --pipeline overlapped"},
+      {"intake:5", false, "accepted"},
+  };
+  for (const Case& c : cases) EXPECT_NE(refusal(c.text, c.overlapped).find(c.says), std::string::npos) << c.text;
 }
 
 }  // namespace
