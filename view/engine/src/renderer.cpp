@@ -152,9 +152,9 @@ std::int64_t Renderer::wait_drawn() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
 }
 
-bool Renderer::drawn_done() {
+bool Renderer::drawn_done(std::chrono::nanoseconds wait) {
   if (!drawn_fence_) return true;
-  const GLenum r = gl_.ClientWaitSync(drawn_fence_, 0, 0);
+  const GLenum r = gl_.ClientWaitSync(drawn_fence_, 0, static_cast<GLuint64>(std::max<std::int64_t>(0, wait.count())));
   if (r == GL_WAIT_FAILED) throw platform::GlError(scene_.source_name + ": asking whether a frame is drawn (glClientWaitSync failed)");
   return r != GL_TIMEOUT_EXPIRED;
 }

@@ -218,15 +218,16 @@ FramePacer::FrameTime LiveLoop::intake() {
     BusyScope busy(stats_.intake, false);
     if (drain() && !changed_since_) changed_since_ = Clock::now();
   }
+  if (overlapped_) ctx_.pipeline.poll_in_flight();  // before the dump's collect: the frame's "drawn" stamp
   if (concurrent_) dump_.collect(false);
-  if (overlapped_) ctx_.pipeline.poll_in_flight();
   const std::int64_t wait_began = protocol::monotonic_now_ns();
-  // Idle with a frame in flight: it is handed on as soon as it is seen finished (its "drawn" stamp
-  // within 2 ms of its end), but not waited for here: were the GPU still busy when the next frame
-  // falls due, that frame's intake, evaluation and plan would not overlap it.
+  // Idle with a frame in flight: its fence is waited for 1 ms at a time between link polls, so it
+  // is stamped drawn as it finishes and handed on; it is not waited for longer: were the GPU still
+  // busy when the next frame falls due, that frame's intake, evaluation and plan would not overlap it.
   auto wait_poll = [this](std::chrono::milliseconds t) {
     if (!ctx_.pipeline.in_flight()) return poll(t);
-    if (!ctx_.pipeline.poll_in_flight()) return poll(std::min(t, std::chrono::milliseconds(2)));
+    if (!ctx_.pipeline.poll_in_flight(std::min<std::chrono::nanoseconds>(t, std::chrono::milliseconds(1))))
+      return poll(std::chrono::milliseconds(0));
     complete(nullptr, false);
     return false;
   };
@@ -288,6 +289,7 @@ void LiveLoop::frame_overlapped(const FramePacer::FrameTime& ft) {
     slow_.in("render");
     ctx_.pipeline.draw();
   }
+  ctx_.pipeline.poll_in_flight();
   ++frame_;
 }
 

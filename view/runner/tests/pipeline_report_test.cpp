@@ -49,6 +49,10 @@ TEST(PipelineReport, ARenderStageWaitingOnTheGpuNamesTheGpu) {
   const Bottleneck b = find_bottleneck(overlapped(20, 800, 880, 0, 990));
   EXPECT_EQ(b.stage, "gpu");
   EXPECT_EQ(b.text, "gpu busy 88 %, render waited 80 % on it: gpu is the bottleneck");
+  // Render held back by the GPU is not held back by a busier PNG writer further on.
+  PipelineWindow w = overlapped(20, 110, 140, 70, 400);
+  w.stages.back().busy_ns = 560 * kMs;
+  EXPECT_EQ(find_bottleneck(w).text, "gpu busy 14 %, render waited 11 % on it: gpu is the bottleneck");
 }
 
 // A saturated CPU stage with the GPU after it: the GPU, never waiting for the loop, is not quoted

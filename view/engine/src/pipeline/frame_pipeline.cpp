@@ -62,14 +62,16 @@ const FrameRecord* FramePipeline::complete() {
   in_flight_.reset();
   FrameRecord& r = completed_.record;
   r.states = &completed_.states;
-  if (!renderer_.drawn_done()) {
+  if (r.render_ended_ns == 0 && !renderer_.drawn_done()) {
     r.gpu_wait_ns = renderer_.wait_drawn();
     r.gpu_busy_until_ns = protocol::monotonic_now_ns();
   }
   renderer_.wait_drawn();  // done already: the fence is let go
   r.timing.gpu_readback_ms += static_cast<double>(r.gpu_wait_ns) / 1e6;
-  r.render_ended_realtime_ns = protocol::realtime_now_ns();
-  r.render_ended_ns = protocol::monotonic_now_ns();
+  if (r.render_ended_ns == 0) {  // not seen finished before: it is now
+    r.render_ended_realtime_ns = protocol::realtime_now_ns();
+    r.render_ended_ns = protocol::monotonic_now_ns();
+  }
   if (governor_) {
     // The frame's own cost (its plan, submission and the wait for its execution), not the next
     // frame's intake and evaluation that ran while it executed.
@@ -95,10 +97,16 @@ void FramePipeline::draw() {
   in_flight_ = InFlight{record_, evaluator_.states()};
 }
 
-bool FramePipeline::poll_in_flight() {
+bool FramePipeline::poll_in_flight(std::chrono::nanoseconds wait) {
   if (!in_flight_) return true;
-  if (renderer_.drawn_done()) return true;
-  in_flight_->record.gpu_busy_until_ns = protocol::monotonic_now_ns();
+  FrameRecord& r = in_flight_->record;
+  if (r.render_ended_ns != 0) return true;
+  if (renderer_.drawn_done(wait)) {  // first seen finished: the frame is drawn now, whenever it is handed on
+    r.render_ended_realtime_ns = protocol::realtime_now_ns();
+    r.render_ended_ns = protocol::monotonic_now_ns();
+    return true;
+  }
+  r.gpu_busy_until_ns = protocol::monotonic_now_ns();
   return false;
 }
 

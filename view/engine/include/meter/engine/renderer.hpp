@@ -151,8 +151,9 @@ class Renderer {
   void set_frame_end(FrameEnd end) { frame_end_ = end; }
   // The frame draw() fenced waited for; the nanoseconds waited (0: none pending, or done already).
   std::int64_t wait_drawn();
-  // Whether the fenced frame has finished executing, asked without waiting (true: none pending).
-  bool drawn_done();
+  // Whether the fenced frame has finished executing (true: none pending), waiting at most `wait`
+  // for it (returning as soon as it finishes).
+  bool drawn_done(std::chrono::nanoseconds wait = std::chrono::nanoseconds(0));
   const platform::Image& last_image() const { return image_; }
   // Resolves and reads the current contents of the target (the last drawn frame).
   const platform::Image& read();

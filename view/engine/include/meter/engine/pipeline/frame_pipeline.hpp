@@ -7,6 +7,7 @@
 // FrameSinks added once; each frame reaches every one of them in the order they were added.
 #pragma once
 
+#include <chrono>
 #include <optional>
 #include <vector>
 
@@ -55,9 +56,11 @@ class FramePipeline {
   // nullptr when no frame is in flight; the record stays valid until the next complete().
   const FrameRecord* complete();
   void draw();
-  // Without waiting: whether the frame in flight has finished executing (true when none is); while
-  // it has not, its FrameRecord::gpu_busy_until_ns moves on to now.
-  bool poll_in_flight();
+  // Whether the frame in flight has finished executing (true when none is), waiting at most `wait`
+  // (it returns as soon as the frame finishes); while it has not, its FrameRecord::
+  // gpu_busy_until_ns moves on to now; the first time it has, its render_ended stamps (the frame
+  // drawn) are taken, not later when complete() hands it on.
+  bool poll_in_flight(std::chrono::nanoseconds wait = std::chrono::nanoseconds(0));
   bool in_flight() const { return in_flight_.has_value(); }
 
   BindingEvaluator& evaluator() { return evaluator_; }
