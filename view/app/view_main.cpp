@@ -71,10 +71,12 @@ int main(int argc, char** argv) {
                  "live: Chrome trace-event JSON (intake, evaluate, render, readback, encode on CLOCK_MONOTONIC, "
                  "the controller's --trace-json clock; opens in Perfetto UI)");
   app.add_option("--pipeline", o.pipeline,
-                 "live: concurrent (PNG check/encode on the writer thread through a bounded buffer, readback "
-                 "through pixel-pack buffers, a frame as soon as a change may be drawn) or sequential (the "
-                 "loop as before: frames on the --fps ticks, synchronous readback); docs/pipeline.md")
-      ->check(CLI::IsMember({"concurrent", "sequential"}))->capture_default_str()->needs(link_opt);
+                 "live: overlapped (concurrent, and a frame's GL work executes, fenced, while the next frame "
+                 "is taken in, evaluated and planned), concurrent (PNG check/encode on the writer thread "
+                 "through a bounded buffer, readback through pixel-pack buffers, a frame as soon as a change "
+                 "may be drawn; each frame waited for with glFinish) or sequential (the loop as before: frames "
+                 "on the --fps ticks, synchronous readback); docs/pipeline.md")
+      ->check(CLI::IsMember({"overlapped", "concurrent", "sequential"}))->capture_default_str()->needs(link_opt);
   app.add_option("--dump-policy", o.dump_policy,
                  "live: when the PNG writer is behind, drop the --dump-every frame (counted) or block the "
                  "render loop until it has room (default: drop when concurrent, block when sequential); "
@@ -96,6 +98,8 @@ int main(int argc, char** argv) {
                "live: do not check the package's safety regions after each frame (docs/integrity.md)");
   // Test-only (docs/integrity.md): hidden from --help, it draws a wrong display on purpose.
   app.add_option("--inject-fault", o.inject_fault, "")->group("")->needs(link_opt);
+  // Test-only (docs/pipeline.md): hidden, STAGE:MS slept in one stage so --stats must name it.
+  app.add_option("--inject-slow-stage", o.inject_slow_stage, "")->group("")->needs(link_opt);
   // The frame-rate governor (docs/uniform-frame-rate.md).
   app.add_option("--target-ms", o.target_ms,
                  "live and play: target frame time; turns the frame-rate governor on (each frame drawn with the best "

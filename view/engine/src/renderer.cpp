@@ -46,6 +46,7 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
 
 Renderer::~Renderer() {
   backend_.make_current();
+  if (drawn_fence_) gl_.DeleteSync(drawn_fence_);
   text_.reset();
   text_by_height_.clear();
   submission_.reset();
@@ -139,7 +140,23 @@ platform::RenderTarget& Renderer::output_target() { return output_ ? *output_ : 
 
 FrameTiming Renderer::render(bool force, bool read_back) {
   plan(force, read_back);
-  return draw();
+  return draw_ending(std::nullopt, FrameEnd::Finish);
+}
+
+std::int64_t Renderer::wait_drawn() {
+  if (!drawn_fence_) return 0;
+  const auto t0 = Clock::now();
+  const GLenum r = gl_.ClientWaitSync(drawn_fence_, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+  gl_.DeleteSync(std::exchange(drawn_fence_, nullptr));
+  if (r == GL_WAIT_FAILED) throw platform::GlError(scene_.source_name + ": waiting for a drawn frame (glClientWaitSync failed)");
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
+}
+
+bool Renderer::drawn_done(std::chrono::nanoseconds wait) {
+  if (!drawn_fence_) return true;
+  const GLenum r = gl_.ClientWaitSync(drawn_fence_, 0, static_cast<GLuint64>(std::max<std::int64_t>(0, wait.count())));
+  if (r == GL_WAIT_FAILED) throw platform::GlError(scene_.source_name + ": asking whether a frame is drawn (glClientWaitSync failed)");
+  return r != GL_TIMEOUT_EXPIRED;
 }
 
 const governor::FrameLoad& Renderer::plan(bool force, bool read_back) {
@@ -159,9 +176,10 @@ const governor::FrameLoad& Renderer::plan(bool force, bool read_back) {
     last_load_.read_back = read_back;
     return last_load_;
   }
-  planned_.plan_began = Clock::now();
+  const auto plan_began = Clock::now();
   // What every draw and text looks like now: compared with the last drawn frame, then remembered.
   planned_.plan = plan_at_quality(planned_.force, read_back, planned_.now);
+  planned_.timing.plan_ms = ms_since(plan_began);
   return last_load_;
 }
 
@@ -177,30 +195,44 @@ FrameTiming Renderer::skip(bool read_back, FrameTiming t) {
   return t;
 }
 
-FrameTiming Renderer::draw(const std::optional<governor::QualityChoice>& choice) {
+FrameTiming Renderer::draw(const std::optional<governor::QualityChoice>& choice) { return draw_ending(choice, frame_end_); }
+
+FrameTiming Renderer::draw_ending(const std::optional<governor::QualityChoice>& choice, FrameEnd end) {
   PlannedFrame& f = planned_;
+  wait_drawn();  // one frame in flight at most: its caller completes it first, or it is waited for here
   FrameTiming& t = f.timing;
+  const auto replan_began = Clock::now();
+  // A safe-path redraw after this frame was planned (the overlapped pipeline checks the frame
+  // before once this one is planned): drawn in full, as a frame planned after it would be.
+  const bool redraw_all = std::exchange(redraw_all_, false);
   if (f.idle) {
     if (choice) set_quality(*choice);
-    if (!dirty_ && !global_changed_) return skip(f.read, t);
-    f.plan_began = Clock::now();
+    if (!dirty_ && !global_changed_ && !redraw_all) return skip(f.read, t);
+    f.force = f.force || redraw_all;
     f.plan = plan_at_quality(f.force, f.read, f.now);
-  } else if (choice && !(checked_choice(units_, *choice, quality_.global.msaa) == quality_)) {
+    t.plan_ms += ms_since(replan_began);
+  } else if (const bool requality = choice && !(checked_choice(units_, *choice, quality_.global.msaa) == quality_);
+             requality || redraw_all) {
     // The choice is planned, not asked about again.
-    set_quality(*choice);
+    if (requality) set_quality(*choice);
+    f.force = f.force || redraw_all;
     f.plan = plan_at_quality(f.force, f.read, f.now);
+    t.plan_ms += ms_since(replan_began);
   }
+  const auto submit_began = Clock::now();
   const FramePlan& plan = f.plan;
-  t.plan_ms = ms_since(f.plan_began);
   dirty_ = false;
   if (!plan.draw) {
-    t.submit_ms = ms_since(f.plan_began);
+    t.submit_ms = t.plan_ms;
     return skip(f.read, t);
   }
   if (fault_) execute_faulty(plan, f.now);
   else execute(plan, f.now);
   note_written(plan);
-  resolve_watched(plan);
+  // A fenced frame is not waited for here: resolving the integrity monitor's boxes with it would
+  // wait for its execution at once (the resolve samples what it draws). Its reads resolve them.
+  if (end == FrameEnd::Fence && !f.read) watched_.clear(), clean_.clear();
+  else resolve_watched(plan);
   if (plan.full) {
     t.redrawn_fraction = 1.0;
   } else {
@@ -211,10 +243,15 @@ FrameTiming Renderer::draw(const std::optional<governor::QualityChoice>& choice)
     ++stats_.partial_frames;
   }
   drawn_ = drawn_frame(std::move(f.now));
-  t.submit_ms = ms_since(f.plan_began);
+  t.submit_ms = t.plan_ms + ms_since(submit_began);
   auto t2 = Clock::now();
-  gl_.Finish();
-  if (f.read) read();
+  if (end == FrameEnd::Fence && !f.read) {
+    drawn_fence_ = gl_.FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    gl_.Flush();  // the frame starts executing now, not at the next wait
+  } else {
+    gl_.Finish();
+    if (f.read) read();
+  }
   t.gpu_readback_ms = ms_since(t2);
   platform::check_gl(gl_, scene_.source_name + ": drawing a frame");
   t.drawn = true;

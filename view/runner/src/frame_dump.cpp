@@ -1,6 +1,7 @@
 #include "meter/runner/frame_dump.hpp"
 
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "meter/protocol/trace_events.hpp"
@@ -19,6 +20,7 @@ FrameDump::FrameDump(RenderContext& ctx, PngWriter& writer, FramesCsv& csv, Fram
 void FrameDump::on_drawn(const engine::FrameRecord& f) {
   if (!setup_.concurrent || !f.request.output) return;
   BusyScope busy(*setup_.readback);
+  if (setup_.slow_readback.count() > 0) std::this_thread::sleep_for(setup_.slow_readback);
   const std::uint64_t n = f.request.frame;
   rows_[n] = PendingRow{f.request.t, f.link_up, f.timing.drawn, *f.states, std::nullopt,
                         f.governor ? std::optional(*f.governor) : std::nullopt,

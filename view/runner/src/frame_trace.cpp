@@ -14,12 +14,22 @@ void trace_frame_events(TraceEvents& events, const engine::FrameRecord& f) {
   const engine::FrameTiming& timing = f.timing;
   const std::vector<std::pair<std::string, std::int64_t>> args = {{"frame", static_cast<std::int64_t>(f.request.frame)},
                                                                   {"drawn", timing.drawn ? 1 : 0}};
+  // Overlapped (a fenced frame): the render loop's part ends at the submission; the execution is a
+  // slice of the gpu lane (to when it was last seen executing); the wait for it (readback, as
+  // glFinish is in the other loops) where it happened: before the next frame's submission, or
+  // in the wait for input when the loop idled.
+  const bool fenced = f.submitted_ns != 0;
   events.complete("evaluate", "view", f.evaluate_began_ns, f.render_began_ns, 1, args);
-  events.complete("render", "view", f.render_began_ns, f.render_ended_ns, 1, args);
+  events.complete("render", "view", f.render_began_ns, fenced ? f.submitted_ns : f.render_ended_ns, 1, args);
+  if (fenced) {
+    events.complete("execute", "view", f.submitted_ns, f.gpu_busy_until_ns, 3, args);
+    events.complete("readback", "view", f.render_ended_ns - f.gpu_wait_ns, f.render_ended_ns, 1, args);
+  }
   std::int64_t t = f.render_began_ns;
   const std::pair<const char*, double> parts[] = {
       {"update", timing.update_ms}, {"submit", timing.submit_ms}, {"readback", timing.gpu_readback_ms}};
   for (const auto& [name, ms] : parts) {
+    if (fenced && name == std::string("readback")) continue;
     const auto end = t + static_cast<std::int64_t>(ms * 1e6);
     events.complete(name, "view", t, end, 1, args);
     t = end;

@@ -1,5 +1,7 @@
 #include "meter/runner/integrity_monitor.hpp"
 
+#include <utility>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -182,6 +184,7 @@ std::vector<bridge::PixelRect> IntegrityMonitor::read_rects(std::size_t i, std::
 void IntegrityMonitor::prepare(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator) {
   if (!on_) return;
   expectations_.evaluate(evaluator, expected_);
+  prepared_ = true;
   std::vector<platform::PixelRegion> boxes;
   for (std::size_t i = 0; i < table_.regions.size(); ++i)
     if (expected_[i].known)
@@ -194,7 +197,9 @@ const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& ren
   frame_faults_.clear();
   if (!on_) return frame_faults_;
   ++frame_;
-  expectations_.evaluate(evaluator, expected_);
+  // The state the frame was drawn from: named at prepare(), before the frame was drawn (the
+  // overlapped pipeline has evaluated the next frame by the time this one is checked).
+  if (!std::exchange(prepared_, false)) expectations_.evaluate(evaluator, expected_);
   const std::vector<platform::PixelRegion> written = renderer.take_written();
   // A region is read when its pixels can differ from the ones read last (the renderer drew into
   // it, or was asked to show it differently), or when it was last read kRefreshFrames ago. A

@@ -1,10 +1,12 @@
 // Live mode: a policy over the engine's frame pipeline. The state comes from the controller's link
 // (every pending message applied right before a frame); a frame is due on the view's clock
-// (sequential) or as soon as a change may be drawn (concurrent). Its sinks, in order: the timing
-// CSV, the latency trace, the integrity monitor, the PNG dump (frames.csv rows), the trace-json
-// slices.
+// (sequential) or as soon as a change may be drawn (concurrent, overlapped). Overlapped: a frame's
+// GL work executes, fenced, while the next frame is taken in, evaluated and planned. Its sinks, in
+// order: the timing CSV, the latency trace, the integrity monitor, the PNG dump (frames.csv rows),
+// the trace-json slices.
 #include "meter/runner/live_loop.hpp"
 
+#include <algorithm>
 #include <optional>
 
 #include "meter/engine/pipeline/frame_pipeline.hpp"
@@ -24,6 +26,7 @@
 #include "meter/runner/process_signals.hpp"
 #include "meter/runner/script_log.hpp"
 #include "meter/runner/service_notify.hpp"
+#include "meter/runner/slow_stage.hpp"
 #include "meter/runner/stage_wait.hpp"
 #include "meter/runner/trace_ring.hpp"
 #include "meter/runner/view_error.hpp"
@@ -52,10 +55,13 @@ DumpOverflow dump_overflow(const ViewOptions& options, bool concurrent) {
   throw ViewError("--dump-policy: expected drop or block, got \"" + p + "\"");
 }
 
-bool concurrent_pipeline(const ViewOptions& options) {
-  if (options.pipeline == "concurrent") return true;
-  if (options.pipeline == "sequential") return false;
-  throw ViewError("--pipeline: expected concurrent or sequential, got \"" + options.pipeline + "\"");
+enum class LoopKind { Sequential, Concurrent, Overlapped };
+
+LoopKind loop_kind(const ViewOptions& options) {
+  if (options.pipeline == "overlapped") return LoopKind::Overlapped;
+  if (options.pipeline == "concurrent") return LoopKind::Concurrent;
+  if (options.pipeline == "sequential") return LoopKind::Sequential;
+  throw ViewError("--pipeline: expected overlapped, concurrent or sequential, got \"" + options.pipeline + "\"");
 }
 
 // The link's endpoint, once SIGINT/SIGTERM end the loop (installed before the link connects).
@@ -75,7 +81,10 @@ class LiveLoop {
   void trace_applied(std::int64_t poll_begin);
   void follow_catalog();
   FramePacer::FrameTime intake();
+  engine::FrameRequest evaluate(const FramePacer::FrameTime& ft);
   void frame(const FramePacer::FrameTime& ft);
+  void frame_overlapped(const FramePacer::FrameTime& ft);
+  void complete(StageMeter* waiter, bool for_output);
   void meter_frame(const engine::FrameRecord& r);
   void after_frame();
   void note_dump_failures(Clock::time_point now);
@@ -86,7 +95,11 @@ class LiveLoop {
   RenderContext& ctx_;
   const ViewOptions& options_;
   std::ostream& log_;
-  const bool concurrent_;
+  const bool concurrent_, overlapped_;
+  const SlowStage slow_;  // test only (--inject-slow-stage)
+  // Overlapped: the frame in flight completes before the next is evaluated when the governor
+  // runs (it pairs a frame's time with the renderer's load of it).
+  bool completes_first_ = false;
   const DumpOverflow overflow_;
   DumpPolicy policy_;
   protocol::Subscriber sub_;
@@ -115,7 +128,10 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
     : ctx_(ctx),
       options_(options),
       log_(log),
-      concurrent_(concurrent_pipeline(options)),
+      concurrent_(loop_kind(options) != LoopKind::Sequential),
+      // An injected integrity fault is scheduled against the loop it was written for: concurrent.
+      overlapped_(loop_kind(options) == LoopKind::Overlapped && options.inject_fault.empty()),
+      slow_(parse_slow_stage(options.inject_slow_stage, overlapped_)),
       overflow_(dump_overflow(options, concurrent_)),
       policy_(dump_policy(options)),
       sub_(live_endpoint(options), view_link_options(options)),
@@ -131,14 +147,24 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
             events_.complete("encode", "view", encode_began_, protocol::monotonic_now_ns(), 2,
                              {{"frame", static_cast<std::int64_t>(n)}});
           },
-          [this](std::uint64_t) { encode_began_ = protocol::monotonic_now_ns(); }),
+          [this](std::uint64_t) {
+            encode_began_ = protocol::monotonic_now_ns();
+            slow_.in("encode");  // inside the encode stage's busy span
+          }),
       stats_(png_writer_, options.stats ? options.stats_interval_s : 0.0, Clock::now()),
       dump_(ctx, png_writer_, csv_,
             FrameDumpSetup{concurrent_, overflow_, &integrity_, &stats_.readback, &events_,
-                           [this] { poll(std::chrono::milliseconds(5)); }}),
+                           [this] { poll(std::chrono::milliseconds(5)); }, slow_.of("readback")}),
       frame_trace_(events_, options.trace_on_overrun_ms, log) {
   events_.thread_name(1, "render loop");
   events_.thread_name(2, "png writer");
+  events_.thread_name(3, "gpu");
+  png_writer_.slow_check(slow_.of("check"));
+  if (!slow_.stage.empty()) log_ << "meter-view: TEST SLOW STAGE: " << options.inject_slow_stage << "\n";
+  if (overlapped_) {
+    ctx_.pipeline.set_overlap(true);
+    completes_first_ = ctx.governed.governing() || !options.inject_cost.empty();
+  }
   ctx_.pipeline.set_governor(&ctx.governed);  // docs/uniform-frame-rate.md
   for (engine::FrameSink* sink : std::initializer_list<engine::FrameSink*>{&ctx.timing, &trace_, &integrity_, &dump_, &frame_trace_})
     ctx_.pipeline.add_sink(*sink);
@@ -199,9 +225,19 @@ FramePacer::FrameTime LiveLoop::intake() {
     BusyScope busy(stats_.intake, false);
     if (drain() && !changed_since_) changed_since_ = Clock::now();
   }
+  if (overlapped_) ctx_.pipeline.poll_in_flight();  // before the dump's collect: the frame's "drawn" stamp
   if (concurrent_) dump_.collect(false);
   const std::int64_t wait_began = protocol::monotonic_now_ns();
-  auto wait_poll = [this](std::chrono::milliseconds t) { return poll(t); };
+  // Idle with a frame in flight: its fence is waited for 1 ms at a time between link polls, so it
+  // is stamped drawn as it finishes and handed on; it is not waited for longer: were the GPU still
+  // busy when the next frame falls due, that frame's intake, evaluation and plan would not overlap it.
+  auto wait_poll = [this](std::chrono::milliseconds t) {
+    if (!ctx_.pipeline.in_flight()) return poll(t);
+    if (!ctx_.pipeline.poll_in_flight(std::min<std::chrono::nanoseconds>(t, std::chrono::milliseconds(1))))
+      return poll(std::chrono::milliseconds(0));
+    complete(nullptr, false);
+    return false;
+  };
   if (concurrent_) {
     wait_for_change_or_frame(pacer_, changed_since_, stop_requested, wait_poll);
   } else {
@@ -210,32 +246,74 @@ FramePacer::FrameTime LiveLoop::intake() {
   note_wait(stats_.intake, &events_, false, "wait for input", wait_began);
   {
     BusyScope busy(stats_.intake);
+    slow_.in("intake");
     if (drain() && !changed_since_) changed_since_ = Clock::now();
     follow_catalog();
   }
+  if (overlapped_) ctx_.pipeline.poll_in_flight();
   const auto ft = pacer_.begin_frame(Clock::now(), concurrent_ && changed_since_.has_value());
   changed_since_.reset();
   return ft;
 }
 
-// The link's state through the pipeline. Sequential: the render reads a dumped frame back itself;
-// concurrent: the dump reads it through pixel-pack buffers.
-void LiveLoop::frame(const FramePacer::FrameTime& ft) {
+// The link's state through the bindings, and what the frame is asked for. Sequential: the render
+// reads a dumped frame back itself; otherwise the dump reads it through pixel-pack buffers.
+engine::FrameRequest LiveLoop::evaluate(const FramePacer::FrameTime& ft) {
   engine::FrameRequest request{frame_, ft.t};
-  {
-    BusyScope busy(stats_.evaluate);
-    ctx_.pipeline.evaluate(sub_.signals(), sub_.link_up(), ft.dt);  // read in place, no copy
-    log_script_messages(ctx_.pipeline.evaluator(), log_);
-    const DumpChoice choice = policy_.decide(frame_, ft.t, take_dump_request());
-    request.output = choice.write;
-    request.output_asked = choice.asked;  // --dump-at, SIGUSR1: asked for, never dropped
-    request.read = choice.write && !concurrent_;
-  }
-  meter_frame(ctx_.pipeline.render(request));
+  BusyScope busy(stats_.evaluate);
+  slow_.in("evaluate");
+  ctx_.pipeline.evaluate(sub_.signals(), sub_.link_up(), ft.dt);  // read in place, no copy
+  log_script_messages(ctx_.pipeline.evaluator(), log_);
+  const DumpChoice choice = policy_.decide(frame_, ft.t, take_dump_request());
+  request.output = choice.write;
+  request.output_asked = choice.asked;  // --dump-at, SIGUSR1: asked for, never dropped
+  request.read = choice.write && !concurrent_;
+  return request;
+}
+
+void LiveLoop::frame(const FramePacer::FrameTime& ft) {
+  if (overlapped_) return frame_overlapped(ft);
+  meter_frame(ctx_.pipeline.render(evaluate(ft)));
   ++frame_;
 }
 
-// The renderer evaluates and plans the frame, then executes it: plan and render, one call.
+// CUBE's double buffer between the CPU stages and the GPU: frame N executes while N+1 is taken in
+// (intake), evaluated and planned; then N is completed (its fence waited for: render's wait for
+// output space; its sinks run) and N+1 submitted, fenced, in its place.
+void LiveLoop::frame_overlapped(const FramePacer::FrameTime& ft) {
+  if (completes_first_) complete(&stats_.evaluate, false);
+  const engine::FrameRequest request = evaluate(ft);
+  ctx_.pipeline.poll_in_flight();
+  {
+    BusyScope busy(stats_.plan);
+    slow_.in("plan");
+    ctx_.pipeline.plan(request);
+  }
+  ctx_.pipeline.poll_in_flight();
+  complete(&stats_.render, true);
+  {
+    BusyScope busy(stats_.render);
+    slow_.in("render");
+    ctx_.pipeline.draw();
+  }
+  ctx_.pipeline.poll_in_flight();
+  ++frame_;
+}
+
+// The frame in flight waited for and handed to the sinks. The wait is `waiter`'s: for output
+// space (render: the GPU still holds the frame before) or for input (evaluate: the governor
+// learns from that frame first); nullptr: the loop was about to wait for input anyway.
+void LiveLoop::complete(StageMeter* waiter, bool for_output) {
+  const engine::FrameRecord* r = ctx_.pipeline.complete();
+  if (!r) return;
+  if (waiter && for_output) waiter->waited_output(r->gpu_wait_ns);
+  if (waiter && !for_output) waiter->waited_input(r->gpu_wait_ns);
+  stats_.gpu.busy(r->gpu_busy_until_ns - r->submitted_ns);
+  stats_.gpu.item();
+}
+
+// Sequential and concurrent: the renderer evaluates and plans the frame, then executes it: plan
+// and render, one call.
 // Sequential: render() read the frame back itself; its glFinish + resolve + read time counts as
 // readback. Concurrent: render()'s glFinish is render's, the pixel-pack read is metered by the dump.
 void LiveLoop::meter_frame(const engine::FrameRecord& r) {

@@ -13,7 +13,7 @@ LiveStats::LiveStats(const PngWriter& writer, double interval_s, Clock::time_poi
       last_times_(read()) {}
 
 std::vector<StageTimes> LiveStats::read() const {
-  return {intake.read(), evaluate.read(), plan.read(), render.read(), readback.read(), writer_.check_meter().read(),
+  return {intake.read(), evaluate.read(), plan.read(), render.read(), gpu.read(), readback.read(), writer_.check_meter().read(),
           writer_.encode_meter().read()};
 }
 

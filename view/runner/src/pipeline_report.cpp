@@ -51,7 +51,13 @@ Bottleneck find_bottleneck(const PipelineWindow& w) {
   if (share(w.stages[blocked].wait_out_ns) >= kBlocked && blocked + 1 < w.stages.size()) {
     std::size_t first_after = blocked + 1;
     while (first_after < w.stages.size() && w.stages[first_after].lane == w.stages[blocked].lane) ++first_after;
-    if (first_after < w.stages.size()) top = busiest(first_after);
+    // The thread it waits on is the first one after it: the busiest stage of that thread (not of
+    // a thread further on: render waiting on the GPU is not held back by the PNG writer).
+    if (first_after < w.stages.size()) {
+      top = first_after;
+      for (std::size_t i = first_after; i < w.stages.size(); ++i)
+        if (w.stages[i].lane == w.stages[first_after].lane && w.stages[i].busy_ns > w.stages[top].busy_ns) top = i;
+    }
   } else if (share(lane_busy[w.stages[top].lane]) < kSaturated && w.dropped == 0) {
     const StageTimes& first = w.stages.front();
     b.text = "no bottleneck: " + first.name + " waited " + pct(first.wait_in_ns, w.wall_ns) +
@@ -72,11 +78,11 @@ Bottleneck find_bottleneck(const PipelineWindow& w) {
       break;
     }
   }
-  if (waiter) {
+  if (waiter && (waiter->wait_out_ns > 0 || w.dropped > 0)) {
     b.text += ", " + waiter->name + " waited " + pct(waiter->wait_out_ns, w.wall_ns) + " on it";
   } else {
     for (std::size_t i = top + 1; i < w.stages.size(); ++i) {
-      if (w.stages[i].lane != s.lane) {
+      if (w.stages[i].lane != s.lane && w.stages[i].wait_in_ns > 0) {
         b.text += ", " + w.stages[i].name + " waited " + pct(w.stages[i].wait_in_ns, w.wall_ns) + " for its output";
         break;
       }

@@ -1,5 +1,7 @@
 #include "meter/runner/png_writer.hpp"
 
+#include <thread>
+
 #include "meter/platform/flip_rows.hpp"
 #include "meter/runner/view_error.hpp"
 
@@ -73,6 +75,7 @@ void PngWriter::handle(Job& job) {
   const FrameInfo& info = job.frame.info;
   {
     BusyScope busy(check_meter_);
+    if (check_delay_.count() > 0) std::this_thread::sleep_for(check_delay_);
     if (job.bottom_up) platform::flip_rows(job.frame.image);
   }
   if (info.png.empty()) return;

@@ -35,6 +35,35 @@ TEST(PipelineReport, ARenderBoundLoopNamesRenderAndTheStarvedWriter) {
       << "render's producer shares its thread, so the downstream wait is quoted";
 }
 
+// The overlapped loop's eight stages (the GPU a lane of its own after render) over 1000 ms, with
+// the given busy times and render's wait for output space (for the frame still executing).
+PipelineWindow overlapped(int evaluate, int render_waits, int gpu, int readback, int check_waits) {
+  return window({stage("intake", 1, 5, 0, 0), stage("evaluate", 1, evaluate, 0, 0), stage("plan", 1, 10, 0, 0),
+                 stage("render", 1, 30, 0, render_waits), stage("gpu", 3, gpu, 0, 0), stage("readback", 1, readback, 0, 0),
+                 stage("check", 2, 2, check_waits, 0), stage("encode", 2, 50, 0, 0)});
+}
+
+// Render waiting for a frame still executing is a wait for output space, so the GPU is named, as
+// CUBE named scan conversion.
+TEST(PipelineReport, ARenderStageWaitingOnTheGpuNamesTheGpu) {
+  const Bottleneck b = find_bottleneck(overlapped(20, 800, 880, 0, 990));
+  EXPECT_EQ(b.stage, "gpu");
+  EXPECT_EQ(b.text, "gpu busy 88 %, render waited 80 % on it: gpu is the bottleneck");
+  // Render held back by the GPU is not held back by a busier PNG writer further on.
+  PipelineWindow w = overlapped(20, 110, 140, 70, 400);
+  w.stages.back().busy_ns = 560 * kMs;
+  EXPECT_EQ(find_bottleneck(w).text, "gpu busy 14 %, render waited 11 % on it: gpu is the bottleneck");
+}
+
+// A saturated CPU stage with the GPU after it: the GPU, never waiting for the loop, is not quoted
+// as waiting for the stage's output; nor is a stage upstream that never waited on it.
+TEST(PipelineReport, ASlowCpuStageBeforeTheGpuQuotesNoIdleWait) {
+  EXPECT_EQ(find_bottleneck(overlapped(850, 0, 40, 60, 900)).text,
+            "evaluate busy 85 % (its thread 96 %), check waited 90 % for its output: evaluate is the bottleneck");
+  EXPECT_EQ(find_bottleneck(overlapped(25, 0, 40, 800, 0)).text,
+            "readback busy 80 % (its thread 87 %): readback is the bottleneck");
+}
+
 TEST(PipelineReport, AClockPacedPipelineHasNoBottleneck) {
   const auto w = window({stage("intake", 1, 5, 850, 0), stage("render", 1, 90, 0, 0), stage("check", 2, 1, 900, 0),
                          stage("encode", 2, 60, 0, 0)});

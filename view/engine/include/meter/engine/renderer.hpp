@@ -84,7 +84,9 @@ struct FrameTiming {
   double update_ms = 0.0;        // world matrices (bindings and pose sampling run in apply())
   double submit_ms = 0.0;        // CPU time issuing GL calls
   double plan_ms = 0.0;          // part of submit_ms: the frame evaluated (draw states, texts) and planned
-  double gpu_readback_ms = 0.0;  // glFinish (+ resolve and readback when the frame is read)
+  // glFinish (+ resolve and readback when the frame is read); under FrameEnd::Fence the fence and
+  // flush, and the frame pipeline adds the wait for the frame when it completes it
+  double gpu_readback_ms = 0.0;
   bool drawn = false;            // false: frame skipped (inputs unchanged)
   double redrawn_fraction = 0.0; // share of the target's pixels redrawn (1 = a full frame)
   int regions = 0;               // scissored regions drawn (0 = a full frame or nothing)
@@ -139,8 +141,20 @@ class Renderer {
   // when nothing changed, so a choice made while the display is idle is still drawn at once.
   const governor::FrameLoad& plan(bool force = false, bool read = false);
   // draw(): `choice` (nullopt: keep the quality) applied, the frame planned again when it changed
-  // the quality, then drawn (or skipped) and waited for, as render() does. Once after each plan().
+  // the quality, then drawn (or skipped) and ended as set_frame_end() says. Once after each plan().
   FrameTiming draw(const std::optional<governor::QualityChoice>& choice = std::nullopt);
+  // How draw() ends a frame. Finish (the default; render() always): it waits for the GPU, so its
+  // timing holds the frame's whole cost. Fence: a fence after the frame's commands, flushed, and
+  // draw() returns at once: the frame executes while the caller evaluates and plans the next one
+  // (the overlapped frame pipeline). Its readers wait for it: wait_drawn() (a read through GL
+  // waits by GL's own ordering too); the next draw() waits first, so one frame is in flight at most.
+  enum class FrameEnd { Finish, Fence };
+  void set_frame_end(FrameEnd end) { frame_end_ = end; }
+  // The frame draw() fenced waited for; the nanoseconds waited (0: none pending, or done already).
+  std::int64_t wait_drawn();
+  // Whether the fenced frame has finished executing (true: none pending), waiting at most `wait`
+  // for it (returning as soon as it finishes).
+  bool drawn_done(std::chrono::nanoseconds wait = std::chrono::nanoseconds(0));
   const platform::Image& last_image() const { return image_; }
   // Resolves and reads the current contents of the target (the last drawn frame).
   const platform::Image& read();
@@ -267,11 +281,13 @@ class Renderer {
   struct PlannedFrame {
     bool idle = false, force = false, read = false;
     FrameTiming timing;
-    std::chrono::steady_clock::time_point plan_began;
     FramePlan plan;
     FrameState now;
   };
   PlannedFrame planned_;
+  FrameEnd frame_end_ = FrameEnd::Finish;
+  GLsync drawn_fence_ = nullptr;  // FrameEnd::Fence: the last drawn frame's, until waited for
+  FrameTiming draw_ending(const std::optional<governor::QualityChoice>& choice, FrameEnd end);
   glm::vec2 subpixel_offset_{0.0f};  // see set_subpixel_offset()
   platform::Image image_;
   RendererStats stats_;

@@ -6,6 +6,7 @@
 // it), handed to the writer once the fence has signalled (rows bottom-up, flipped by the writer).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -31,6 +32,7 @@ struct FrameDumpSetup {
   StageMeter* readback = nullptr;                // live --stats: the readback stage (nullptr: none; needed when concurrent)
   TraceEvents* events = nullptr;                 // waits for output space as slices (nullptr: none)
   std::function<void()> while_full;              // done while the writer's buffer is full
+  std::chrono::nanoseconds slow_readback{0};     // test only (--inject-slow-stage readback): slept per read
 };
 
 class FrameDump : public engine::FrameSink {

@@ -87,8 +87,9 @@ class IntegrityMonitor {
   const std::vector<IntegrityFault>& check(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator);
   // Optional, before the frame is rendered with the evaluator's state check() will judge: tells
   // the renderer which boxes check() will read (Renderer::resolve_with_frame), so their MSAA
-  // resolve joins the frame's own GPU flush instead of costing one more. The verdicts are the same
-  // with or without it.
+  // resolve joins the frame's own GPU flush instead of costing one more; and check() judges the
+  // frame against the state named here, though the evaluator may hold the next frame's by then.
+  // The verdicts are the same with or without it.
   void prepare(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator);
 
   std::uint64_t frames_checked() const { return frames_checked_; }
@@ -119,6 +120,7 @@ class IntegrityMonitor {
   std::vector<platform::PixelRegion> boxes_;  // each region's rect in GL window coordinates
   engine::ExpectedStates expectations_;
   std::vector<engine::RegionExpectation> expected_;  // this frame's, one per region
+  bool prepared_ = false;  // expected_ was named by prepare() for the frame check() judges next
   std::vector<RegionMemory> memory_;
   std::vector<std::optional<std::uint64_t>> whole_due_;    // needles: the call they are next read whole in
   // Needles: the half width (pixels) their window allows for; it starts at kStartHalfWidth and

@@ -27,12 +27,14 @@ struct Bottleneck {
 };
 
 // CUBE's rule: a stage that waited at least kBlocked of the window for space in its output buffer
-// is held back by the threads after it, and the busiest stage there is the bottleneck. Otherwise
+// is held back by the thread after it (the first stage after it on another thread, and the stages
+// of that thread), and the busiest stage there is the bottleneck. Otherwise
 // the busiest stage is, when its thread was busy at least kSaturated of the window or frames were
 // dropped at a buffer; else none is ("no bottleneck: intake waited 88 % for input (the frame
 // clock, the link), busiest render 9 %"). The wait quoted is the nearest upstream stage on another
-// thread waiting for output space (it waited on the bottleneck), or, when the bottleneck's
-// producer shares its thread, the next downstream stage on another thread waiting for input.
+// thread waiting for output space (it waited on the bottleneck; quoted when it waited at all or
+// frames were dropped), or else the next downstream stage on another thread that waited for input
+// (a GPU lane, which never waits for the loop, is not quoted).
 Bottleneck find_bottleneck(const PipelineWindow& window);
 inline constexpr double kSaturated = 0.75;
 inline constexpr double kBlocked = 0.10;

@@ -60,6 +60,8 @@ class PngWriter {
   std::uint64_t dropped() const { return queue_.counts().dropped; }
   QueueCounts queue_counts() const { return queue_.counts(); }
   const StageMeter& check_meter() const { return check_meter_; }
+  // Test only (--inject-slow-stage check): slept in the check stage of every frame. Set before the first frame.
+  void slow_check(std::chrono::nanoseconds delay) { check_delay_ = delay; }
   const StageMeter& encode_meter() const { return encode_meter_; }
 
  private:
@@ -74,6 +76,7 @@ class PngWriter {
   OnWritten on_written_;
   OnStarted on_started_;
   StageMeter check_meter_{"check", kLane};
+  std::chrono::nanoseconds check_delay_{0};
   StageMeter encode_meter_{"encode", kLane};
   BoundedQueue<Job> queue_{kMaxPending};
   std::mutex mutex_;  // error_, failures_

@@ -47,10 +47,11 @@ struct ViewOptions {
   int catalog_wait_ms = 2000;
   std::string trace_json;         // Chrome trace-event JSON (docs/tracing.md); empty = none
 
-  // The live pipeline (docs/pipeline.md). concurrent: PNG check/encode on the writer thread fed
+  // The live pipeline (docs/pipeline.md). overlapped: concurrent, and a frame's GL work executes
+  // (fenced) while the next frame is taken in, evaluated and planned. concurrent: PNG check/encode on the writer thread fed
   // through a bounded buffer, readback through pixel-pack buffers, latency-aware frame starts;
   // sequential: the loop as it was (synchronous readback, frames on the --fps ticks only).
-  std::string pipeline = "concurrent";
+  std::string pipeline = "overlapped";
   std::string dump_policy;        // drop | block; empty = drop when concurrent, block when sequential
   bool stats = false;             // print the stage shares and the bottleneck every stats_interval_s
   double stats_interval_s = 1.0;
@@ -59,6 +60,7 @@ struct ViewOptions {
   // inject_fault is the test-only fault (hidden --inject-fault KIND[:REGION]@FIRST[-LAST]).
   bool integrity_monitor = true;
   std::string inject_fault;
+  std::string inject_slow_stage;  // test only: STAGE:MS slept in one live stage (hidden --inject-slow-stage)
 
   // The frame-rate governor (docs/uniform-frame-rate.md), live and play. target_ms > 0 turns it on
   // unless governor == "off"; quality fixes the quality instead ("full" or "cheapest", the

@@ -7,6 +7,7 @@
 // FrameSinks added once; each frame reaches every one of them in the order they were added.
 #pragma once
 
+#include <chrono>
 #include <optional>
 #include <vector>
 
@@ -36,8 +37,31 @@ class FramePipeline {
   // Plan -> choice -> draw -> sinks, for the state last evaluated. The record stays valid until the
   // next evaluate() or render().
   const FrameRecord& render(const FrameRequest& request);
-  // The mode ends: every sink finishes, in order.
+  // The mode ends: the frame in flight completes, then every sink finishes, in order.
   void finish();
+
+  // The overlapped pipeline (CUBE's double buffer between the CPU stages and the GPU): a frame's
+  // GL work executes, fenced, while the next frame's intake, bindings, evaluation and plan run on
+  // this thread. The frame goes through in three calls a mode orders and meters: plan()
+  // (Renderer::plan: no GL execution waited for), complete() (the frame in flight waited for and
+  // handed to the sinks, on_drawn then on_frame, so every sink sees a frame that is drawn, before
+  // the next one is submitted into the same target), draw() (the sinks' before_frame, the
+  // governor's choice, Renderer::draw ending in a fence: the frame now in flight). One frame is in
+  // flight at most. The records carry a copy of the states they were drawn from; a sink or
+  // governor that reads the engine's own state of the frame it is handed (the renderer's planned
+  // load) needs complete() before the next evaluate().
+  void set_overlap(bool on);
+  bool overlapped() const { return overlap_; }
+  const governor::FrameLoad& plan(const FrameRequest& request);
+  // nullptr when no frame is in flight; the record stays valid until the next complete().
+  const FrameRecord* complete();
+  void draw();
+  // Whether the frame in flight has finished executing (true when none is), waiting at most `wait`
+  // (it returns as soon as the frame finishes); while it has not, its FrameRecord::
+  // gpu_busy_until_ns moves on to now; the first time it has, its render_ended stamps (the frame
+  // drawn) are taken, not later when complete() hands it on.
+  bool poll_in_flight(std::chrono::nanoseconds wait = std::chrono::nanoseconds(0));
+  bool in_flight() const { return in_flight_.has_value(); }
 
   BindingEvaluator& evaluator() { return evaluator_; }
   const BindingEvaluator& evaluator() const { return evaluator_; }
@@ -49,6 +73,16 @@ class FramePipeline {
   FrameGovernor* governor_ = nullptr;
   std::vector<FrameSink*> sinks_;
   FrameRecord record_;
+  // Overlapped: the frame executing (its record, with its own copy of the states drawn), the one
+  // last completed (valid until the next complete()), and the planned load until draw().
+  struct InFlight {
+    FrameRecord record;
+    std::vector<BindingState> states;
+  };
+  bool overlap_ = false;
+  std::optional<InFlight> in_flight_;
+  InFlight completed_;
+  const governor::FrameLoad* planned_ = nullptr;
 };
 
 }  // namespace meter::engine

@@ -32,6 +32,11 @@ struct FrameRecord {
   const GovernorCells* governor = nullptr;            // nullptr: no governor
   // CLOCK_MONOTONIC (trace-json, as the link's stamps): evaluation began, render began and ended.
   std::int64_t evaluate_began_ns = 0, render_began_ns = 0, render_ended_ns = 0;
+  // The overlapped pipeline (FramePipeline::set_overlap), CLOCK_MONOTONIC: GL submission began and
+  // ended (the frame fenced); it was last seen executing at gpu_busy_until_ns (when a wait for it
+  // ended, or the last check that found its fence unsignalled: a lower bound of when it finished)
+  // and the GL thread waited gpu_wait_ns for it. render_ended_ns is when it was first seen drawn.
+  std::int64_t draw_began_ns = 0, submitted_ns = 0, gpu_busy_until_ns = 0, gpu_wait_ns = 0;
   // CLOCK_REALTIME (the latency trace's): evaluation began, render ended.
   std::int64_t evaluate_began_realtime_ns = 0, render_ended_realtime_ns = 0;
 };
