@@ -16,13 +16,6 @@
 namespace meter::protocol {
 namespace {
 
-int hex_value(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
-
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
@@ -44,13 +37,12 @@ std::string parse_line(std::string_view line, LinkKey& key) {
     return "key " + std::to_string(key.id) + ": expected " + std::to_string(2 * kLinkKeySize) +
            " hex digits (a 256-bit key), got " + std::to_string(hex.size()) + " characters";
   }
+  const auto not_hex = hex.find_first_not_of("0123456789abcdefABCDEF");
+  if (not_hex != std::string_view::npos) {
+    return "key " + std::to_string(key.id) + ": character " + std::to_string(not_hex + 1) + " of the key is not a hex digit";
+  }
   for (std::size_t i = 0; i < kLinkKeySize; ++i) {
-    const int hi = hex_value(hex[2 * i]), lo = hex_value(hex[2 * i + 1]);
-    if (hi < 0 || lo < 0) {
-      return "key " + std::to_string(key.id) + ": character " + std::to_string(2 * i + (hi < 0 ? 1 : 2)) +
-             " of the key is not a hex digit";
-    }
-    key.key.bytes[i] = static_cast<std::uint8_t>(hi * 16 + lo);
+    std::from_chars(hex.data() + 2 * i, hex.data() + 2 * i + 2, key.key.bytes[i], 16);  // two hex digits: cannot fail
   }
   if (std::all_of(key.key.bytes.begin(), key.key.bytes.end(), [](std::uint8_t b) { return b == 0; })) {
     return "key " + std::to_string(key.id) + " is all zeros (not a key: generate one, docs/security.md)";

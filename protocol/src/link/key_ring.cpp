@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 
+#include "transport/log.hpp"
+
 namespace meter::protocol::detail {
 
 KeyRing::KeyRing(std::string path) : path_(std::move(path)) {
@@ -34,6 +36,17 @@ bool KeyRing::refresh(std::string& error) {
   }
   keys_ = std::move(loaded.keys);
   return true;
+}
+
+bool KeyRing::poll(const std::string& who, bool now) {
+  const auto t = std::chrono::steady_clock::now();
+  if (!now && t < next_poll_) return false;
+  next_poll_ = t + std::chrono::seconds(1);
+  std::string error;
+  const bool changed = refresh(error);
+  if (!error.empty()) log_limited("key-file", who + ": " + error);
+  if (changed) log_limited("key-file", who + ": read " + path_ + " again (keys " + ids() + ")");
+  return changed;
 }
 
 const FrameKey* KeyRing::find(std::uint32_t id) const {

@@ -5,6 +5,7 @@
 
 #include <sys/types.h>
 
+#include <chrono>
 #include <cstdint>
 #include <ctime>
 #include <string>
@@ -21,6 +22,9 @@ class KeyRing {
   // Re-reads the file if its inode, size or modification time changed. True if the keys changed;
   // `error` gets the reason a changed file was not taken ("" otherwise).
   bool refresh(std::string& error);
+  // refresh() at most once a second (at once with `now`), logging a file that turned bad or the
+  // keys taken; `who` names this end in the log. True if the keys changed.
+  bool poll(const std::string& who, bool now);
   const LinkKey& current() const { return keys_.front(); }  // the key this end tags with
   const FrameKey* find(std::uint32_t id) const;
   const std::string& path() const { return path_; }
@@ -33,6 +37,7 @@ class KeyRing {
   ino_t inode_ = 0;
   off_t size_ = 0;
   timespec mtime_{};
+  std::chrono::steady_clock::time_point next_poll_{};
 };
 
 }  // namespace meter::protocol::detail

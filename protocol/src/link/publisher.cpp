@@ -53,7 +53,6 @@ struct Publisher::Impl {
   std::optional<Status> own_status;  // the controller's health, sent to every view
   LinkStats stats;
   std::string last_error;
-  Clock::time_point next_key_check;
 
   // Checks the options and fills in the defaults before anything binds the endpoint.
   static LinkOptions checked(LinkOptions o, const Endpoint& w) {
@@ -82,13 +81,7 @@ struct Publisher::Impl {
   // Takes a changed key file; a connection whose key was removed is closed (it reconnects with a
   // key still held). Checked once a second and before each new connection.
   void refresh_keys(bool now_please) {
-    if (!keys || (!now_please && Clock::now() < next_key_check)) return;
-    next_key_check = Clock::now() + std::chrono::seconds(1);
-    std::string error;
-    const bool changed = keys->refresh(error);
-    if (!error.empty()) detail::log_limited("key-file", options.name + ": " + error);
-    if (!changed) return;
-    detail::log_limited("key-file", options.name + ": read " + keys->path() + " again (keys " + keys->ids() + ")");
+    if (!keys || !keys->poll(options.name, now_please)) return;
     for (auto& p : peers) {
       if (!p.closing && p.channel->guard() != nullptr && !p.channel->guard()->keys_held()) {
         refuse(p, CloseReason::Authentication, "a key this connection uses was removed from " + keys->path());

@@ -32,7 +32,6 @@ struct Subscriber::Impl {
   LinkOptions options;
   std::uint64_t our_hash;
   std::unique_ptr<detail::KeyRing> keys;  // none: frames carry no MAC
-  Clock::time_point next_key_check;
   detail::Poller poller;
   std::unique_ptr<Channel> channel;
   Phase phase = Phase::Idle;
@@ -85,13 +84,7 @@ struct Subscriber::Impl {
   // Takes a changed key file; a connection whose key was removed is closed and made again with a
   // key still held. Checked once a second and before each connection attempt.
   void refresh_keys(bool now_please) {
-    if (!keys || (!now_please && Clock::now() < next_key_check)) return;
-    next_key_check = Clock::now() + std::chrono::seconds(1);
-    std::string error;
-    const bool changed = keys->refresh(error);
-    if (!error.empty()) detail::log_limited("key-file", options.name + ": " + error);
-    if (!changed) return;
-    detail::log_limited("key-file", options.name + ": read " + keys->path() + " again (keys " + keys->ids() + ")");
+    if (!keys || !keys->poll(options.name, now_please)) return;
     if (channel && channel->guard() != nullptr && !channel->guard()->keys_held()) {
       ++stats.handshakes_refused;
       channel->send(Close{CloseReason::Authentication, "key removed from the key file"}, stats);

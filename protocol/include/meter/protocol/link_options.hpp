@@ -36,6 +36,14 @@ struct LinkOptions {
   bool insecure_link = false;
 };
 
+// The help of the two options every program on the link offers (--key-file FILE, --insecure-link).
+inline constexpr const char* kKeyFileHelp =
+    "link key file (mode 0600; docs/security.md): every frame carries a MAC, the peer must hold the key "
+    "named in HELLO; re-read when it changes";
+inline constexpr const char* kInsecureLinkHelp =
+    "lab only: allow a TCP link without a key file (anyone who can reach the port can drive the display); "
+    "every connection's log lines say UNAUTHENTICATED";
+
 // "" if `options` may be used on `where`, else why not: a TCP endpoint without a key file and
 // without insecure_link (anyone who can reach the port could drive the telltales).
 std::string link_security_error(const Endpoint& where, const LinkOptions& options);
