@@ -126,7 +126,8 @@ TEST(SessionAuth, HelloNamesTheKeyAndIsRefusedWhenTheEndsDisagree) {
 
   // The same id with other bytes: the HELLO's tag fails, and that is fatal.
   SessionAuth pub(one, Role::Publisher), sub(other_bytes, Role::Subscriber);
-  const auto r = decode(encode(Frame{1, 0, Pair::hello(Role::Publisher, pub)}, pub.tx_key(MessageType::Hello)));
+  const auto hello_bytes = encode(Frame{1, 0, Pair::hello(Role::Publisher, pub)}, pub.tx_key(MessageType::Hello));
+  const auto r = decode(hello_bytes);  // r.bytes views hello_bytes
   std::string detail;
   bool fatal = false;
   EXPECT_EQ(sub.check(r, detail, fatal), DecodeError::BadMac);
