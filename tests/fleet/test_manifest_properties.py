@@ -10,8 +10,10 @@ import sys
 import tempfile
 import unittest
 
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+# Hypothesis keeps a cache (its Unicode tables) in a folder of its own: not in the source tree.
+os.environ.setdefault("HYPOTHESIS_STORAGE_DIRECTORY", os.path.join(tempfile.gettempdir(), "meter-hypothesis"))
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
 
 SOURCE_DIR = os.environ.get("METER_SOURCE_DIR") or os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
