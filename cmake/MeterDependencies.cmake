@@ -25,8 +25,8 @@ endmacro()
 
 find_package(Threads REQUIRED)
 
-# protocol/
-# (nothing beyond the C++ standard library and POSIX sockets)
+# protocol/: the authenticated link's MAC, key derivation and nonces (docs/security.md)
+meter_pkg(SODIUM libsodium libsodium-dev)
 
 # controller/
 meter_pkg(MODBUS libmodbus libmodbus-dev)

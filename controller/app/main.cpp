@@ -14,6 +14,7 @@
 #include "meter/controller/run/odometer_reset_command.hpp"
 #include "meter/controller/run/run_command.hpp"
 #include "meter/protocol/catalog.hpp"
+#include "meter/protocol/link_options.hpp"
 
 int main(int argc, char** argv) {
   using namespace meter::controller;
@@ -38,6 +39,8 @@ int main(int argc, char** argv) {
                 "scale:N (N times faster than recorded)")
       ->default_val("realtime");
   r->add_option("--link", run.link, "Where views connect: unix:/path or tcp:HOST:PORT (default: $XDG_RUNTIME_DIR/meter.sock)");
+  r->add_option("--key-file", run.key_file, meter::protocol::kKeyFileHelp);
+  r->add_flag("--insecure-link", run.insecure_link, meter::protocol::kInsecureLinkHelp);
   r->add_option("--state-dir", run.state_dir, "Directory for the persisted odometer (atomic writes); none = not persisted");
   r->add_flag("--exit-at-end", run.exit_at_end, "Exit when the log ends (default: keep running on a silent bus: the values time out)");
   r->add_option("--linger", run.linger_s, "With --exit-at-end: keep serving the final state this many seconds first")

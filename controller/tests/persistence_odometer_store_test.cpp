@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -159,6 +160,32 @@ TEST(OdometerStore, CopyRestoredFromAnOlderStateIsRefused) {
 }
 
 // The single file of earlier versions still loads; it goes once both copies hold records.
+// A copy whose sequence is the largest there is (only a damaged or hand-made file holds one) is
+// not taken: the save after it would wrap to 0 and a restart would then refuse the distance it saved.
+TEST(OdometerStore, FuzzCopyAtTheLastSequenceIsDamagedAndTheOtherRestored) {
+  auto dir = fresh_dir("odo-lastseq");
+  {
+    OdometerStore s(dir.string());
+    ASSERT_EQ(s.load().state, OdometerState::Fresh);
+    s.save(1000, 10);  // copy a, sequence 1
+  }
+  OdometerRecord last{5000, 0, UINT64_MAX, 1};
+  write_text((dir / "odometer.b").string(), OdometerStore::format(last));
+  std::string why;
+  EXPECT_FALSE(OdometerStore::parse(OdometerStore::format(last), &why));
+  EXPECT_NE(why.find("largest"), std::string::npos) << why;
+  OdometerStore s(dir.string());
+  const auto loaded = s.load();
+  ASSERT_EQ(loaded.state, OdometerState::Restored);
+  EXPECT_EQ(loaded.record->odo_um, 1000);
+  s.save(1001, 10);
+  OdometerStore again(dir.string());
+  const auto after = again.load();
+  ASSERT_EQ(after.state, OdometerState::Restored);
+  EXPECT_EQ(after.record->odo_um, 1001);  // nothing persisted is lost
+  std::filesystem::remove_all(dir);
+}
+
 TEST(OdometerStore, OldSingleFileMigrates) {
   auto dir = fresh_dir("odo-legacy");
   std::filesystem::create_directories(dir);

@@ -4,7 +4,7 @@
 set -u
 . "$METER_SRC/controller/tests/guest_controller_ready.sh"
 "$METER_BIN" run -v --dbc "$METER_SRC/controller/vehicles/demo/demo.dbc" --map "$METER_SRC/controller/vehicles/demo/demo.map" \
-  --input can:vcan0 --link tcp:127.0.0.1:0 > "$OUT/ctl.out" 2> "$OUT/ctl.err" &
+  --input can:vcan0 --link tcp:127.0.0.1:0 --insecure-link > "$OUT/ctl.out" 2> "$OUT/ctl.err" &
 pid=$!
 controller_ready "$OUT/ctl.err" "$pid"
 canplayer -I "$OUT/head.log"

@@ -6,7 +6,7 @@ set -u
 . "$METER_SRC/controller/tests/guest_controller_ready.sh"
 dbc="$METER_SRC/controller/vehicles/demo/demo.dbc"
 "$METER_BIN/meter-controller" run -v --input body=can:vcan0 --input chassis=can:vcan1 \
-  --dbc "body=$dbc" --dbc "chassis=$dbc" --map "$OUT/two-bus.map" --link tcp:127.0.0.1:7411 \
+  --dbc "body=$dbc" --dbc "chassis=$dbc" --map "$OUT/two-bus.map" --link tcp:127.0.0.1:7411 --insecure-link \
   > "$OUT/ctl.out" 2> "$OUT/ctl.err" &
 pid=$!
 controller_ready "$OUT/ctl.err" "$pid"

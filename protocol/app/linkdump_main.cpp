@@ -28,6 +28,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--until-closed", until_closed, "stop once the link was up and is then closed or lost");
   app.add_flag("-q,--quiet", quiet, "do not print the lines (record only)");
+  std::string key_file;
+  bool insecure_link = false;
+  app.add_option("--key-file", key_file, kKeyFileHelp);
+  app.add_flag("--insecure-link", insecure_link, kInsecureLinkHelp);
   app.add_option("--link-timeout", link_timeout_ms, "milliseconds of silence after which the link counts as lost")
       ->check(CLI::Range(30, 60000))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -45,6 +49,8 @@ int main(int argc, char** argv) {
     auto options = link_options("meter-linkdump", std::chrono::milliseconds(link_timeout_ms));
     // A dump started before the controller should join within a few heartbeats, not after 2 s of backoff.
     options.reconnect_max = std::chrono::milliseconds(200);
+    options.key_file = key_file;
+    options.insecure_link = insecure_link;
     Subscriber sub(endpoint_from_option(link), options);
     std::uint64_t messages = 0;
     sub.set_frame_observer([&](const Frame& frame) {

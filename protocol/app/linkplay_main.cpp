@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--linger", linger_s, "seconds to keep serving the final state after the last message")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  std::string key_file;
+  bool insecure_link = false;
+  app.add_option("--key-file", key_file, kKeyFileHelp);
+  app.add_flag("--insecure-link", insecure_link, kInsecureLinkHelp);
   app.add_option("--link-timeout", link_timeout_ms, "milliseconds of silence after which the link counts as lost")
       ->check(CLI::Range(30, 60000))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -69,7 +73,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     const auto frames = parse_recording(in, recording);
-    Publisher pub(endpoint_from_option(link), link_options("meter-linkplay", std::chrono::milliseconds(link_timeout_ms)));
+    auto options = link_options("meter-linkplay", std::chrono::milliseconds(link_timeout_ms));
+    options.key_file = key_file;
+    options.insecure_link = insecure_link;
+    Publisher pub(endpoint_from_option(link), options);
     tool::stop_on_signals();
     using Clock = std::chrono::steady_clock;
     const auto wait_until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wait_s));

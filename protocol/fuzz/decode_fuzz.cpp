@@ -1,11 +1,14 @@
 // Fuzzes the decoder three ways on every input: as one datagram, as a TCP stream cut at an
 // input-derived point, and (for inputs that decode) through a re-encode round trip, which must
-// reproduce the same message. Any crash, sanitizer report or broken invariant is a finding.
+// reproduce the same message. A tagged frame (an authenticated link's) is re-encoded tagged: its
+// bytes up to the tag must come back, the tag is the MAC's business (frame_tag.hpp), not the
+// decoder's. Any crash, sanitizer report or broken invariant is a finding.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <span>
 
+#include "meter/protocol/frame_tag.hpp"
 #include "meter/protocol/wire.hpp"
 
 using namespace meter::protocol;
@@ -17,14 +20,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (r.error == DecodeError::None) {
     if (r.frame_size > size || r.frame_size < kHeaderSize) std::abort();
     // Everything the decoder accepts, the encoder must be able to write back identically.
-    const auto again = encode(r.frame);
+    const FrameKey any_key{};
+    const bool tagged = r.header.tagged();
+    const auto again = encode(r.frame, tagged ? &any_key : nullptr);
     if (again.size() != r.frame_size) std::abort();
     const DecodeResult r2 = decode(again);
     if (r2.error != DecodeError::None || !(r2.frame.message == r.frame.message) ||
         r2.frame.sequence != r.frame.sequence || r2.frame.timestamp_ns != r.frame.timestamp_ns) {
       std::abort();
     }
-    for (std::size_t i = 0; i < r.frame_size; ++i) {
+    if (r.bytes.size() != r.frame_size || r.bytes.data() != data) std::abort();
+    if (tagged != frame_tag_matches(again, any_key)) std::abort();
+    for (std::size_t i = 0; i < r.frame_size - (tagged ? kTagSize : 0); ++i) {
       if (again[i] != data[i]) std::abort();  // the format has exactly one encoding per message
     }
   }

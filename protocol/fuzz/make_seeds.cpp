@@ -4,6 +4,7 @@
 #include <fstream>
 #include <string>
 
+#include "meter/protocol/frame_tag.hpp"
 #include "meter/protocol/wire.hpp"
 
 using namespace meter::protocol;
@@ -44,6 +45,17 @@ int main(int argc, char** argv) {
   encode(Frame{2, 2, Delta{{{sig::kSpeed, SignalStatus::Valid, 1, false, ""}}}}, stream);
   encode(Frame{3, 3, Heartbeat{}}, stream);
   write("stream", stream);
+  // An authenticated link's frames: a HELLO naming its key and nonce, tagged DELTA and HEARTBEAT.
+  FrameKey key;
+  for (std::size_t i = 0; i < key.bytes.size(); ++i) key.bytes[i] = static_cast<std::uint8_t>(i + 1);
+  Hello keyed{Role::Publisher, kProtocolVersion, catalog_hash(), 26, 100, "meter-controller", "", 0};
+  keyed.key_id = 1;
+  for (std::size_t i = 0; i < keyed.nonce.size(); ++i) keyed.nonce[i] = static_cast<std::uint8_t>(0xA0 + i);
+  write("hello-keyed", encode(Frame{1, 1000, keyed}, &key));
+  std::vector<std::uint8_t> tagged;
+  encode(Frame{2, 2, Delta{{{sig::kSpeed, SignalStatus::Valid, 61.5, false, ""}}}}, tagged, &key);
+  encode(Frame{3, 3, Heartbeat{}}, tagged, &key);
+  write("stream-tagged", tagged);
   auto bad = encode(Frame{1, 1, Heartbeat{}});
   bad[4] = kProtocolVersion + 1;
   write("bad-version", bad);

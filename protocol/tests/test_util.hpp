@@ -4,13 +4,17 @@
 
 #include <stdlib.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -82,6 +86,61 @@ class TempDir {
  private:
   std::string path_;
 };
+
+// Collects the link's log lines (and keeps them off the test output).
+class LogCapture {
+ public:
+  LogCapture() {
+    set_log_sink([this](std::string_view line) {
+      std::lock_guard lock(mutex_);
+      lines_.emplace_back(line);
+    });
+  }
+  ~LogCapture() { set_log_sink({}); }
+  std::vector<std::string> lines() const {
+    std::lock_guard lock(mutex_);
+    return lines_;
+  }
+  bool contains(std::string_view needle) const {
+    for (const auto& l : lines()) {
+      if (l.find(needle) != std::string::npos) return true;
+    }
+    return false;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<std::string> lines_;
+};
+
+inline LinkOptions fast_options(std::string name = "") {
+  LinkOptions o;
+  // Short enough that loss tests finish fast, long enough (150 ms to loss) that a loaded 2-core CI
+  // machine does not see spurious losses.
+  o.heartbeat_period = std::chrono::milliseconds(50);
+  o.reconnect_min = std::chrono::milliseconds(5);
+  o.reconnect_max = std::chrono::milliseconds(40);
+  o.name = std::move(name);
+  return o;
+}
+
+// Writes a link key file with mode 0600 (the loader refuses anything wider): one line per key,
+// the first the one that end tags with. Key bytes are `seed`, seed+1, ... so keys differ by seed.
+inline std::string write_key_file(const std::string& path, const std::vector<std::pair<std::uint32_t, int>>& keys) {
+  std::ofstream out(path, std::ios::trunc);
+  for (const auto& [id, seed] : keys) {
+    out << id << ' ';
+    for (int i = 0; i < 32; ++i) {
+      char hex[3];
+      std::snprintf(hex, sizeof hex, "%02x", (seed + i) & 0xFF);
+      out << hex;
+    }
+    out << '\n';
+  }
+  out.close();
+  ::chmod(path.c_str(), 0600);
+  return path;
+}
 
 // Drives both ends until `done()` or the limit; true if done.
 template <typename Done>

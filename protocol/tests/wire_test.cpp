@@ -117,7 +117,7 @@ TEST(WireLayout, HeaderBytesMatchTheDocument) {
   const std::vector<std::uint8_t> header(bytes.begin(), bytes.begin() + 28);
   const std::vector<std::uint8_t> expected = {
       0x4D, 0x54, 0x52, 0x4C,                          // "MTRL"
-      0x02,                                            // version
+      0x03,                                            // version
       0x05,                                            // type STATUS
       0x00, 0x00,                                      // flags
       0x14, 0x00, 0x00, 0x00,                          // payload length 20
@@ -270,7 +270,7 @@ std::vector<MalformedCase> malformed_cases() {
     fill(p);
     return p;
   };
-  cases.push_back({"reserved header flags", 3, valid_delta_payload(), 0x0001});
+  cases.push_back({"reserved header flags", 3, valid_delta_payload(), 0x0002});
   cases.push_back({"unknown signal id", 3, delta([](auto& p) { put_entry(p, 999, 0, 1.0); })});
   cases.push_back({"status out of range", 3, delta([](auto& p) { put_entry(p, 1, 4, 1.0); })});
   cases.push_back({"NaN value", 3, delta([](auto& p) { put_entry(p, 1, 0, std::nan("")); })});
@@ -310,7 +310,7 @@ std::vector<MalformedCase> malformed_cases() {
   cases.push_back({"HEARTBEAT with payload", 4, {0}});
   cases.push_back({"STATUS too short", 5, std::vector<std::uint8_t>(19, 0)});
   cases.push_back({"STATUS too long", 5, std::vector<std::uint8_t>(21, 0)});
-  cases.push_back({"CLOSE unknown reason", 6, {7, 0}});
+  cases.push_back({"CLOSE unknown reason", 6, {8, 0}});
   cases.push_back({"CLOSE text past end", 6, {1, 5, 'a'}});
   cases.push_back({"CLOSE empty", 6, {}});
   auto hello = [](std::uint8_t role, std::uint8_t flags, std::uint8_t name_len, std::string name,
@@ -336,6 +336,11 @@ std::vector<MalformedCase> malformed_cases() {
   cases.push_back({"HELLO short", 1, {1, 0, 1}});
   cases.push_back({"HELLO without catalog source", 1, hello(1, 0, 1, "c", std::nullopt)});
   cases.push_back({"HELLO catalog source not UTF-8", 1, hello(1, 0, 1, "c", std::string("\xC3"))});
+  cases.push_back({"HELLO without key id (version 2's layout)", 1, hello(1, 0, 1, "c", std::string("x"))});
+  auto short_nonce = hello(1, 0, 1, "c", std::string("x"));
+  put_le(short_nonce, 7, 4);
+  short_nonce.resize(short_nonce.size() + kNonceSize - 1);
+  cases.push_back({"HELLO nonce short", 1, short_nonce});
   auto piece = [](std::uint16_t index, std::uint16_t count, std::uint32_t len, std::string bytes) {
     std::vector<std::uint8_t> p;
     put_le(p, 7, 8);

@@ -106,8 +106,10 @@ def load(file):
         drive.update({k: v for k, v in defaults.items()})
         drive.update(d)
         name = drive.get("name", "")
-        if not name or not all(c.isalnum() or c in "-_." for c in name):
-            raise ManifestError(f"{file}: {where}.name: expected a name of letters, digits, '-', '_', '.', got {name!r}")
+        # The name is the drive's folder in the run: '.' or '..' would be the run's own folders.
+        if not name or not all(c.isalnum() or c in "-_." for c in name) or not name.strip("."):
+            raise ManifestError(f"{file}: {where}.name: expected a name of letters, digits, '-', '_', '.' "
+                                f"(not only dots: it names the drive's folder), got {name!r}")
         where = f"drive '{name}'"
         if name in names:
             raise ManifestError(f"{file}: {where}: the name is used twice")

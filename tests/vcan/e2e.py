@@ -407,7 +407,7 @@ class Run:
         os.makedirs(outdir)
         pkg = scene_package()
         with open(os.path.join(outdir, "view.log"), "w") as log:
-            p = subprocess.Popen([VIEW, "--link", f"tcp:127.0.0.1:{self.port}", "--scene", pkg,
+            p = subprocess.Popen([VIEW, "--link", f"tcp:127.0.0.1:{self.port}", "--insecure-link", "--scene", pkg,
                                   "--out", outdir, "--fps", str(FPS), "--dump-every", "1", *VIEW_RENDER_OPTS,
                                   "--link-timeout", str(LINK_TIMEOUT_MS),
                                   "--trace", os.path.join(outdir, "view-trace.csv"),

@@ -44,7 +44,7 @@ fail() { event "FAIL $*"; echo "guest_scenario: $*" >&2; echo "fail $*" >"$out/r
 start_controller() {
   ((++starts))
   "$bin/meter-controller" run --input can:vcan0 --dbc "$dbc" --map "$map" \
-      --link "tcp:0.0.0.0:$port" --state-dir "$out/state" --link-timeout "$link_timeout_ms" \
+      --link "tcp:0.0.0.0:$port" --insecure-link --state-dir "$out/state" --link-timeout "$link_timeout_ms" \
       --trace "$out/controller-trace-$starts.csv" >>"$out/controller.log" 2>&1 &
   ctrl=$!
   event "controller started pid $ctrl"

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "meter/preview/preview_options.hpp"
+#include "meter/protocol/link_options.hpp"
 
 int main(int argc, char** argv) {
   using namespace meter::preview;
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   auto* link_opt = app.add_option("--link", o.link, "follow a controller: unix:/path | tcp:host:port | default");
   link_opt->excludes(set_opt)->excludes(values_opt);
+  app.add_option("--key-file", o.key_file, meter::protocol::kKeyFileHelp)->needs(link_opt);
+  app.add_flag("--insecure-link", o.insecure_link, meter::protocol::kInsecureLinkHelp)->needs(link_opt);
   app.add_option("--link-timeout", o.link_timeout_ms, "milliseconds of silence after which the link counts as lost")
       ->check(CLI::Range(30, 60000))->capture_default_str();
   app.add_flag("--link-lost", o.link_lost, "start with the link-loss (failsafe) look");

@@ -14,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "meter/protocol/link_options.hpp"
 #include "meter/runner/run_view.hpp"
 
 int main(int argc, char** argv) {
@@ -38,6 +39,8 @@ int main(int argc, char** argv) {
   app.add_flag("--link-lost", o.link_lost, "offline: render the link-loss (failsafe) look");
   auto* link_opt = app.add_option("--link", o.link, "live: controller endpoint unix:/path | tcp:host:port | default");
   link_opt->excludes(set_opt)->excludes(values_opt);
+  app.add_option("--key-file", o.key_file, std::string("live: ") + meter::protocol::kKeyFileHelp)->needs(link_opt);
+  app.add_flag("--insecure-link", o.insecure_link, std::string("live: ") + meter::protocol::kInsecureLinkHelp)->needs(link_opt);
   app.add_option("--play", o.play,
                  "play: render this link recording (meter-controller run --record, meter-linkdump -o) on its own "
                  "simulated clock, frame k at k/--fps s, as fast as the machine allows")

@@ -76,6 +76,9 @@ std::optional<OdometerRecord> OdometerStore::parse(const std::string& text, std:
   if (version == 2 && (!(in >> key >> r.peer) || key != "peer")) return fail("expected 'peer <integer>'");
   if (in >> key) return fail("unexpected '" + key + "' after the record");
   if (r.odo_um < 0 || r.trip_um < 0) return fail("negative distance");
+  // No save can follow the largest sequence (it would wrap to 0 and lose to this copy): only a
+  // damaged or hand-made file holds it.
+  if (r.sequence == UINT64_MAX) return fail("sequence is the largest possible (a damaged or hand-made file)");
   return r;
 }
 

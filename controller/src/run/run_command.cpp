@@ -19,6 +19,7 @@
 #include "meter/controller/run/input_specs.hpp"
 #include "meter/controller/run/run_command.hpp"
 #include "meter/protocol/link.hpp"
+#include "meter/protocol/link_stats_text.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "open_input.hpp"
 #include "publish_recording.hpp"
@@ -106,6 +107,7 @@ void print_stats(std::ostream& out, const Model& model, const protocol::Publishe
       << fmt_double(model.odometer().total_km()) << " km" << (st.odometer_refused ? " (invalid: stored state refused)" : "")
       << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors, "
       << health.stats_text() << "\n";
+  out << "meter-controller: link: " << protocol::link_stats_text(ls) << "\n";
 }
 
 }  // namespace
@@ -131,8 +133,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
       return 3;
     }
 
-    const protocol::LinkOptions lo =
-        protocol::link_options("meter-controller", std::chrono::milliseconds(o.link_timeout_ms));
+    protocol::LinkOptions lo = protocol::link_options("meter-controller", std::chrono::milliseconds(o.link_timeout_ms));
+    lo.key_file = o.key_file;
+    lo.insecure_link = o.insecure_link;
     Trace trace(o.trace);
     // --trace-json: receive (an input poll that delivered frames), decode (per frame, inside it),
     // condition (the model's tick), publish (changed outputs handed to the link and flushed: the

@@ -12,6 +12,8 @@
 #include "transport/channel.hpp"
 #include "transport/clock.hpp"
 #include "link/handshake.hpp"
+#include "link/key_ring.hpp"
+#include "link/session_auth.hpp"
 #include "transport/listening_socket.hpp"
 #include "transport/log.hpp"
 #include "transport/poller.hpp"
@@ -43,6 +45,7 @@ struct Publisher::Impl {
   Endpoint where;
   LinkOptions options;
   std::uint64_t our_hash;
+  std::unique_ptr<detail::KeyRing> keys;  // none: frames carry no MAC
   ListeningSocket listener;
   detail::Poller poller;
   std::vector<Peer> peers;
@@ -52,7 +55,8 @@ struct Publisher::Impl {
   std::string last_error;
 
   // Checks the options and fills in the defaults before anything binds the endpoint.
-  static LinkOptions checked(LinkOptions o) {
+  static LinkOptions checked(LinkOptions o, const Endpoint& w) {
+    if (auto why = link_security_error(w, o); !why.empty()) throw std::invalid_argument(why);
     if (o.heartbeat_period.count() <= 0) throw std::invalid_argument("heartbeat_period must be > 0 ms");
     if (o.missed_heartbeats_for_loss < 1) throw std::invalid_argument("missed_heartbeats_for_loss must be >= 1");
     if (o.name.empty()) o.name = "publisher";
@@ -61,12 +65,28 @@ struct Publisher::Impl {
   }
 
   Impl(const Endpoint& w, LinkOptions o)
-      : where(w), options(checked(std::move(o))),
+      : where(w), options(checked(std::move(o), w)),
         our_hash(options.catalog_hash_override.value_or(catalog_hash())),
+        keys(options.key_file.empty() ? nullptr : std::make_unique<detail::KeyRing>(options.key_file)),
         listener(where),
         poller(std::max(options.heartbeat_period / 4, std::chrono::milliseconds(1))) {
     where = listener.endpoint();  // TCP port 0 resolved
     poller.add(listener.fd(), false);
+    if (!keys && where.kind == Endpoint::Kind::Tcp) {
+      detail::log_limited("insecure", options.name + ": UNAUTHENTICATED link on " + where.to_string() +
+                                          " (--insecure-link): anyone who can reach the port can drive the display");
+    }
+  }
+
+  // Takes a changed key file; a connection whose key was removed is closed (it reconnects with a
+  // key still held). Checked once a second and before each new connection.
+  void refresh_keys(bool now_please) {
+    if (!keys || !keys->poll(options.name, now_please)) return;
+    for (auto& p : peers) {
+      if (!p.closing && p.channel->guard() != nullptr && !p.channel->guard()->keys_held()) {
+        refuse(p, CloseReason::Authentication, "a key this connection uses was removed from " + keys->path());
+      }
+    }
   }
 
   ~Impl() {
@@ -87,6 +107,7 @@ struct Publisher::Impl {
   }
 
   void accept_all() {
+    refresh_keys(true);
     for (;;) {
       UniqueFd fd(::accept4(listener.fd(), nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK));
       if (!fd) {
@@ -110,7 +131,7 @@ struct Publisher::Impl {
           ::getnameinfo(reinterpret_cast<sockaddr*>(&ss), len, host, sizeof host, serv, sizeof serv,
                         NI_NUMERICHOST | NI_NUMERICSERV);
         }
-        label = std::string("view at ") + host + ":" + serv;
+        label = std::string("view at ") + host + ":" + serv + (keys ? "" : " [UNAUTHENTICATED]");
       } else {
         ucred cred{};
         socklen_t len = sizeof cred;
@@ -128,6 +149,7 @@ struct Publisher::Impl {
       }
       Peer peer;
       peer.channel = std::make_unique<Channel>(std::move(fd), stream, label);
+      if (keys) peer.channel->guard(std::make_unique<detail::SessionAuth>(*keys, Role::Publisher));
       peer.dirty.assign(table.size(), 0);
       if (allowed && peers.size() >= options.max_peers) {
         // Bounded resources: every connection costs a buffer and a dirty table.
@@ -144,7 +166,8 @@ struct Publisher::Impl {
         peer.channel->send(Close{CloseReason::NotAllowed, refusal.substr(0, kMaxTextBytes)}, stats);
         peer.closing = true;
       } else {
-        peer.channel->send(our_hello(), stats);
+        if (!keys && stream) detail::log_limited("insecure", "accepted " + label + " (--insecure-link)");
+        peer.channel->send(hello_for(*peer.channel), stats);
       }
       poller.add(peer.channel->fd(), peer.channel->has_pending());
       peers.push_back(std::move(peer));
@@ -183,6 +206,10 @@ struct Publisher::Impl {
         refuse(peer, reason, why);
         return;
       }
+      if (auto why = detail::start_session(peer.channel->guard(), *hello); !why.empty()) {
+        refuse(peer, CloseReason::Authentication, why);
+        return;
+      }
       switch (detail::agree_catalogs(our_hash, hello->catalog_hash, (hello->flags & kHelloTakesCatalog) != 0)) {
         case detail::CatalogAgreement::Same: break;
         case detail::CatalogAgreement::Refuse:
@@ -219,6 +246,11 @@ struct Publisher::Impl {
   }
 
   Hello our_hello() const { return detail::make_hello(Role::Publisher, table.catalog(), our_hash, options); }
+  Hello hello_for(const Channel& channel) const {
+    Hello hello = our_hello();
+    if (channel.guard() != nullptr) channel.guard()->announce(hello);
+    return hello;
+  }
 
   SignalUpdate update_for(std::size_t index) const {
     const auto& s = table.states()[index];
@@ -295,6 +327,7 @@ struct Publisher::Impl {
   }
 
   void service(const std::vector<int>& ready) {
+    refresh_keys(false);
     for (int fd : ready) {
       if (fd == listener.fd()) {
         accept_all();

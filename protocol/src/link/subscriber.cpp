@@ -12,6 +12,8 @@
 #include "transport/channel.hpp"
 #include "transport/clock.hpp"
 #include "link/handshake.hpp"
+#include "link/key_ring.hpp"
+#include "link/session_auth.hpp"
 #include "transport/log.hpp"
 #include "transport/poller.hpp"
 #include "transport/unique_fd.hpp"
@@ -29,6 +31,7 @@ struct Subscriber::Impl {
   Endpoint where;
   LinkOptions options;
   std::uint64_t our_hash;
+  std::unique_ptr<detail::KeyRing> keys;  // none: frames carry no MAC
   detail::Poller poller;
   std::unique_ptr<Channel> channel;
   Phase phase = Phase::Idle;
@@ -59,6 +62,7 @@ struct Subscriber::Impl {
   Impl(const Endpoint& w, LinkOptions o)
       : where(w), options(std::move(o)),
         our_hash(options.catalog_hash_override.value_or(catalog_hash())),
+        keys(checked_keys(where, options)),
         poller(std::max(options.heartbeat_period / 4, std::chrono::milliseconds(1))),
         retry_at(Clock::now()), backoff(options.reconnect_min) {
     if (options.heartbeat_period.count() <= 0) throw std::invalid_argument("heartbeat_period must be > 0 ms");
@@ -69,6 +73,25 @@ struct Subscriber::Impl {
     if (options.name.empty()) options.name = "subscriber";
     if (options.allowed_uids.empty()) options.allowed_uids.push_back(::getuid());
     try_connect();
+  }
+
+  static std::unique_ptr<detail::KeyRing> checked_keys(const Endpoint& where, const LinkOptions& o) {
+    if (auto why = link_security_error(where, o); !why.empty()) throw std::invalid_argument(why);
+    if (o.key_file.empty()) return nullptr;
+    return std::make_unique<detail::KeyRing>(o.key_file);
+  }
+
+  // Takes a changed key file; a connection whose key was removed is closed and made again with a
+  // key still held. Checked once a second and before each connection attempt.
+  void refresh_keys(bool now_please) {
+    if (!keys || !keys->poll(options.name, now_please)) return;
+    if (channel && channel->guard() != nullptr && !channel->guard()->keys_held()) {
+      ++stats.handshakes_refused;
+      channel->send(Close{CloseReason::Authentication, "key removed from the key file"}, stats);
+      std::string ignored;
+      channel->flush(stats, ignored);
+      disconnect("a key this connection uses was removed from " + keys->path(), phase == Phase::Live);
+    }
   }
 
   void note(const std::string& key, const std::string& text) {
@@ -97,6 +120,7 @@ struct Subscriber::Impl {
   }
 
   void try_connect() {
+    refresh_keys(true);
     const bool stream = where.kind == Endpoint::Kind::Tcp;
     UniqueFd fd;
     int err = 0;
@@ -130,7 +154,12 @@ struct Subscriber::Impl {
       disconnect("cannot connect to " + where.to_string() + ": " + detail::errno_text(err), false);
       return;
     }
-    channel = std::make_unique<Channel>(std::move(fd), stream, "publisher " + where.to_string());
+    channel = std::make_unique<Channel>(std::move(fd), stream, "publisher " + where.to_string() +
+                                                                   (keys || !stream ? "" : " [UNAUTHENTICATED]"));
+    if (keys) channel->guard(std::make_unique<detail::SessionAuth>(*keys, Role::Subscriber));
+    if (!keys && stream) {
+      detail::log_limited("insecure", options.name + ": UNAUTHENTICATED link to " + where.to_string() + " (--insecure-link)");
+    }
     poller.add(channel->fd(), true);
     phase = Phase::Connecting;
     if (err == 0) on_connected();
@@ -154,7 +183,9 @@ struct Subscriber::Impl {
       }
     }
     phase = Phase::Handshake;
-    channel->send(our_hello(), stats);
+    Hello hello = our_hello();
+    if (channel->guard() != nullptr) channel->guard()->announce(hello);
+    channel->send(hello, stats);
     channel->last_rx = Clock::now();  // the handshake timeout counts from here
   }
 
@@ -214,6 +245,10 @@ struct Subscriber::Impl {
       CloseReason reason{};
       if (auto why = detail::check_hello(*hello, Role::Publisher, reason); !why.empty()) {
         refuse(reason, why);
+        return false;
+      }
+      if (auto why = detail::start_session(channel->guard(), *hello); !why.empty()) {
+        refuse(CloseReason::Authentication, why);
         return false;
       }
       switch (detail::agree_catalogs(hello->catalog_hash, our_hash, options.take_peer_catalog)) {
@@ -289,6 +324,7 @@ struct Subscriber::Impl {
   }
 
   void service(const std::vector<int>& ready) {
+    refresh_keys(false);
     const auto now = Clock::now();
     if (!channel) {
       if (now >= retry_at) try_connect();

@@ -57,6 +57,14 @@ struct FieldWriter {
     append_hex(out, h.flags, 2);
     out += " source=";
     detail::append_quoted(out, h.catalog_source);
+    if (h.key_id != 0) {  // an authenticated link's HELLO: its key id and nonce
+      out += " key=" + std::to_string(h.key_id) + " nonce=";
+      for (std::uint8_t b : h.nonce) {
+        char hex[4];
+        std::snprintf(hex, sizeof hex, "%02x", b);
+        out += hex;
+      }
+    }
   }
   void operator()(const Snapshot& s) const {
     out += s.complete ? " complete=1" : " complete=0";

@@ -194,6 +194,14 @@ Message parse_message(LineParser& p, std::string_view kind) {
       p.fail("flags: " + std::string(hex) + " uses reserved bits (only 0x01, takes the catalog, is defined)");
     }
     h.catalog_source = p.text("source", p.field("source"), kMaxTextBytes);
+    if (!p.done()) {  // an authenticated link's HELLO
+      h.key_id = p.integer<std::uint32_t>("key");
+      const auto nonce = p.field("nonce");
+      if (nonce.size() != 2 * kNonceSize) p.fail("nonce: expected " + std::to_string(2 * kNonceSize) + " hex digits");
+      for (std::size_t i = 0; i < kNonceSize; ++i) {
+        h.nonce[i] = p.number<std::uint8_t>("nonce", nonce.substr(2 * i, 2), 16);
+      }
+    }
     p.end();
     return h;
   }

@@ -76,7 +76,7 @@ std::string close_reason_token(CloseReason reason) {
 }
 
 std::optional<CloseReason> close_reason_from_token(std::string_view token) {
-  for (int r = 0; r <= static_cast<int>(CloseReason::Timeout); ++r) {
+  for (int r = 0; r <= static_cast<int>(CloseReason::Authentication); ++r) {
     const auto reason = static_cast<CloseReason>(r);
     if (close_reason_token(reason) == token) return reason;
   }

@@ -19,7 +19,7 @@ void Channel::send(const Message& message, LinkStats& stats) {
   frame.timestamp_ns = monotonic_ns();
   frame.message = message;
   std::vector<std::uint8_t> bytes;
-  encode(frame, bytes);
+  encode(frame, bytes, guard_ ? guard_->tx_key(type_of(message)) : nullptr);
   out_bytes_ += bytes.size();
   out_.push_back(std::move(bytes));
   stats.max_pending_bytes = std::max<std::uint64_t>(stats.max_pending_bytes, out_bytes_);
@@ -78,15 +78,42 @@ void Channel::count_bad(const DecodeResult& r, LinkStats& stats) {
     case DecodeError::BadCrc: ++b.crc; key = "crc"; break;
     case DecodeError::UnknownType: ++b.unknown_type; key = "type"; break;
     case DecodeError::Malformed: ++b.malformed; key = "malformed"; break;
+    case DecodeError::BadMac: ++b.mac; key = "mac"; break;
+    case DecodeError::MissingMac: ++b.no_mac; key = "no-mac"; break;
     case DecodeError::None: return;
   }
   log_limited(std::string("bad-frame-") + key,
               "dropped bad frame from " + label_ + ": " + std::string(to_string(r.error)) + ": " + r.detail);
 }
 
-bool Channel::accept_frame(Frame&& frame, LinkStats& stats, const std::function<bool(Frame&&)>& on_frame) {
+bool Channel::accept_frame(DecodeResult& r, LinkStats& stats, const std::function<bool(Frame&&)>& on_frame,
+                           ReadResult& fatal) {
+  Frame& frame = r.frame;
   const std::uint64_t expected = last_rx_seq_ + 1;
-  if (frame.sequence != expected) {
+  if (guard_) {
+    bool close = false;
+    r.error = guard_->check(r, r.detail, close);
+    if (r.error != DecodeError::None) {
+      count_bad(r, stats);
+      if (close) fatal = {ReadOutcome::Fatal, CloseReason::Authentication, r.detail};
+      return !close;  // a frame that fails its tag is dropped: it proves nothing, not even liveness
+    }
+    if (frame.sequence < expected) {
+      ++stats.sequence_replays;
+      log_limited("replay", "dropped " + std::string(to_string(type_of(frame.message))) + " from " + label_ +
+                                ": sequence " + std::to_string(frame.sequence) + " was already used (replayed or reordered; expected " +
+                                std::to_string(expected) + ")");
+      return true;
+    }
+    if (frame.sequence > expected) {
+      ++stats.sequence_gaps;
+      stats.sequence_frames_missed += frame.sequence - expected;
+      fatal = {ReadOutcome::Fatal, CloseReason::ProtocolError,
+               std::to_string(frame.sequence - expected) + " frame(s) missing before sequence " +
+                   std::to_string(frame.sequence) + " (dropped or held back on the way): resynchronising"};
+      return false;
+    }
+  } else if (frame.sequence != expected) {
     ++stats.sequence_gaps;
     if (frame.sequence > expected) stats.sequence_frames_missed += frame.sequence - expected;
     log_limited("sequence-gap", "sequence gap from " + label_ + ": expected " + std::to_string(expected) +
@@ -145,14 +172,16 @@ ReadResult Channel::receive(LinkStats& stats, const std::function<bool(Frame&&)>
         count_bad(r, stats);
         continue;  // datagram boundaries survive a bad frame: drop it and carry on
       }
-      if (!accept_frame(std::move(r.frame), stats, on_frame)) return {};
+      ReadResult fatal;
+      if (!accept_frame(r, stats, on_frame, fatal)) return fatal;
       continue;
     }
     stats.bytes_received += got;
     assembler_.append(std::span<const std::uint8_t>(rx_buffer_.data(), got));
     while (auto r = assembler_.next()) {
       if (r->error == DecodeError::None) {
-        if (!accept_frame(std::move(r->frame), stats, on_frame)) return {};
+        ReadResult fatal;
+        if (!accept_frame(*r, stats, on_frame, fatal)) return fatal;
         continue;
       }
       count_bad(*r, stats);

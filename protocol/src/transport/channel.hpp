@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "transport/clock.hpp"
+#include "transport/frame_guard.hpp"
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/wire.hpp"
 #include "transport/unique_fd.hpp"
@@ -32,6 +34,11 @@ class Channel {
   bool stream() const { return stream_; }
   const std::string& label() const { return label_; }
   void set_label(std::string label) { label_ = std::move(label); }
+  // An authenticated connection: frames are tagged as the guard says and received ones checked
+  // by it; sequence numbers are then strict (an old one is dropped as a replay, a skipped one
+  // closes the connection so the peer resynchronises with a fresh SNAPSHOT).
+  void guard(std::unique_ptr<FrameGuard> guard) { guard_ = std::move(guard); }
+  FrameGuard* guard() const { return guard_.get(); }
 
   // Encodes with the next sequence number and the current time, and queues the frame.
   void send(const Message& message, LinkStats& stats);
@@ -50,7 +57,9 @@ class Channel {
 
  private:
   void count_bad(const DecodeResult& r, LinkStats& stats);
-  bool accept_frame(Frame&& frame, LinkStats& stats, const std::function<bool(Frame&&)>& on_frame);
+  // Tag and sequence checks, then on_frame. False: stop reading (on_frame said so, or `fatal` set).
+  bool accept_frame(DecodeResult& r, LinkStats& stats, const std::function<bool(Frame&&)>& on_frame,
+                    ReadResult& fatal);
 
   UniqueFd fd_;
   bool stream_;
@@ -62,6 +71,7 @@ class Channel {
   std::uint64_t next_tx_seq_ = 1;
   std::uint64_t last_rx_seq_ = 0;
   std::vector<std::uint8_t> rx_buffer_;
+  std::unique_ptr<FrameGuard> guard_;
 };
 
 }  // namespace meter::protocol::detail

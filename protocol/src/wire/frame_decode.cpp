@@ -123,6 +123,16 @@ bool decode_hello(Reader& r, std::size_t size, Message& out, std::string& detail
     return false;
   }
   if (!read_text(r, source_len, h.catalog_source, "HELLO catalog source", detail)) return false;
+  if (!r.u32(h.key_id)) {
+    detail = "HELLO key id missing after the catalog source";
+    return false;
+  }
+  for (auto& b : h.nonce) {
+    if (!r.u8(b)) {
+      detail = "HELLO nonce needs " + std::to_string(kNonceSize) + " bytes after the key id";
+      return false;
+    }
+  }
   h.role = static_cast<Role>(role);
   out = std::move(h);
   return true;
@@ -136,8 +146,8 @@ bool decode_close(Reader& r, Message& out, std::string& detail) {
     detail = "CLOSE needs at least 2 bytes";
     return false;
   }
-  if (reason > static_cast<std::uint8_t>(CloseReason::Timeout)) {
-    detail = "CLOSE reason " + std::to_string(reason) + " is not 0..6";
+  if (reason > static_cast<std::uint8_t>(CloseReason::Authentication)) {
+    detail = "CLOSE reason " + std::to_string(reason) + " is not 0..7";
     return false;
   }
   if (!read_text(r, len, c.text, "CLOSE text", detail)) return false;
@@ -289,7 +299,7 @@ DecodeResult peek_header(std::span<const std::uint8_t> bytes) {
                  std::to_string(kMaxPayloadSize);
     return res;
   }
-  res.frame_size = kHeaderSize + res.header.payload_length;
+  res.frame_size = kHeaderSize + res.header.payload_length + (res.header.tagged() ? kTagSize : 0);
   return res;
 }
 
@@ -316,9 +326,9 @@ DecodeResult decode(std::span<const std::uint8_t> bytes) {
     res.detail = "message type " + std::to_string(res.header.type) + " is not 1..7";
     return res;
   }
-  if (res.header.flags != 0) {
+  if ((res.header.flags & ~kFrameTagged) != 0) {
     res.error = DecodeError::Malformed;
-    res.detail = "header flags are " + std::to_string(res.header.flags) + ", expected 0 (reserved)";
+    res.detail = "header flags are " + std::to_string(res.header.flags) + ", only bit 0 (tagged) is defined";
     return res;
   }
   std::string detail;
@@ -329,6 +339,7 @@ DecodeResult decode(std::span<const std::uint8_t> bytes) {
   }
   res.frame.sequence = res.header.sequence;
   res.frame.timestamp_ns = res.header.timestamp_ns;
+  res.bytes = bytes.first(res.frame_size);
   return res;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "wire/byte_io.hpp"
+#include "meter/protocol/frame_tag.hpp"
 #include "meter/protocol/wire.hpp"
 #include "wire/wire_checks.hpp"
 
@@ -71,6 +72,8 @@ void encode_payload(const Message& m, Writer& w) {
       w.bytes(h.name);
       w.u8(static_cast<std::uint8_t>(h.catalog_source.size()));
       w.bytes(h.catalog_source);
+      w.u32(h.key_id);
+      for (std::uint8_t b : h.nonce) w.u8(b);
     }
     void operator()(const CatalogChunk& c) const {
       if (c.bytes.size() > kMaxCatalogChunkBytes) throw std::invalid_argument("CATALOG piece exceeds kMaxCatalogChunkBytes");
@@ -90,7 +93,7 @@ void encode_payload(const Message& m, Writer& w) {
       w.u32(s.fault_flags);
     }
     void operator()(const Close& c) const {
-      if (c.reason > CloseReason::Timeout) throw std::invalid_argument("CLOSE: unknown reason code");
+      if (c.reason > CloseReason::Authentication) throw std::invalid_argument("CLOSE: unknown reason code");
       check_text("CLOSE text", c.text, kMaxTextBytes);
       w.u8(static_cast<std::uint8_t>(c.reason));
       w.u8(static_cast<std::uint8_t>(c.text.size()));
@@ -106,13 +109,13 @@ std::size_t encoded_size(const SignalUpdate& update) {
   return 12 + (update.has_text ? 1 + update.text.size() : 0);
 }
 
-void encode(const Frame& frame, std::vector<std::uint8_t>& out) {
+void encode(const Frame& frame, std::vector<std::uint8_t>& out, const FrameKey* key) {
   const std::size_t start = out.size();
   Writer w(out);
   w.u32(kMagic);
   w.u8(kProtocolVersion);
   w.u8(static_cast<std::uint8_t>(type_of(frame.message)));
-  w.u16(0);
+  w.u16(key != nullptr ? kFrameTagged : 0);
   w.u32(0);  // payload length, patched below
   w.u64(frame.sequence);
   w.u64(static_cast<std::uint64_t>(frame.timestamp_ns));
@@ -134,11 +137,15 @@ void encode(const Frame& frame, std::vector<std::uint8_t>& out) {
   std::uint32_t crc = crc32c(std::span(out).subspan(start, 28));
   crc = crc32c(std::span(out).subspan(start + kHeaderSize, payload), crc);
   for (int i = 0; i < 4; ++i) out[start + 28 + i] = static_cast<std::uint8_t>(crc >> (8 * i));
+  if (key != nullptr) {
+    const auto tag = frame_tag(std::span(out).subspan(start, kHeaderSize + payload), *key);
+    out.insert(out.end(), tag.begin(), tag.end());
+  }
 }
 
-std::vector<std::uint8_t> encode(const Frame& frame) {
+std::vector<std::uint8_t> encode(const Frame& frame, const FrameKey* key) {
   std::vector<std::uint8_t> out;
-  encode(frame, out);
+  encode(frame, out, key);
   return out;
 }
 

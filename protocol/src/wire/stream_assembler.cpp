@@ -14,6 +14,11 @@ void StreamAssembler::append(std::span<const std::uint8_t> bytes) {
 
 std::optional<DecodeResult> StreamAssembler::next() {
   if (broken_) return std::nullopt;
+  // The frame returned last time stays readable (DecodeResult::bytes) until now.
+  if (start_ > 0 && start_ == buffer_.size()) {
+    buffer_.clear();
+    start_ = 0;
+  }
   const auto avail = std::span<const std::uint8_t>(buffer_).subspan(start_);
   DecodeResult res = peek_header(avail);
   if (res.error == DecodeError::Truncated) return std::nullopt;
@@ -26,10 +31,6 @@ std::optional<DecodeResult> StreamAssembler::next() {
     case DecodeError::UnknownType:
     case DecodeError::Malformed:
       start_ += res.frame_size;  // CRC was good, so the length is trustworthy: skip exactly this frame
-      if (start_ == buffer_.size()) {
-        buffer_.clear();
-        start_ = 0;
-      }
       return res;
     default:
       broken_ = true;

@@ -56,6 +56,7 @@ std::string_view to_string(CloseReason reason) {
     case CloseReason::NotAllowed: return "peer uid not allowed";
     case CloseReason::ProtocolError: return "protocol error";
     case CloseReason::Timeout: return "timeout";
+    case CloseReason::Authentication: return "authentication failed";
   }
   return "unknown";
 }
@@ -70,6 +71,8 @@ std::string_view to_string(DecodeError error) {
     case DecodeError::BadCrc: return "CRC mismatch";
     case DecodeError::UnknownType: return "unknown message type";
     case DecodeError::Malformed: return "malformed payload";
+    case DecodeError::BadMac: return "MAC mismatch";
+    case DecodeError::MissingMac: return "MAC missing";
   }
   return "unknown";
 }

@@ -76,8 +76,10 @@ class PreviewLoop {
     for (const auto& s : options.sets) runner::parse_set(s, values_, "--set");
     if (!options.values_csv.empty()) player_.emplace(ValuesPlayer::load(options.values_csv));
     if (!options.link.empty()) {
-      subscriber_.emplace(protocol::endpoint_from_option(options.link),
-                          protocol::link_options("meter-preview", std::chrono::milliseconds(options.link_timeout_ms)));
+      auto lo = protocol::link_options("meter-preview", std::chrono::milliseconds(options.link_timeout_ms));
+      lo.key_file = options.key_file;
+      lo.insecure_link = options.insecure_link;
+      subscriber_.emplace(protocol::endpoint_from_option(options.link), lo);
     }
     input_.link_lost = options.link_lost;
     status_.files = file_names(reloader_.files());

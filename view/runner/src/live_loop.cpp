@@ -11,6 +11,7 @@
 
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/protocol/link.hpp"
+#include "meter/protocol/link_stats_text.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "meter/protocol/wire.hpp"
 #include "meter/runner/display_sink.hpp"
@@ -44,6 +45,8 @@ bool takes_controller_catalog(const ViewOptions& options) {
 protocol::LinkOptions view_link_options(const ViewOptions& options) {
   auto lo = protocol::link_options("meter-view", std::chrono::milliseconds(options.link_timeout_ms));
   lo.take_peer_catalog = takes_controller_catalog(options);
+  lo.key_file = options.key_file;
+  lo.insecure_link = options.insecure_link;
   return lo;
 }
 
@@ -389,6 +392,7 @@ void LiveLoop::summary() {
        << " skipped (inputs unchanged), " << health_.count(protocol::kViewFaultFrameDeadline)
        << " frame deadlines missed, " << png_writer_.failures() << " dumps failed, " << png_writer_.dropped()
        << " dumps dropped (writer busy)\n";
+  log_ << "meter-view: link: " << protocol::link_stats_text(sub_.stats()) << "\n";
   if (options_.stats) {
     const auto end = Clock::now();
     log_ << "meter-view: " << options_.pipeline << " pipeline, readback "

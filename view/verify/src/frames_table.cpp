@@ -72,7 +72,9 @@ FramesTable read_frames_table(const std::filesystem::path& file) {
     r.line = n;
     for (std::size_t i = 0; i < cells.size(); ++i) r.cells[t.columns[i]] = cells[i];
     double frame = 0;
-    if (!parse_double(r.cells["frame"], &frame) || frame < 0 || frame != std::floor(frame)) {
+    // Up to 2^53 a double holds every whole number; beyond, it is no frame counter (and beyond
+    // 2^64 converting it would be undefined).
+    if (!parse_double(r.cells["frame"], &frame) || frame < 0 || frame != std::floor(frame) || frame > 9007199254740992.0) {
       throw VerifyError(at_line(file, n) + ": column frame: \"" + r.cells["frame"] + "\" is not a frame number");
     }
     r.frame = static_cast<std::uint64_t>(frame);

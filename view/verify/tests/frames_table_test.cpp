@@ -54,6 +54,10 @@ TEST(FramesTable, BadInputIsNamedByLineAndColumn) {
             std::string::npos);
   EXPECT_NE(error_of(write("path.csv", kHeader + "1,0,../f.png,1,1,3,valid,0,\"\"\n")).find("column png"), std::string::npos);
   EXPECT_NE(error_of(write("empty.csv", kHeader)).find("no frames"), std::string::npos);
+  // A number no frame counter reaches (beyond 2^53 a double no longer holds every integer, and
+  // beyond 2^64 it has no frame number at all) is refused, not converted.
+  EXPECT_NE(error_of(write("huge.csv", kHeader + "1e300,0,f.png,1,1,3,valid,0,\"\"\n")).find(":2: column frame: \"1e300\""),
+            std::string::npos);
   const auto t = read_frames_table(write("nan.csv", kHeader + "1,0,f.png,1,1,nan,valid,0,\"\"\n"));
   EXPECT_THROW(number_cell(t, t.rows[0], "Vehicle.Speed"), VerifyError);  // never a silent NaN
 }

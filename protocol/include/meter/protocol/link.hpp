@@ -39,8 +39,10 @@ struct BadFrameCounts {
   std::uint64_t oversized = 0;
   std::uint64_t unknown_type = 0;
   std::uint64_t malformed = 0;  // good CRC, but the payload breaks the format (bad id, NaN, ...)
+  std::uint64_t mac = 0;        // authenticated link: the MAC tag does not verify
+  std::uint64_t no_mac = 0;     // authenticated link: a frame without a MAC tag (stripped, downgraded)
   std::uint64_t total() const {
-    return bad_magic + crc + version + truncated + oversized + unknown_type + malformed;
+    return bad_magic + crc + version + truncated + oversized + unknown_type + malformed + mac + no_mac;
   }
 };
 
@@ -59,13 +61,14 @@ struct LinkStats {
   std::uint64_t coalesced_updates = 0;        // set() calls that overwrote a value not yet sent
   std::uint64_t sequence_gaps = 0;            // times a received sequence number skipped ahead
   std::uint64_t sequence_frames_missed = 0;   // sum of the skipped numbers
+  std::uint64_t sequence_replays = 0;         // authenticated link: frames with a used sequence, dropped
   BadFrameCounts bad_frames;
   std::uint64_t write_stalls = 0;             // sends that hit a full socket buffer
   std::uint64_t max_pending_bytes = 0;        // high-water mark of bytes queued for one peer
   std::uint64_t connects = 0;                 // links established (handshake done)
   std::uint64_t reconnects = 0;               // Subscriber: links established after a loss
   std::uint64_t link_losses = 0;              // heartbeat silence or peer closed
-  std::uint64_t handshakes_refused = 0;       // version / catalog / role mismatch, either side
+  std::uint64_t handshakes_refused = 0;       // version / catalog / role / key mismatch, either side
   std::uint64_t peers_rejected = 0;           // SO_PEERCRED uid not in the allow-list
   bool link_up = false;                       // Publisher: at least one peer in sync
 };

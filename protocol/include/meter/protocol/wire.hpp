@@ -2,11 +2,14 @@
 // rule in docs/protocol.md is testable (and fuzzable) on plain bytes.
 //
 // Frame = 32-byte header + payload, all integers little-endian:
-//   0  u32 magic "MTRL" (bytes 4D 54 52 4C)   4  u8 version (2)   5  u8 type   6  u16 flags (0)
+//   0  u32 magic "MTRL" (bytes 4D 54 52 4C)   4  u8 version (3)   5  u8 type   6  u16 flags
 //   8  u32 payload length                    12  u64 sequence    20  i64 sender timestamp ns
 //   28 u32 CRC-32C over bytes 0..27 and the payload
+// and, when flag bit 0 (kFrameTagged) is set, a kTagSize-byte MAC tag after the payload
+// (meter/protocol/frame_tag.hpp computes and checks it).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -21,11 +24,16 @@
 namespace meter::protocol {
 
 inline constexpr std::uint32_t kMagic = 0x4C52544DU;  // "MTRL" as bytes on the wire
-inline constexpr std::uint8_t kProtocolVersion = 2;  // 2: HELLO flags + catalog source, CATALOG
+// 2: HELLO flags + catalog source, CATALOG. 3: frame MAC tag (header flag bit 0), HELLO key id + nonce.
+inline constexpr std::uint8_t kProtocolVersion = 3;
 inline constexpr std::size_t kHeaderSize = 32;
 inline constexpr std::size_t kMaxFrameSize = 65536;
 inline constexpr std::size_t kMaxPayloadSize = kMaxFrameSize - kHeaderSize;
 inline constexpr std::size_t kMaxTextBytes = 255;
+// Header flag bit 0: a MAC tag of kTagSize bytes follows the payload (not counted in its length).
+inline constexpr std::uint16_t kFrameTagged = 1;
+inline constexpr std::size_t kTagSize = 16;    // 128-bit tag (docs/security.md says why)
+inline constexpr std::size_t kNonceSize = 16;  // HELLO's per-connection freshness value
 inline constexpr std::size_t kMaxNameBytes = 64;
 // The largest signal entry: id, status, flags, value, text length, text.
 inline constexpr std::size_t kMaxEntrySize = 2 + 1 + 1 + 8 + 1 + kMaxTextBytes;
@@ -60,6 +68,8 @@ struct Hello {
   std::string name;                       // at most kMaxNameBytes
   std::string catalog_source;             // the sender's catalog file, for refusals; at most kMaxTextBytes
   std::uint8_t flags = 0;                 // kHelloTakesCatalog; other bits reserved (0)
+  std::uint32_t key_id = 0;               // the link key this end tags with; 0 = unauthenticated
+  std::array<std::uint8_t, kNonceSize> nonce{};  // fresh random bytes per connection (0 without a key)
   bool operator==(const Hello&) const = default;
 };
 
@@ -137,6 +147,7 @@ enum class CloseReason : std::uint8_t {
   NotAllowed = 4,
   ProtocolError = 5,
   Timeout = 6,
+  Authentication = 7,  // no key, unknown key id, or a HELLO whose tag does not verify
 };
 std::string_view to_string(CloseReason reason);
 
@@ -157,6 +168,7 @@ struct FrameHeader {
   std::uint64_t sequence = 0;
   std::int64_t timestamp_ns = 0;
   std::uint32_t crc = 0;
+  bool tagged() const { return (flags & kFrameTagged) != 0; }
 };
 
 struct Frame {
@@ -168,8 +180,10 @@ struct Frame {
 // Appends one encoded frame to `out`. Throws std::length_error if the payload would exceed
 // kMaxPayloadSize, std::invalid_argument for a value the format cannot carry (non-finite value,
 // text/name too long, unknown status) — the encoder never produces a frame the decoder rejects.
-void encode(const Frame& frame, std::vector<std::uint8_t>& out);
-std::vector<std::uint8_t> encode(const Frame& frame);
+// With `key`, the frame is tagged: flag bit 0 set and the MAC tag (frame_tag.hpp) appended.
+struct FrameKey;
+void encode(const Frame& frame, std::vector<std::uint8_t>& out, const FrameKey* key = nullptr);
+std::vector<std::uint8_t> encode(const Frame& frame, const FrameKey* key = nullptr);
 
 // Encoded size of one entry / of a DELTA or SNAPSHOT holding `entries` bytes of entries: lets the
 // sender split a large update across frames without encoding twice.
@@ -185,12 +199,20 @@ enum class DecodeError : std::uint8_t {
   BadCrc,
   UnknownType,
   Malformed,         // CRC fine, payload breaks the format
+  // Set by the link's tag check, never by decode(): the frame decoded, but on an authenticated
+  // link its MAC tag is wrong (forged, altered, or keyed for another connection or direction) or
+  // missing (a MAC stripped, or a peer that does not authenticate).
+  BadMac,
+  MissingMac,
 };
 std::string_view to_string(DecodeError error);
 
 struct DecodeResult {
   DecodeError error = DecodeError::None;
-  std::size_t frame_size = 0;  // bytes of the frame (header + payload) when the header was readable
+  std::size_t frame_size = 0;  // bytes of the frame (header + payload + tag) when the header was readable
+  // The frame's bytes (frame_size of them) when it decoded: a view of the input, valid as long as
+  // the bytes given to decode() (or until the StreamAssembler's next append()/next()).
+  std::span<const std::uint8_t> bytes;
   FrameHeader header;          // valid when error is not Truncated-before-header / BadMagic
   Frame frame;                 // valid when error == None
   std::string detail;          // what was wrong, for logs ("entry 3: unknown signal id 999")

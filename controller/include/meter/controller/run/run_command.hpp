@@ -24,6 +24,8 @@ struct RunOptions {
   // Silence on the link for this long = link lost (heartbeats every third of it). 300 ms suits
   // two processes on one machine; an inter-chip link through an emulator configures more.
   int link_timeout_ms = 300;
+  std::string key_file;        // the link's key file (MAC on every frame); empty = none
+  bool insecure_link = false;  // allow TCP without a key file (a lab)
   // Latency trace (CSV): every received CAN frame, every published value change and every
   // flush to the link, on CLOCK_REALTIME (bench/latency reads it). Empty = off.
   std::string trace;

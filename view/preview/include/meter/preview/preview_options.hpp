@@ -19,6 +19,8 @@ struct PreviewOptions {
   std::string values_csv;         // played from the start on the preview's clock
   std::string link;               // follow a controller: unix:/path | tcp:host:port | default
   int link_timeout_ms = 300;
+  std::string key_file;        // the link's key file; empty = none
+  bool insecure_link = false;  // allow TCP without a key file (a lab)
   bool link_lost = false;         // start with the link-loss (failsafe) look
 
   // Scripted runs (tests): the scene area of the last frame as a PNG, read from the window's

@@ -32,6 +32,8 @@ struct ViewOptions {
   bool dump_last = false;
   std::vector<std::string> dump_at;  // times, e.g. "2.5s"
   int link_timeout_ms = 300;
+  std::string key_file;           // the link's key file (MAC on every frame); empty = none
+  bool insecure_link = false;     // allow TCP without a key file (a lab)
   std::string trace_csv;          // empty = none
 
   // play: a link recording rendered on its own simulated clock (play_recording.hpp); uses fps,
