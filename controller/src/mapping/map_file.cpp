@@ -1,5 +1,6 @@
-// Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus] and
-// [modbus.register NAME]. Every error names file:line and what was expected.
+// Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus],
+// [modbus.register NAME], [e2e] and [e2e MESSAGE] (e2e_section.hpp). Every error names file:line
+// and what was expected.
 #include "meter/controller/mapping/map_file.hpp"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "meter/controller/mapping/e2e_section.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 
 namespace meter::controller {
@@ -319,7 +321,7 @@ RegisterType register_type(const std::string& v, const Ctx& c) {
   c.fail("type: expected int16, uint16, int32, uint32 or float32, got '" + v + "'");
 }
 
-enum class Section { None, Global, Modbus, Register, Output };
+enum class Section { None, Global, Modbus, Register, Output, E2e, E2eMessage };
 
 // A [section] header: the section it opens (a catalog signal's output, a Modbus register, ...).
 Section open_section(Mapping& m, std::string_view header, const Ctx& c) {
@@ -340,11 +342,24 @@ Section open_section(Mapping& m, std::string_view header, const Ctx& c) {
     r.line = c.line;
     m.modbus->registers.push_back(r);
     return Section::Register;
+  } else if (name == "e2e") {
+    return Section::E2e;
+  } else if (name.rfind("e2e ", 0) == 0 || name.rfind("e2e\t", 0) == 0) {
+    E2eSpec spec;
+    spec.message = std::string(trim(std::string_view(name).substr(4)));
+    if (spec.message.empty() || spec.message.find_first_of(" \t") != std::string::npos)
+      c.fail("expected [e2e MESSAGE] or [e2e INPUT.MESSAGE], got [" + name + "]");
+    for (const E2eSpec& other : m.e2e.messages)
+      if (other.message == spec.message) c.fail("section [e2e " + spec.message + "] appears twice");
+    spec.line = c.line;
+    spec.origin = "map file " + m.file + ":" + std::to_string(c.line);
+    m.e2e.messages.push_back(spec);
+    return Section::E2eMessage;
   } else {
     const protocol::SignalInfo* info = protocol::find_signal(name);
     if (!info)
       c.fail("section [" + name + "]: expected a signal of the catalog " + protocol::active_catalog()->source() +
-             " (e.g. Vehicle.Speed), 'global', 'modbus' or 'modbus.register NAME'");
+             " (e.g. Vehicle.Speed), 'global', 'modbus', 'modbus.register NAME', 'e2e' or 'e2e MESSAGE'");
     if (m.find(info->id)) c.fail("section [" + name + "] appears twice");
     OutputMapping o;
     o.id = info->id;
@@ -431,6 +446,7 @@ void check_mapping(const Mapping& m, Ctx& c) {
       if (s.rfind("modbus.", 0) == 0 && (!m.modbus || !m.modbus->find(s.substr(7))))
         c.fail("[" + o.name + "]: source " + s + " names no [modbus.register " + s.substr(7) + "]");
   }
+  for (const E2eSpec& spec : m.e2e.messages) check_e2e_message(spec, m.file);
   if (m.modbus && !m.modbus->heartbeat.empty() && !m.modbus->find(m.modbus->heartbeat))
     throw MappingError(m.file, 0, "[modbus] heartbeat '" + m.modbus->heartbeat + "' names no register");
 }
@@ -466,6 +482,8 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
       case Section::Modbus: set_modbus_key(*m.modbus, key, value, c); break;
       case Section::Register: set_register_key(m.modbus->registers.back(), key, value, c); break;
       case Section::Output: set_output_key(m.outputs.back(), key, value, c); break;
+      case Section::E2e: set_e2e_key(m.e2e, key, value, file, c.line); break;
+      case Section::E2eMessage: set_e2e_message_key(m.e2e.messages.back(), key, value, file, c.line); break;
     }
   }
   check_mapping(m, c);

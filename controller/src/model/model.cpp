@@ -68,6 +68,8 @@ Model::Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options
     protocol::active_catalog()->require(protocol::vss::kTrip, "the trip meter that comes with the odometer");
   }
   resolve_value_names(mapping_, sources_.inputs());
+  e2e_ = build_e2e_guard(sources_.inputs(), mapping_.e2e, mapping_.file);
+  if (!e2e_.empty()) sources_.set_e2e(&e2e_);
   build_outputs();
   if (!options_.state_dir.empty() && maps(mapping_, special_.odometer)) {
     store_ = std::make_unique<OdometerStore>(options_.state_dir);
@@ -136,6 +138,7 @@ void Model::on_frame(const CanFrame& f) {
     case FrameUse::ErrorFrame: ++stats_.error_frames; break;
     case FrameUse::UnknownId: ++stats_.frames_unknown; break;
     case FrameUse::Mapped: ++stats_.frames_mapped; break;
+    case FrameUse::Refused: ++stats_.frames_refused; break;
     case FrameUse::Ignored:
     case FrameUse::Unused: break;
   }

@@ -14,6 +14,7 @@
 #include "meter/controller/conditioning/fuel.hpp"
 #include "meter/controller/conditioning/needle.hpp"
 #include "meter/controller/conditioning/telltales.hpp"
+#include "meter/controller/e2e/e2e_config.hpp"
 #include "meter/controller/input/modbus_registers.hpp"
 #include "meter/controller/mapping/map_file.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -80,6 +81,7 @@ struct Mapping {
   double update_period_s = 0.01;  // model tick
   std::vector<OutputMapping> outputs;
   std::optional<ModbusConfig> modbus;
+  E2eSettings e2e;  // [e2e] and [e2e MESSAGE] sections: the CAN end-to-end checks
   const OutputMapping* find(protocol::SignalId id) const;
 };
 
