@@ -74,14 +74,20 @@ bool summarise(const E2eGuard& guard, std::ostream& err) {
   err << "e2e summary: " << checked << " frames checked, " << refused << " refused, " << lost
       << " frames lost (tolerated counter skips), " << guard.entries().size() << " protected message(s)\n";
   bool mismatch = false;
+  std::string unseen;
   for (const auto& e : guard.entries()) {
     const E2eMessage& m = e.message;
     const E2eMessageStats& s = e.stats;
+    if (s.checked == 0) {
+      unseen += (unseen.empty() ? "" : ", ") + m.message->name;
+      continue;
+    }
     err << "e2e:   " << m.message->name << " (" << hex(m.message->id) << ", " << to_string(m.spec.checksum) << "): " << s.checked
         << " checked, " << s.refused() << " refused (" << s.checksum_failed << " checksum, " << s.short_frames << " short, "
         << s.repeated << " repeated, " << s.wrong_sequence << " wrong sequence, " << s.syncing << " resynchronising), "
         << s.skips << " counter skips (" << s.lost << " frames lost)\n";
   }
+  if (!unseen.empty()) err << "e2e:   not in the log: " << unseen << "\n";
   for (const auto& e : guard.entries()) {
     if (!guard.likely_mismatch(e)) continue;
     mismatch = true;
