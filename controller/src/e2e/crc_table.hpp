@@ -1,9 +1,11 @@
-// The byte-at-a-time table of an MSB-first CRC, built at compile time from its polynomial: the
-// shared engine of the AUTOSAR CRC routines (crc8_sae_j1850, crc8h2f, crc16_ccitt).
+// The byte-at-a-time table of an MSB-first CRC, built at compile time from its polynomial, and the
+// register update over it: the one engine of the AUTOSAR CRC routines (crc8_sae_j1850, crc8h2f,
+// crc16_ccitt), each of which only names its polynomial, start value and final XOR.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 namespace meter::controller::crc_detail {
 
@@ -19,5 +21,16 @@ constexpr std::array<T, 256> msb_first_table() {
   }
   return table;
 }
+
+// An MSB-first CRC of polynomial Poly: its table and the register fed byte by byte.
+template <typename T, T Poly>
+struct MsbFirstCrc {
+  static constexpr std::array<T, 256> kTable = msb_first_table<T, Poly>();
+  static T update(T reg, std::span<const std::uint8_t> data) {
+    constexpr int kShift = sizeof(T) * 8 - 8;
+    for (std::uint8_t b : data) reg = static_cast<T>((reg << 8) ^ kTable[((reg >> kShift) ^ b) & 0xFF]);
+    return reg;
+  }
+};
 
 }  // namespace meter::controller::crc_detail

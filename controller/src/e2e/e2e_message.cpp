@@ -75,16 +75,10 @@ Place place_of(ChecksumKind k) {
 }
 
 std::string place_text(Place p) {
-  switch (p.where) {
-    case Place::AnyByte: return "one whole byte";
-    case Place::FirstByte: return "byte 0";
-    case Place::LastByte: return "the last byte";
-    case Place::LowNibbleOfLast: return "the low nibble of the last byte";
-    case Place::AnyNibble: return "one nibble";
-    case Place::FirstTwoBytes: return "bytes 0-1, little-endian";
-    case Place::AnyTwoBytes: return "two whole bytes, little-endian";
-  }
-  return "";
+  // In the order of Place::Where.
+  static const char* const kText[] = {"one whole byte", "byte 0", "the last byte", "the low nibble of the last byte",
+                                      "one nibble", "bytes 0-1, little-endian", "two whole bytes, little-endian"};
+  return kText[p.where];
 }
 
 // Sets e.checksum_byte/bit when the signal sits where the algorithm writes its checksum.

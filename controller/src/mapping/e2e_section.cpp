@@ -1,6 +1,8 @@
 #include "meter/controller/mapping/e2e_section.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <iterator>
 #include <cmath>
 #include <cstdlib>
 
@@ -25,18 +27,18 @@ struct E2eWhere {
   }
 };
 
-std::vector<std::string> e2e_items(std::string_view s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : s) {
-    if (c == ' ' || c == '\t' || c == ',') {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
+// The values of a data id list: whole numbers separated by blanks or commas.
+std::vector<std::uint8_t> data_id_list(std::string_view value, const E2eWhere& w) {
+  std::vector<std::uint8_t> out;
+  std::size_t i = 0;
+  while (i < value.size()) {
+    const std::size_t end = value.find_first_of(" \t,", i);
+    const std::string_view item = value.substr(i, end == std::string_view::npos ? std::string_view::npos : end - i);
+    if (!item.empty()) out.push_back(static_cast<std::uint8_t>(w.whole(item, "data_ids", 0, 255)));
+    if (end == std::string_view::npos) break;
+    i = end + 1;
   }
-  if (!cur.empty()) out.push_back(cur);
+  if (out.size() != 16) w.fail("data_ids: expected 16 values (one per counter value 0..15), got " + std::to_string(out.size()));
   return out;
 }
 
@@ -81,16 +83,13 @@ void set_e2e_message_key(E2eSpec& s, const std::string& key, std::string_view va
   } else if (key == "data_id") {
     s.data_id = static_cast<std::uint16_t>(w.whole(value, key, 0, 0xFFFF));
   } else if (key == "data_id_mode") {
-    if (v == "both") s.data_id_mode = DataIdMode::Both;
-    else if (v == "alternating") s.data_id_mode = DataIdMode::Alternating;
-    else if (v == "low") s.data_id_mode = DataIdMode::Low;
-    else if (v == "nibble") s.data_id_mode = DataIdMode::Nibble;
-    else w.fail("data_id_mode: expected both, alternating, low or nibble, got '" + v + "'");
+    // In the order of DataIdMode.
+    static const char* const kModes[] = {"both", "alternating", "low", "nibble"};
+    const auto* it = std::find(std::begin(kModes), std::end(kModes), v);
+    if (it == std::end(kModes)) w.fail("data_id_mode: expected both, alternating, low or nibble, got '" + v + "'");
+    s.data_id_mode = static_cast<DataIdMode>(it - std::begin(kModes));
   } else if (key == "data_ids") {
-    const auto list = e2e_items(value);
-    if (list.size() != 16) w.fail("data_ids: expected 16 values (one per counter value 0..15), got " + std::to_string(list.size()));
-    s.data_ids.clear();
-    for (const auto& x : list) s.data_ids.push_back(static_cast<std::uint8_t>(w.whole(x, key, 0, 255)));
+    s.data_ids = data_id_list(value, w);
   } else if (key == "max_delta") {
     s.tolerance.max_delta = static_cast<unsigned>(w.whole(value, key, 1, 255));
   } else if (key == "sync_frames") {

@@ -121,7 +121,15 @@ std::optional<double> Model::speed_estimate() const {
   return outs_[static_cast<std::size_t>(speed_out_)].conditioner.speed_estimate();
 }
 
-std::vector<std::pair<std::uint32_t, bool>> Model::used_ids(int input) const { return sources_.used_ids(input); }
+std::vector<std::pair<std::uint32_t, bool>> Model::used_ids(int input) const {
+  std::vector<std::pair<std::uint32_t, bool>> ids = sources_.used_ids(input);
+  // A protected message is checked (and counted) even when no output reads it.
+  for (const auto& e : e2e_.entries())
+    if (e.message.input == input) ids.emplace_back(e.message.message->id, e.message.message->extended);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
 
 void Model::start(std::int64_t t) {
   start_ = t;

@@ -89,7 +89,8 @@ class Model {
   // The speedometer's estimate of the true speed, which its UN R39 band is held around (nullopt: no
   // speedometer rule, or no valid speed).
   std::optional<double> speed_estimate() const;
-  // The messages the mapping uses on that input (SocketCAN kernel filters use the ids).
+  // The messages the mapping uses on that input, and those its [e2e] sections protect (SocketCAN
+  // kernel filters use the ids).
   std::vector<std::pair<std::uint32_t, bool>> used_ids(int input = 0) const;
 
  private:
