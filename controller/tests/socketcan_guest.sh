@@ -5,22 +5,20 @@
 # frames followed by forged and replayed ones, from vcan0 (about 2 s).
 set -u
 . "$METER_SRC/controller/tests/guest_controller_ready.sh"
-"$METER_BIN" run -v --dbc "$METER_SRC/controller/vehicles/demo/demo.dbc" --map "$METER_SRC/controller/vehicles/demo/demo.map" \
-  --input can:vcan0 --link tcp:127.0.0.1:0 > "$OUT/ctl.out" 2> "$OUT/ctl.err" &
-pid=$!
-controller_ready "$OUT/ctl.err" "$pid"
-canplayer -I "$OUT/head.log"
-sleep 0.3
-kill -TERM $pid
-wait $pid
-echo "exit=$?" >> "$OUT/ctl.err"
 
-"$METER_BIN" run -v --dbc "$METER_SRC/controller/tests/e2e_attack/attack.dbc" --map "$METER_SRC/controller/tests/e2e_attack/attack.map" \
-  --input can:vcan0 --link tcp:127.0.0.1:0 > "$OUT/e2e.out" 2> "$OUT/e2e.err" &
-pid=$!
-controller_ready "$OUT/e2e.err" "$pid"
-canplayer -I "$OUT/attack.log"
-sleep 0.3
-kill -TERM $pid
-wait $pid
-echo "exit=$?" >> "$OUT/e2e.err"
+# replay_into DBC MAP LOG NAME: a controller on vcan0 (stdout NAME.out, stderr NAME.err) while
+# canplayer replays LOG, stopped with SIGTERM; its exit status ends NAME.err.
+replay_into() {
+  "$METER_BIN" run -v --dbc "$1" --map "$2" --input can:vcan0 --link tcp:127.0.0.1:0 > "$OUT/$4.out" 2> "$OUT/$4.err" &
+  pid=$!
+  controller_ready "$OUT/$4.err" "$pid"
+  canplayer -I "$3"
+  sleep 0.3
+  kill -TERM $pid
+  wait $pid
+  echo "exit=$?" >> "$OUT/$4.err"
+}
+
+replay_into "$METER_SRC/controller/vehicles/demo/demo.dbc" "$METER_SRC/controller/vehicles/demo/demo.map" "$OUT/head.log" ctl
+replay_into "$METER_SRC/controller/tests/e2e_attack/attack.dbc" "$METER_SRC/controller/tests/e2e_attack/attack.map" \
+  "$OUT/attack.log" e2e
