@@ -9,6 +9,7 @@
 
 #include "../src/run/health_report.hpp"
 #include "meter/controller/dbc/parse.hpp"
+#include "meter/controller/e2e/autosar_profile01.hpp"
 #include "meter/controller/e2e/e2e_detect.hpp"
 #include "meter/controller/e2e/e2e_guard.hpp"
 #include "meter/controller/e2e/toyota_checksum.hpp"
@@ -84,6 +85,16 @@ TEST(E2eMessage, ChecksAFrameAndSaysWhereTheChecksumMustSit) {
   EXPECT_EQ(check_frame(m, st, 180, {good.data.data(), 5}).checksum, ChecksumStatus::ShortFrame);
   // The bad frame did not move the counter on: counter 4 with a good checksum is still the next one.
   EXPECT_EQ(check_frame(m, st, 180, {speed_frame(0, 50, 4).data.data(), 8}).counter_result.status, CounterStatus::Ok);
+
+  E2eSpec p01 = spec;  // profile 1's counter runs 0..14: a 15 is out of sequence whatever came before
+  p01.checksum = ChecksumKind::Profile01;
+  const E2eMessage m01 = resolve_e2e(p01, *db.find("SPEED"));
+  CounterState st01;
+  CanFrame f15 = speed_frame(0, 50, 15);
+  f15.data[7] = autosar_profile01_crc({f15.data.data(), 8}, 7, 0, DataIdMode::Both, 15);
+  const FrameCheck r15 = check_frame(m01, st01, 180, {f15.data.data(), 8});
+  EXPECT_EQ(r15.checksum, ChecksumStatus::Ok);
+  EXPECT_EQ(r15.counter_result.status, CounterStatus::WrongSequence);
 
   spec.checksum = ChecksumKind::Subaru;  // writes byte 0: this DBC puts the checksum in byte 7
   try {

@@ -217,7 +217,9 @@ FrameCheck check_frame(const E2eMessage& m, CounterState& state, std::uint32_t i
     r.checksum = ok ? ChecksumStatus::Ok : ChecksumStatus::Bad;
     if (!ok) return r;
   }
-  if (counter) {
+  if (counter && m.spec.checksum == ChecksumKind::Profile01 && r.counter > 14) {
+    r.counter_result.status = CounterStatus::WrongSequence;  // profile 1 counts 0..14: 15 is never sent
+  } else if (counter) {
     r.counter_result = check_counter(state, r.counter, m.counter_modulus, m.spec.tolerance);
     r.usable = counter_usable(r.counter_result.status);
   } else {
