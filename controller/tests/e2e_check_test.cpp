@@ -208,6 +208,19 @@ TEST(E2eModel, AFailingFrameIsNotUsedAndItsSignalsTimeOut) {
   EXPECT_EQ(describe(h[0]), "SPEED 20 of 40 refused (10 checksum, 10 repeated, 0 out of sequence; 0 lost)");
 }
 
+TEST(E2eModel, DetectionProtectsWhatTheDbcsConventionsIdentifyAndTheMapWins) {
+  const Database db = parse_dbc(kToyotaDbc, "toyota_test.dbc");
+  Model detected(&db, parse_mapping("[e2e]\ndetect = true\n", "d.map"));
+  ASSERT_EQ(detected.e2e().entries().size(), 1u);
+  EXPECT_EQ(detected.e2e().entries()[0].message.spec.checksum, ChecksumKind::Toyota);
+  EXPECT_EQ(detected.used_ids(), (std::vector<std::pair<std::uint32_t, bool>>{{180, false}}));  // joins the kernel filter
+  Model configured(&db, parse_mapping("[e2e]\ndetect = true\n[e2e SPEED]\nchecksum = none\n", "d.map"));
+  ASSERT_EQ(configured.e2e().entries().size(), 1u);
+  EXPECT_EQ(configured.e2e().entries()[0].message.spec.checksum, ChecksumKind::None);
+  Model off(&db, parse_mapping("[Vehicle.Speed]\nsource = SPEED.SPEED\ntimeout = 100ms\n", "d.map"));
+  EXPECT_TRUE(off.e2e().empty());  // nothing configured: every frame believed, as before
+}
+
 TEST(E2eModel, UnknownMessagesAndSignalsInTheMapAreErrorsAtStart) {
   const Database db = parse_dbc(kToyotaDbc, "toyota_test.dbc");
   EXPECT_THROW(Model(&db, parse_mapping("[e2e NOPE]\nchecksum = toyota\n", "x.map")), MappingError);
