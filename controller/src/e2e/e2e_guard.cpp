@@ -1,5 +1,7 @@
 #include "meter/controller/e2e/e2e_guard.hpp"
 
+#include <algorithm>
+#include <functional>
 #include <stdexcept>
 
 #include "meter/controller/e2e/e2e_detect.hpp"
@@ -10,15 +12,17 @@ namespace meter::controller {
 
 void E2eGuard::add(E2eMessage message) {
   const DbcMessage* m = message.message;
-  if (by_message_.count(m)) return;  // configured before (the map file wins over detection)
-  by_message_.emplace(m, entries_.size());
+  if (find(m) >= 0) return;  // configured before (the map file wins over detection)
+  const auto at = std::lower_bound(by_message_.begin(), by_message_.end(), m,
+                                   [](const auto& e, const DbcMessage* key) { return std::less<>()(e.first, key); });
+  by_message_.insert(at, {m, entries_.size()});
   entries_.push_back(Entry{std::move(message), {}, {}});
 }
 
 int E2eGuard::find(const DbcMessage* m) const {
-  if (entries_.empty()) return -1;
-  auto it = by_message_.find(m);
-  return it == by_message_.end() ? -1 : static_cast<int>(it->second);
+  const auto at = std::lower_bound(by_message_.begin(), by_message_.end(), m,
+                                   [](const auto& e, const DbcMessage* key) { return std::less<>()(e.first, key); });
+  return at == by_message_.end() || at->first != m ? -1 : static_cast<int>(at->second);
 }
 
 FrameCheck E2eGuard::check(std::size_t i, std::uint32_t id, std::span<const std::uint8_t> payload) {

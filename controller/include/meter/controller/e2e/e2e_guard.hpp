@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "meter/controller/e2e/e2e_config.hpp"
@@ -56,7 +56,8 @@ class E2eGuard {
   double ratio_ = 0.9;
   unsigned min_frames_ = 20;
   std::vector<Entry> entries_;
-  std::unordered_map<const DbcMessage*, std::size_t> by_message_;
+  // (message, entry index) sorted by message: a few protected messages, looked up on every frame.
+  std::vector<std::pair<const DbcMessage*, std::size_t>> by_message_;
 };
 
 // The guard for a mapping's E2E settings over the inputs' DBCs: each [e2e MESSAGE] resolved
