@@ -121,6 +121,20 @@ TEST(E2eDetect, ReadsTheMakeFromTheFileNameAndTheSignalsByName) {
   EXPECT_EQ(unknown.messages[0].checksum, ChecksumKind::None);  // a counter is still a counter
 }
 
+TEST(E2eDetect, ReadsTeslasSignalsNamedAfterTheirMessage) {
+  const char* dbc =
+      "BO_ 697 DAS_control: 8 DAS\n SG_ DAS_controlCounter : 53|3@1+ (1,0) [0|7] \"\" EPAS\n"
+      " SG_ DAS_controlChecksum : 56|8@1+ (1,0) [0|255] \"\" EPAS\n"
+      "BO_ 585 SCCM_leftStalk: 8 SCCM\n SG_ SCCM_leftStalkCounter : 8|4@1+ (1,0) [0|15] \"\" X\n";
+  const E2eDetection d = detect_e2e(parse_dbc(dbc, "tesla_can.dbc"));
+  ASSERT_EQ(d.messages.size(), 2u);
+  EXPECT_EQ(d.messages[0].checksum, ChecksumKind::Tesla);
+  EXPECT_EQ(d.messages[0].checksum_signal, "DAS_controlChecksum");
+  EXPECT_EQ(d.messages[1].checksum, ChecksumKind::None);
+  EXPECT_EQ(d.messages[1].counter_signal, "SCCM_leftStalkCounter");
+  EXPECT_TRUE(detect_e2e(parse_dbc(dbc, "other.dbc")).messages.empty());  // the suffix rule is Tesla's alone
+}
+
 TEST(E2eDetect, FindsTheSubaruPreglobalMessagesOfOpendbc) {
   const Database db = load_dbc(std::string(METER_SHARED_DIR) + "/data/can/opendbc/subaru_outback_2015_generated.dbc");
   const E2eDetection d = detect_e2e(db);

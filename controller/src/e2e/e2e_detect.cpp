@@ -38,6 +38,14 @@ std::string base_name_lower(const std::string& path) {
   return b;
 }
 
+// opendbc's Tesla DBCs name a message's checksum and counter after it: DAS_controlChecksum,
+// DAS_controlCounter. The first signal whose name ends so; empty when none does.
+std::string named_with_suffix(const DbcMessage& m, std::string_view suffix) {
+  for (const DbcSignal& s : m.signals)
+    if (s.name.size() > suffix.size() && s.name.ends_with(suffix)) return s.name;
+  return "";
+}
+
 std::string hex_id(const DbcMessage& m) {
   char b[16];
   std::snprintf(b, sizeof b, "0x%X", m.id);
@@ -59,6 +67,12 @@ E2eDetection detect_e2e(const Database& db) {
     E2eSpec spec;
     spec.message = m.name;
     spec.checksum = d.checksum;
+    if (d.checksum == ChecksumKind::Tesla && checksum_signal_of(m) < 0 && counter_signal_of(m) < 0) {
+      spec.checksum_signal = named_with_suffix(m, "Checksum");
+      spec.counter_signal = named_with_suffix(m, "Counter");
+      if (spec.checksum_signal.empty() && spec.counter_signal.empty()) continue;
+      if (spec.checksum_signal.empty()) spec.checksum = ChecksumKind::None;
+    }
     E2eMessage e;
     try {
       e = resolve_e2e(spec, m);

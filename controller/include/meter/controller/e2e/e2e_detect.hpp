@@ -1,6 +1,7 @@
 // E2E protection read from a DBC's conventions: opendbc names a message's checksum CHECKSUM (or
 // Checksum, CRC, CHKSUM) and its alive counter COUNTER, and its file name says the make
-// (toyota_*, honda_*, vw_mqb_*, subaru_global_*, ...), which says the checksum algorithm. Pure:
+// (toyota_*, honda_*, vw_mqb_*, subaru_global_*, ...), which says the checksum algorithm; its Tesla
+// files name them after the message instead (DAS_controlChecksum, DAS_controlCounter). Pure:
 // a parsed DBC in, the specs and a report of what was chosen out.
 #pragma once
 
