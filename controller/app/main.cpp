@@ -9,6 +9,7 @@
 #include "meter/controller/run/check_dbc_command.hpp"
 #include "meter/controller/run/convert_log_command.hpp"
 #include "meter/controller/run/decode_command.hpp"
+#include "meter/controller/run/decode_e2e_command.hpp"
 #include "meter/controller/run/dump_dbc_command.hpp"
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/odometer_reset_command.hpp"
@@ -72,6 +73,12 @@ int main(int argc, char** argv) {
   d->add_option("--map", map, "Only the signals this mapping uses")->check(CLI::ExistingFile);
   bool decode_strict = false;
   d->add_flag("--strict", decode_strict, strict_help);
+  bool decode_e2e = false;
+  d->add_flag("--e2e", decode_e2e,
+              "Check end-to-end protection instead: each protected frame's checksum and counter as CSV "
+              "(timestamp,message,checksum,received,expected,counter,counter_status,used), a summary per message "
+              "on stderr; with --map its [e2e] sections, without what the DBC's conventions identify (docs/e2e.md). "
+              "Exit 2 when a message looks misconfigured");
   std::string decode_catalog;
   d->add_option("--catalog", decode_catalog, catalog_help)->check(CLI::ExistingFile);
 
@@ -112,6 +119,7 @@ int main(int argc, char** argv) {
       std::cerr << "meter-controller decode: " << e.what() << "\n";
       return 1;
     }
+    if (decode_e2e) return decode_e2e_command(dbc, log, map, std::cout, std::cerr, decode_strict);
     return decode_command(dbc, log, map, std::cout, std::cerr, decode_strict);
   }
   if (*v) {

@@ -1,8 +1,10 @@
 #include "fixed_vehicle.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <span>
 #include <string>
 #include <vector>
@@ -47,6 +49,31 @@ bool same_logged_frame(const CanFrame& a, const CanFrame& b, bool with_class) {
   return a.id == b.id && a.extended == b.extended && a.rtr == b.rtr && a.fd == b.fd && a.fd_flags == b.fd_flags &&
          a.len == b.len && a.len8_dlc == b.len8_dlc && a.channel == b.channel &&
          std::memcmp(a.data.data(), b.data.data(), a.rtr ? 0 : a.len) == 0;
+}
+
+bool model_for_map(std::optional<Model>& model, const Database& db, std::string_view map_text) {
+  try {
+    model.emplace(&db, parse_mapping(map_text, "fuzz.map"));
+    return true;
+  } catch (const std::exception& e) {
+    if (!std::strstr(e.what(), "fuzz.map:")) std::abort();  // an error that does not say where
+    return false;
+  }
+}
+
+CanFrame fuzz_frame(const Database& db, std::int64_t tick, std::string_view bytes, std::size_t stride, int short_every) {
+  const DbcMessage& m = db.messages[static_cast<std::size_t>(tick) % db.messages.size()];
+  CanFrame f;
+  f.id = m.id, f.extended = m.extended, f.timestamp_ns = tick * 10'000'000;
+  f.len = static_cast<std::uint8_t>(m.size - (short_every > 0 && tick % short_every == short_every / 2 && m.size > 0));
+  for (std::size_t i = 0; i < f.len; ++i)
+    f.data[i] = bytes.empty() ? 0 : static_cast<std::uint8_t>(bytes[(static_cast<std::size_t>(tick) * stride + i) % bytes.size()]);
+  return f;
+}
+
+void require_finite_outputs(const Model& model) {
+  for (const ModelOutput& o : model.outputs())
+    if (!std::isfinite(o.value)) std::abort();
 }
 
 }  // namespace meter::controller::fuzz

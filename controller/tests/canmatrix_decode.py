@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """Decode a candump -L log with python3-canmatrix: the independent reference for the controller.
 
-usage: canmatrix_decode.py DBC LOG [--every N] [--bench]
+usage: canmatrix_decode.py DBC LOG [--every N] [--bench] [--dbc-length-only]
 Writes CSV rows "timestamp,message,signal,physical" (like meter-controller decode, without raw,
 unit and status). --every N decodes only every Nth frame; --bench prints "frames seconds" instead
-(frames held in memory, timing covers decoding only).
+(frames held in memory, timing covers decoding only); --dbc-length-only leaves out the frames
+whose length is not their message's DBC size (canmatrix refuses to decode them).
 """
 import sys
 import time
@@ -38,6 +39,8 @@ def main():
     by_id = {}
     for fr in db.frames:
         by_id[(fr.arbitration_id.id, fr.arbitration_id.extended)] = fr
+    if "--dbc-length-only" in sys.argv:
+        frames = [f for f in frames if (f[1], f[2]) not in by_id or len(f[3]) == by_id[(f[1], f[2])].size]
     if bench:
         t0 = time.perf_counter()
         n = 0

@@ -69,6 +69,23 @@ void add_health(BusHealth& total, const BusHealth& other) {
   total.replay_slips += other.replay_slips;
   total.deferred_polls += other.deferred_polls;
   if (!other.polled_links.empty()) total.polled_links += (total.polled_links.empty() ? "" : "; ") + other.polled_links;
+  for (const E2eHealth& m : other.e2e) {
+    auto it = std::find_if(total.e2e.begin(), total.e2e.end(), [&](const E2eHealth& t) { return t.message == m.message; });
+    if (it == total.e2e.end()) {
+      total.e2e.push_back(m);
+      continue;
+    }
+    it->checked += m.checked, it->refused += m.refused, it->checksum += m.checksum, it->repeated += m.repeated;
+    it->out_of_sequence += m.out_of_sequence, it->lost += m.lost, it->mismatch = it->mismatch || m.mismatch;
+  }
+}
+
+std::string describe(const E2eHealth& m) {
+  std::string s = m.message + " " + std::to_string(m.refused) + " of " + std::to_string(m.checked) + " refused (" +
+                  std::to_string(m.checksum) + " checksum, " + std::to_string(m.repeated) + " repeated, " +
+                  std::to_string(m.out_of_sequence) + " out of sequence; " + std::to_string(m.lost) + " lost)";
+  if (m.mismatch) s += " LIKELY CONFIGURATION MISMATCH";
+  return s;
 }
 
 std::string describe(const BusHealth& h) {
@@ -80,6 +97,7 @@ std::string describe(const BusHealth& h) {
        " interface drops, " + std::to_string(h.replay_slips) +
        " replay slips, " + std::to_string(h.deferred_polls) + " deferred polls";
   if (!h.polled_links.empty()) s += ", " + h.polled_links;
+  for (std::size_t i = 0; i < h.e2e.size(); ++i) s += (i == 0 ? "; e2e: " : ", ") + describe(h.e2e[i]);
   return s;
 }
 

@@ -1,5 +1,6 @@
 // Mapping file parser: INI-like sections, one per catalog signal, plus [global], [modbus] /
-// [modbus INPUT] and [modbus.register [INPUT.]NAME]. Every error names file:line and what was expected.
+// [modbus INPUT], [modbus.register [INPUT.]NAME], [e2e] and [e2e MESSAGE] (e2e_section.hpp). Every
+// error names file:line and what was expected.
 #include "meter/controller/mapping/map_file.hpp"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "meter/controller/mapping/e2e_section.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 
 namespace meter::controller {
@@ -319,7 +321,7 @@ RegisterType register_type(const std::string& v, const Ctx& c) {
   c.fail("type: expected int16, uint16, int32, uint32 or float32, got '" + v + "'");
 }
 
-enum class Section { None, Global, Modbus, Register, Output };
+enum class Section { None, Global, Modbus, Register, Output, E2e, E2eMessage };
 
 // The register table [modbus.register REG] adds to: REG "NAME" goes into [modbus]'s, "INPUT.NAME"
 // into the table of the Modbus input named INPUT; `reg` is left holding NAME.
@@ -365,11 +367,24 @@ Section open_section(Mapping& m, std::string_view header, const Ctx& c, ModbusCo
     r.line = c.line;
     table->registers.push_back(r);
     return Section::Register;
+  } else if (name == "e2e") {
+    return Section::E2e;
+  } else if (name.rfind("e2e ", 0) == 0 || name.rfind("e2e\t", 0) == 0) {
+    E2eSpec spec;
+    spec.message = std::string(trim(std::string_view(name).substr(4)));
+    if (spec.message.empty() || spec.message.find_first_of(" \t") != std::string::npos)
+      c.fail("expected [e2e MESSAGE] or [e2e INPUT.MESSAGE], got [" + name + "]");
+    for (const E2eSpec& other : m.e2e.messages)
+      if (other.message == spec.message) c.fail("section [e2e " + spec.message + "] appears twice");
+    spec.line = c.line;
+    spec.origin = "map file " + m.file + ":" + std::to_string(c.line);
+    m.e2e.messages.push_back(spec);
+    return Section::E2eMessage;
   } else {
     const protocol::SignalInfo* info = protocol::find_signal(name);
     if (!info)
       c.fail("section [" + name + "]: expected a signal of the catalog " + protocol::active_catalog()->source() +
-             " (e.g. Vehicle.Speed), 'global', 'modbus', 'modbus INPUT' or 'modbus.register [INPUT.]NAME'");
+             " (e.g. Vehicle.Speed), 'global', 'modbus', 'modbus INPUT', 'modbus.register [INPUT.]NAME', 'e2e' or 'e2e MESSAGE'");
     if (m.find(info->id)) c.fail("section [" + name + "] appears twice");
     OutputMapping o;
     o.id = info->id;
@@ -456,6 +471,7 @@ void check_mapping(const Mapping& m, Ctx& c) {
       if (s.rfind("modbus.", 0) == 0 && !m.modbus_table_of(s))
         c.fail("[" + o.name + "]: source " + s + " names no [modbus.register " + s.substr(7) + "]");
   }
+  for (const E2eSpec& spec : m.e2e.messages) check_e2e_message(spec, m.file);
   auto check_heartbeat = [&](const ModbusConfig& t) {
     if (!t.heartbeat.empty() && !t.find(t.heartbeat))
       throw MappingError(m.file, 0, "[modbus" + (t.input.empty() ? "" : " " + t.input) + "] heartbeat '" + t.heartbeat + "' names no register");
@@ -496,6 +512,8 @@ Mapping parse_mapping(std::string_view text, const std::string& file) {
       case Section::Modbus: set_modbus_key(*table, key, value, c); break;
       case Section::Register: set_register_key(table->registers.back(), key, value, c); break;
       case Section::Output: set_output_key(m.outputs.back(), key, value, c); break;
+      case Section::E2e: set_e2e_key(m.e2e, key, value, file, c.line); break;
+      case Section::E2eMessage: set_e2e_message_key(m.e2e.messages.back(), key, value, file, c.line); break;
     }
   }
   check_mapping(m, c);

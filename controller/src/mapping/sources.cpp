@@ -4,6 +4,8 @@
 #include <cmath>
 #include <span>
 
+#include "meter/controller/e2e/e2e_guard.hpp"
+
 namespace meter::controller {
 
 namespace {
@@ -124,9 +126,11 @@ FrameUse SourceTable::on_frame(const CanFrame& f) {
   if (f.rtr || !db) return FrameUse::Ignored;
   const DbcMessage* m = db->find(f.id, f.extended);
   if (!m) return FrameUse::UnknownId;
+  const std::span<const std::uint8_t> payload(f.data.data(), f.len);
+  if (e2e_ && !e2e_->accept(m, f.id, payload)) return FrameUse::Refused;
   auto it = by_message_.find(m);
   if (it == by_message_.end()) return FrameUse::Unused;
-  decode(*m, std::span<const std::uint8_t>(f.data.data(), f.len), scratch_);
+  decode(*m, payload, scratch_);
   for (const auto& d : scratch_) {
     int si = it->second.sources[static_cast<std::size_t>(d.signal)];
     if (si < 0) continue;

@@ -68,6 +68,8 @@ Model::Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options
     protocol::active_catalog()->require(protocol::vss::kTrip, "the trip meter that comes with the odometer");
   }
   resolve_value_names(mapping_, sources_.inputs());
+  e2e_ = build_e2e_guard(sources_.inputs(), mapping_.e2e, mapping_.file);
+  if (!e2e_.empty()) sources_.set_e2e(&e2e_);
   build_outputs();
   if (!options_.state_dir.empty() && maps(mapping_, special_.odometer)) {
     store_ = std::make_unique<OdometerStore>(options_.state_dir);
@@ -119,7 +121,15 @@ std::optional<double> Model::speed_estimate() const {
   return outs_[static_cast<std::size_t>(speed_out_)].conditioner.speed_estimate();
 }
 
-std::vector<std::pair<std::uint32_t, bool>> Model::used_ids(int input) const { return sources_.used_ids(input); }
+std::vector<std::pair<std::uint32_t, bool>> Model::used_ids(int input) const {
+  std::vector<std::pair<std::uint32_t, bool>> ids = sources_.used_ids(input);
+  // A protected message is checked (and counted) even when no output reads it.
+  for (const auto& e : e2e_.entries())
+    if (e.message.input == input) ids.emplace_back(e.message.message->id, e.message.message->extended);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
 
 void Model::start(std::int64_t t) {
   start_ = t;
@@ -136,6 +146,7 @@ void Model::on_frame(const CanFrame& f) {
     case FrameUse::ErrorFrame: ++stats_.error_frames; break;
     case FrameUse::UnknownId: ++stats_.frames_unknown; break;
     case FrameUse::Mapped: ++stats_.frames_mapped; break;
+    case FrameUse::Refused: ++stats_.frames_refused; break;
     case FrameUse::Ignored:
     case FrameUse::Unused: break;
   }

@@ -47,6 +47,7 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
     logged_slips_ = bus.replay_slips;
     last_loss_line_ns_ = t;
   }
+  if (!bus.e2e.empty()) report_e2e(bus, t, err, trace);
   if (faults != view_faults_) {
     const std::uint32_t raised = faults & ~view_faults_, cleared = view_faults_ & ~faults;
     for (int b = 0; b < 32; ++b)
@@ -69,6 +70,36 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
   if (slip_at_ns_ != 0 && t - slip_at_ns_ < hold) cf |= protocol::kControllerFaultReplaySlip;
   controller_faults_ = cf;
   first_ = false;
+}
+
+void HealthReport::report_e2e(const BusHealth& bus, std::int64_t t, std::ostream& err, Trace& trace) {
+  logged_refused_.resize(bus.e2e.size(), 0);
+  mismatch_logged_.resize(bus.e2e.size(), false);
+  std::uint64_t refused = 0, before = 0;
+  for (std::size_t i = 0; i < bus.e2e.size(); ++i) refused += bus.e2e[i].refused, before += logged_refused_[i];
+  if (refused != before && (last_e2e_line_ns_ == 0 || t - last_e2e_line_ns_ >= kLossLineEveryNs)) {
+    err << "meter-controller: " << input_ << ": e2e: " << refused - before << " frame(s) refused (not used:";
+    for (std::size_t i = 0; i < bus.e2e.size(); ++i) {
+      const E2eHealth& m = bus.e2e[i];
+      if (m.refused != logged_refused_[i]) err << " " << m.message << " " << m.refused - logged_refused_[i];
+      logged_refused_[i] = m.refused;
+    }
+    err << "); totals: ";
+    for (std::size_t i = 0; i < bus.e2e.size(); ++i)
+      if (bus.e2e[i].refused) err << describe(bus.e2e[i]) << (i + 1 < bus.e2e.size() ? ", " : "");
+    err << "\n";
+    trace.health("e2e_refused", refused);
+    last_e2e_line_ns_ = t;
+  }
+  for (std::size_t i = 0; i < bus.e2e.size(); ++i) {
+    const E2eHealth& m = bus.e2e[i];
+    if (m.mismatch && !mismatch_logged_[i])
+      err << "meter-controller: " << input_ << ": e2e: " << m.message << ": likely configuration mismatch: " << m.refused
+          << " of " << m.checked << " frames refused (" << m.checksum << " checksum, " << m.repeated << " repeated, "
+          << m.out_of_sequence << " out of sequence); its signals time out as if it were silent: check its [e2e "
+          << m.message << "] section, the make and the DBC ('meter-controller decode --e2e' on a recorded log)\n";
+    mismatch_logged_[i] = m.mismatch;
+  }
 }
 
 std::uint64_t HealthReport::view_fault_count(std::uint32_t fault) const {

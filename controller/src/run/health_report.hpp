@@ -1,5 +1,7 @@
 // What the run loop tells about the health of its bus and of its views: a log line when the bus
 // state changes, when frames are lost (kernel drops, replay slips; at most one line a second),
+// when protected messages' frames are refused by their E2E checks (at most one line a second) and
+// once when a message looks misconfigured (nearly every frame refused),
 // when a view reports a fault in its STATUS or the fault clears; the --trace 'h' rows; and the
 // health part of the final stats line.
 #pragma once
@@ -39,10 +41,14 @@ class HealthReport {
   bool first_ = true;
   std::uint64_t logged_drops_ = 0, logged_interface_drops_ = 0, logged_slips_ = 0;
   std::int64_t last_loss_line_ns_ = 0;
+  std::vector<std::uint64_t> logged_refused_;  // per protected message, as of the last E2E line
+  std::vector<bool> mismatch_logged_;
+  std::int64_t last_e2e_line_ns_ = 0;
   std::uint32_t view_faults_ = 0;
   std::uint32_t controller_faults_ = 0;
   std::int64_t drop_at_ns_ = 0, slip_at_ns_ = 0;  // input time of the last loss, 0 = none
   std::uint64_t fault_counts_[32] = {};
+  void report_e2e(const BusHealth& bus, std::int64_t t_ns, std::ostream& err, Trace& trace);
 };
 
 }  // namespace meter::controller

@@ -102,7 +102,8 @@ void print_stats(std::ostream& out, const Model& model, const protocol::Publishe
   const auto& st = model.stats();
   auto ls = pub.stats();
   out << "meter-controller: " << st.frames << " frames (" << st.frames_mapped << " mapped, " << st.frames_unknown
-      << " unknown id, " << st.error_frames << " error frames), " << st.values << " register values, "
+      << " unknown id, " << st.error_frames << " error frames"
+      << (model.e2e().empty() ? "" : ", " + std::to_string(st.frames_refused) + " refused by e2e checks") << "), " << st.values << " register values, "
       << ls.deltas_sent << " deltas / " << ls.snapshots_sent << " snapshots sent, odometer "
       << fmt_double(model.odometer().total_km()) << " km" << (st.odometer_refused ? " (invalid: stored state refused)" : "")
       << ", " << st.persist_faults << " damaged odometer copies, " << st.persist_errors << " odometer save errors, "
@@ -154,7 +155,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     ModelSink sink(model, trace, events);
     HealthReport health(input->describe());
     auto report_health = [&](std::int64_t t) {
-      health.update(input->health(), view_fault_flags(pub.peer_status()), t, err, trace);
+      BusHealth bus = input->health();
+      if (!model.e2e().empty()) bus.e2e = e2e_health(model.e2e());
+      health.update(bus, view_fault_flags(pub.peer_status()), t, err, trace);
       const std::uint64_t lost = health.bus().kernel_drops + health.bus().interface_drops;
       pub.send_status(model.stats().frames + model.stats().values, lost, health.controller_faults());
       recording.status(t, model.stats().frames + model.stats().values, lost, health.controller_faults());

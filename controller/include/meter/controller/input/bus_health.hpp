@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "meter/controller/input/can_frame.hpp"
 
@@ -15,6 +16,19 @@ namespace meter::controller {
 // ISO 11898-1 fault confinement, as Linux CAN drivers report it in error frames.
 enum class BusState : std::uint8_t { ErrorActive, ErrorWarning, ErrorPassive, BusOff };
 std::string_view to_string(BusState state);  // "error-active", "error-warning", "error-passive", "bus-off"
+
+// One protected message's end-to-end checks (e2e/e2e_guard.hpp), filled in by the run loop from
+// the model, not by frames: a refused frame is one the bus delivered but the model did not use.
+struct E2eHealth {
+  std::string message;
+  std::uint64_t checked = 0, refused = 0;
+  std::uint64_t checksum = 0;         // bad checksum (or a frame too short to hold it)
+  std::uint64_t repeated = 0;         // the counter did not move: a stale sender, or a replay
+  std::uint64_t out_of_sequence = 0;  // the counter jumped past its tolerance (and the frames resynchronising)
+  std::uint64_t lost = 0;             // frames a tolerated counter jump says were lost
+  bool mismatch = false;              // nearly every frame refused: likely a configuration mismatch
+  bool operator==(const E2eHealth&) const = default;
+};
 
 struct BusHealth {
   BusState state = BusState::ErrorActive;
@@ -37,6 +51,7 @@ struct BusHealth {
   // no-response (read speed@0: Connection timed out)", or "... ok"; several joined by "; ". Empty for
   // a CAN bus or a log.
   std::string polled_links;
+  std::vector<E2eHealth> e2e;        // per protected message; empty when nothing is protected
   bool operator==(const BusHealth&) const = default;
 };
 
@@ -45,11 +60,13 @@ struct BusHealth {
 void note_frame(BusHealth& health, const CanFrame& frame);
 
 // Folds another bus's health into total: the worse of the two states, every count summed, the
-// larger error counters.
+// larger error counters, the E2E counts of a message summed (by name).
 void add_health(BusHealth& total, const BusHealth& other);
 
 // "error-passive, 3 error frames (1 bus-off), tx/rx errors 128/0, 0 kernel drops, 0 interface
-// drops, 0 replay slips"
+// drops, 0 replay slips", then, with protected messages, "; e2e: Steering 3 of 100 refused (...)"
 std::string describe(const BusHealth& health);
+// "Steering 3 of 100 refused (3 checksum, 0 repeated, 0 out of sequence; 0 lost)"
+std::string describe(const E2eHealth& message);
 
 }  // namespace meter::controller

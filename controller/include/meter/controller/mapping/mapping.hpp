@@ -15,6 +15,7 @@
 #include "meter/controller/conditioning/fuel.hpp"
 #include "meter/controller/conditioning/needle.hpp"
 #include "meter/controller/conditioning/telltales.hpp"
+#include "meter/controller/e2e/e2e_config.hpp"
 #include "meter/controller/input/modbus_registers.hpp"
 #include "meter/controller/mapping/map_file.hpp"
 #include "meter/protocol/catalog.hpp"
@@ -84,6 +85,7 @@ struct Mapping {
   // [modbus INPUT] and [modbus.register INPUT.NAME]: the table of the Modbus input named INPUT
   // (--input INPUT=modbus-...), for several Modbus inputs at once.
   std::map<std::string, ModbusConfig, std::less<>> modbus_inputs;
+  E2eSettings e2e;  // [e2e] and [e2e MESSAGE] sections: the CAN end-to-end checks
   const OutputMapping* find(protocol::SignalId id) const;
   // The table a "modbus.NAME" or "modbus.INPUT.NAME" source reads from, if it defines that register.
   const ModbusConfig* modbus_table_of(std::string_view source) const;

@@ -62,8 +62,11 @@ struct Source {
   std::uint64_t rx_count = 0;  // values received so far
 };
 
-// What a frame meant to the sources.
-enum class FrameUse : std::uint8_t { ErrorFrame, Ignored, UnknownId, Unused, Mapped };
+// What a frame meant to the sources. Refused: a protected message whose end-to-end check failed
+// (e2e/e2e_guard.hpp): not decoded, its signals keep aging.
+enum class FrameUse : std::uint8_t { ErrorFrame, Ignored, UnknownId, Unused, Mapped, Refused };
+
+class E2eGuard;
 
 class SourceTable {
  public:
@@ -76,6 +79,8 @@ class SourceTable {
   // The indices of output m's sources in the order it names them, adding those not seen before.
   // Throws MappingError when a DBC source does not resolve.
   std::vector<int> add(const OutputMapping& m);
+  // Frames of the messages guard protects pass its checks before they are decoded (null: none).
+  void set_e2e(E2eGuard* guard) { e2e_ = guard; }
   // Decodes the frame with the DBC of the input it came from (frame.input) into the sources it
   // carries (remote and error frames carry none).
   FrameUse on_frame(const CanFrame& frame);
@@ -97,6 +102,7 @@ class SourceTable {
   std::unordered_map<std::string, int> by_key_;
   std::unordered_map<const DbcMessage*, MessageUse> by_message_;
   std::vector<DecodedSignal> scratch_;
+  E2eGuard* e2e_ = nullptr;
 };
 
 }  // namespace meter::controller

@@ -18,6 +18,7 @@
 #include "meter/controller/conditioning/output_conditioner.hpp"
 #include "meter/controller/conditioning/telltales.hpp"
 #include "meter/controller/dbc/database.hpp"
+#include "meter/controller/e2e/e2e_guard.hpp"
 #include "meter/controller/input/can_frame.hpp"
 #include "meter/controller/mapping/apply.hpp"
 #include "meter/controller/mapping/mapping.hpp"
@@ -37,6 +38,7 @@ struct ModelStats {
   std::uint64_t frames = 0;           // frames offered
   std::uint64_t frames_mapped = 0;    // frames of a message the mapping uses
   std::uint64_t frames_unknown = 0;   // id not in the DBC
+  std::uint64_t frames_refused = 0;   // a protected message's frame that failed its E2E check
   std::uint64_t error_frames = 0;
   std::uint64_t values = 0;           // register values offered
   std::uint64_t persist_saves = 0;
@@ -55,7 +57,8 @@ struct ModelOptions {
 class Model {
  public:
   // db may be null for Modbus-only mappings. Throws MappingError when the mapping names a DBC
-  // signal that does not exist, or 'timeout = auto' for a message without a cycle time.
+  // signal that does not exist, 'timeout = auto' for a message without a cycle time, or an
+  // [e2e MESSAGE] that does not resolve.
   Model(const Database* db, Mapping mapping, ModelOptions options = {});
   // Several inputs (buses), each with its own DBC or none; frames carry their input's index.
   Model(std::vector<InputDbc> inputs, Mapping mapping, ModelOptions options = {});
@@ -78,13 +81,16 @@ class Model {
   const ModelOutput* output(protocol::SignalId id) const;
   const ModelStats& stats() const { return stats_; }
   const Mapping& mapping() const { return mapping_; }
+  // The end-to-end checks of the protected messages (the map's [e2e] sections), with their counts.
+  const E2eGuard& e2e() const { return e2e_; }
   const Odometer& odometer() const { return odo_; }
   // True speed (before damping and the R39 rule), for tests and the odometer.
   std::optional<double> true_speed() const;
   // The speedometer's estimate of the true speed, which its UN R39 band is held around (nullopt: no
   // speedometer rule, or no valid speed).
   std::optional<double> speed_estimate() const;
-  // The messages the mapping uses on that input (SocketCAN kernel filters use the ids).
+  // The messages the mapping uses on that input, and those its [e2e] sections protect (SocketCAN
+  // kernel filters use the ids).
   std::vector<std::pair<std::uint32_t, bool>> used_ids(int input = 0) const;
 
  private:
@@ -99,6 +105,7 @@ class Model {
   Mapping mapping_;
   ModelOptions options_;
   SourceTable sources_;
+  E2eGuard e2e_;
   std::vector<Out> outs_;
   // Ids of the signals the model treats specially, found by VSS name in the loaded catalog
   // (another catalog may number them differently); nullopt when the catalog has none.
