@@ -152,6 +152,8 @@ set(CPACK_COMPONENT_TOOLS_DESCRIPTION
     "instrument cluster's offline and test tools\nmeter-convert (glTF + scene config to a scene package), meter-package,\nmeter-verify, meter-calibrate, meter-linkdump, meter-linkplay and the\nartist's meter-preview, with the cluster scene's sources.")
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME meter-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
+# The static library's own dependency (the link's MAC) and what its pkg-config file asks for.
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libsodium-dev, pkg-config")
 set(CPACK_COMPONENT_DEV_DESCRIPTION
     "instrument cluster's link library, development kit\nThe protocol library both meter processes share (signal catalog and table,\nwire format, transports, the link's two ends, recordings): C++20 headers,\na static library, a CMake package (find_package(meter), target\nmeter::protocol) and a pkg-config file (meter-protocol).")
 

@@ -186,7 +186,10 @@ def check_dev_kit(root, tmp):
         f.write('#include <meter/protocol/endpoint.hpp>\n#include <cstdio>\n'
                 'int main() { std::puts(meter::protocol::Endpoint::parse("tcp:localhost:7000").to_string().c_str()); }\n')
     libdir = glob.glob(root + PREFIX + "/lib/*/pkgconfig") + glob.glob(root + PREFIX + "/lib/pkgconfig")
-    env = dict(os.environ, PKG_CONFIG_SYSROOT_DIR=root, PKG_CONFIG_LIBDIR=":".join(libdir))
+    # The root's pkg-config files first, then this machine's: the kit's own dependencies (libsodium)
+    # are Debian packages its Depends names, installed here (checked above), not in the root.
+    host = run(["pkg-config", "--variable", "pc_path", "pkg-config"]).stdout.strip().split(":")
+    env = dict(os.environ, PKG_CONFIG_SYSROOT_DIR=root, PKG_CONFIG_LIBDIR=":".join(libdir + host))
     flags = run(["pkg-config", "--cflags", "--libs", "meter-protocol"], env=env)
     if flags.returncode != 0:
         fail("pkg-config does not find meter-protocol in the root:\n" + flags.stderr)
