@@ -75,9 +75,34 @@ TEST(E2eProfiles, Profile11AndProfile1MatchTheSpecificationExamples) {
   EXPECT_EQ(autosar_profile01_crc(odd, 0, 0x123, DataIdMode::Alternating, 1), autosar_profile01_crc(odd, 0, 0x101, DataIdMode::Low, 1));
 }
 
-TEST(E2eProfiles, Profile5MatchesTheSpecificationExample) {
+// The E2E protocol specification's Profile 1 example table (its chapter on Profile 1's examples):
+// data id 0x123, CRC in byte 0, the counter in byte 1's low nibble (and in Nibble mode the data id's
+// high nibble in its high nibble), data zero, counters 0 and 1 in each data id mode. An independent
+// open implementation's tests of that chapter carry the same eight values.
+TEST(E2eProfiles, Profile1MatchesTheSpecificationsExampleTable) {
+  struct Row {
+    DataIdMode mode;
+    std::uint8_t byte1;
+    unsigned counter;
+    std::uint8_t crc;
+  };
+  const Row rows[] = {{DataIdMode::Both, 0x00, 0, 0xCC},        {DataIdMode::Both, 0x01, 1, 0x91},
+                      {DataIdMode::Alternating, 0x00, 0, 0xCE}, {DataIdMode::Alternating, 0x01, 1, 0x02},
+                      {DataIdMode::Low, 0x00, 0, 0xCE},         {DataIdMode::Low, 0x01, 1, 0x93},
+                      {DataIdMode::Nibble, 0x10, 0, 0x2A},      {DataIdMode::Nibble, 0x11, 1, 0x77}};
+  for (const Row& r : rows) {
+    Bytes frame(8, 0);
+    frame[1] = r.byte1;
+    EXPECT_EQ(autosar_profile01_crc(frame, 0, 0x123, r.mode, r.counter), r.crc)
+        << "mode " << static_cast<int>(r.mode) << ", counter " << r.counter;
+  }
+}
+
+TEST(E2eProfiles, Profile5MatchesTheSpecificationExamples) {
   // Data id 0x1234, eight bytes, counter 0, data zero: CRC bytes 0x1C 0xCA (little-endian 0xCA1C).
   EXPECT_EQ(autosar_profile05_crc(Bytes(8, 0), 0, 0x1234), 0xCA1C);
+  // The same with the header at byte 8 of sixteen: CRC bytes 0x28 0x91.
+  EXPECT_EQ(autosar_profile05_crc(Bytes(16, 0), 8, 0x1234), 0x9128);
 }
 
 // Frames recorded on MQB cars (opendbc's checksum tests): byte 0 is profile 2's CRC over the
