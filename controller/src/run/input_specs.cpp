@@ -85,10 +85,12 @@ void check_modbus_tables(const std::vector<InputSpec>& specs, const Mapping& map
       throw std::invalid_argument("--input " + s->name + "=" + s->target + ": with several Modbus inputs each reads its own registers: " +
                                   map.file + " needs [modbus " + s->name + "] and [modbus.register " + s->name + ".NAME] sections");
   }
-  for (const auto& [input, table] : map.modbus_inputs)
+  for (const auto& entry : map.modbus_inputs) {
+    const std::string& input = entry.first;
     if (std::none_of(modbus.begin(), modbus.end(), [&](const InputSpec* s) { return s->name == input; }))
       throw std::invalid_argument(map.file + ": [modbus " + input + "]: no Modbus input is named '" + input +
                                   "' (Modbus inputs: " + names + "); expected --input " + input + "=modbus-tcp:HOST:PORT or modbus-rtu:DEV:BAUD");
+  }
 }
 
 }  // namespace meter::controller
