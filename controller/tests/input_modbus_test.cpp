@@ -253,7 +253,7 @@ TEST(ModbusHealth, ReadErrorsClassifiedAndPollsCounted) {
   note_modbus_poll(h, ModbusLinkState::Ok);
   EXPECT_EQ(h.state, ModbusLinkState::Ok);
   EXPECT_EQ(h.polls, 4u);
-  EXPECT_EQ(h.failed_polls, 2u);
+  EXPECT_EQ(h.failed_polls(), 2u);
   EXPECT_EQ(describe(h), "ok: 2 of 4 polls failed (0 unreachable, 1 no response, 1 bad frames, 0 exceptions, 0 stale heartbeats), "
                          "last error: read a@0: Invalid CRC");
 }

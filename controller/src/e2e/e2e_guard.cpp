@@ -10,18 +10,24 @@
 
 namespace meter::controller {
 
+namespace {
+// The sorted table's first entry not before message m.
+template <class Table>
+auto lower_bound_of(Table& table, const DbcMessage* m) {
+  return std::lower_bound(table.begin(), table.end(), m, [](const auto& e, const DbcMessage* key) { return std::less<>()(e.first, key); });
+}
+}  // namespace
+
 void E2eGuard::add(E2eMessage message) {
   const DbcMessage* m = message.message;
-  if (find(m) >= 0) return;  // configured before (the map file wins over detection)
-  const auto at = std::lower_bound(by_message_.begin(), by_message_.end(), m,
-                                   [](const auto& e, const DbcMessage* key) { return std::less<>()(e.first, key); });
+  const auto at = lower_bound_of(by_message_, m);
+  if (at != by_message_.end() && at->first == m) return;  // configured before (the map file wins over detection)
   by_message_.insert(at, {m, entries_.size()});
   entries_.push_back(Entry{std::move(message), {}, {}});
 }
 
 int E2eGuard::find(const DbcMessage* m) const {
-  const auto at = std::lower_bound(by_message_.begin(), by_message_.end(), m,
-                                   [](const auto& e, const DbcMessage* key) { return std::less<>()(e.first, key); });
+  const auto at = lower_bound_of(by_message_, m);
   return at == by_message_.end() || at->first != m ? -1 : static_cast<int>(at->second);
 }
 

@@ -39,12 +39,11 @@ void note_modbus_poll(ModbusHealth& h, ModbusLinkState outcome, std::string_view
     case ModbusLinkState::Exception: ++h.exceptions; break;
     case ModbusLinkState::StaleHeartbeat: ++h.stale_heartbeats; break;
   }
-  ++h.failed_polls;
   h.last_error = std::string(error);
 }
 
 std::string describe(const ModbusHealth& h) {
-  std::string s = std::string(to_string(h.state)) + ": " + std::to_string(h.failed_polls) + " of " + std::to_string(h.polls) +
+  std::string s = std::string(to_string(h.state)) + ": " + std::to_string(h.failed_polls()) + " of " + std::to_string(h.polls) +
                   " polls failed (" + std::to_string(h.unreachable) + " unreachable, " + std::to_string(h.no_response) +
                   " no response, " + std::to_string(h.bad_frames) + " bad frames, " + std::to_string(h.exceptions) +
                   " exceptions, " + std::to_string(h.stale_heartbeats) + " stale heartbeats)";

@@ -34,7 +34,7 @@ int convert_log_command(const ConvertLogOptions& o, std::ostream& out_text, std:
     const LogAddress in = parse_log_address(o.in);
     std::error_code ec;
     if (std::filesystem::equivalent(in.path, o.out, ec)) throw std::invalid_argument(o.out + ": is the input itself; write to another file");
-    const ParsedLog log = load_log_input(o.in);
+    const ParsedLog log = select_log_channel(load_log_file(in.path), in.channel, in.path);
     report_bad_lines(log, in.path, err);
     std::ofstream file(o.out, std::ios::binary | std::ios::trunc);
     if (!file) throw std::runtime_error(o.out + ": cannot open for writing");

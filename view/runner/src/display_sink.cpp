@@ -41,10 +41,8 @@ void DisplaySink::finish() {
   summary_.stalls = ctx_.display->stalls();
   summary_.pixels_copied = ctx_.display->pixels_copied();
   for (PresentationListener* l : listeners_) l->presentation_done();
-  std::uint64_t late = 0;
-  for (std::uint64_t r : summary_.refreshes_between) late += r > 1;
   log_ << "meter-view: display: " << summary_.presents << " frames presented, " << summary_.presented
-       << " shown, " << summary_.discarded << " discarded, " << late << " shown later than the next refresh, "
+       << " shown, " << summary_.discarded << " discarded, " << summary_.shown_late << " shown later than the next refresh, "
        << summary_.stalls << " stalls (a frame callback or page flip that did not come); refresh " << summary_.refresh_ns / 1e6 << " ms; copied "
        << summary_.pixels_copied << " pixels for " << summary_.pixels_damaged << " damaged; per frame "
        << summary_.after_render_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms from render end to the copy, "
@@ -61,10 +59,9 @@ void DisplaySink::take(int wait_ms) {
       if (summary_.first_presented_ns == 0) summary_.first_presented_ns = shown.presented_ns;
       // The refresh counter where the compositor keeps one, else the time over the period.
       if (last_shown_ns_ != 0 && (last_sequence_ || shown.sequence))
-        summary_.refreshes_between.push_back(shown.sequence - last_sequence_);
+        summary_.shown_late += shown.sequence - last_sequence_ > 1;
       else if (last_shown_ns_ != 0 && shown.refresh_ns)
-        summary_.refreshes_between.push_back(static_cast<std::uint64_t>(
-            std::llround(double(shown.presented_ns - last_shown_ns_) / shown.refresh_ns)));
+        summary_.shown_late += std::llround(double(shown.presented_ns - last_shown_ns_) / shown.refresh_ns) > 1;
       last_shown_ns_ = shown.presented_ns;
       last_sequence_ = shown.sequence;
     }

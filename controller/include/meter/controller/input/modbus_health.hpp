@@ -29,9 +29,10 @@ ModbusLinkState classify_modbus_read_error(int err);
 struct ModbusHealth {
   ModbusLinkState state = ModbusLinkState::NotPolled;
   std::uint64_t polls = 0;
-  std::uint64_t failed_polls = 0;  // the sum of the five counts below
   std::uint64_t unreachable = 0, no_response = 0, bad_frames = 0, exceptions = 0, stale_heartbeats = 0;
   std::string last_error;  // the last failure's text ("read speed@0: Invalid CRC"), kept after recovery
+  // Every failed poll is counted under exactly one of its kinds.
+  std::uint64_t failed_polls() const { return unreachable + no_response + bad_frames + exceptions + stale_heartbeats; }
   bool operator==(const ModbusHealth&) const = default;
 };
 

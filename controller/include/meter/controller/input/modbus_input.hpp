@@ -27,7 +27,7 @@ class ModbusInput : public Input {
   std::int64_t now_ns() const override;
   std::string describe() const override;
   std::uint64_t polls() const { return health_.polls; }
-  std::uint64_t failures() const { return health_.failed_polls; }
+  std::uint64_t failures() const { return health_.failed_polls(); }
   const std::string& last_error() const { return health_.last_error; }
   const ModbusHealth& modbus_health() const { return health_; }
   BusHealth health() const override;

@@ -27,9 +27,9 @@ struct PresentationSummary {
   // previous frame's callback or flip, the copy, the swap).
   double after_render_ms = 0.0, present_ms = 0.0;
   std::int64_t first_presented_ns = 0;  // CLOCK_MONOTONIC; 0: none yet
-  // Refresh periods between consecutive presented frames (1: one refresh apart; more: a refresh
-  // without a new frame while one was due; 0: the same refresh, never expected).
-  std::vector<std::uint64_t> refreshes_between;
+  // Presented frames shown more than one refresh period after the one before (a refresh without a
+  // new frame while one was due).
+  std::uint64_t shown_late = 0;
 };
 
 class DisplaySink : public engine::FrameSink {
