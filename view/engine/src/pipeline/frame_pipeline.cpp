@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <utility>
 
 #include "meter/protocol/trace_events.hpp"
 
@@ -58,7 +59,9 @@ const governor::FrameLoad& FramePipeline::plan(const FrameRequest& request) {
 
 const FrameRecord* FramePipeline::complete() {
   if (!in_flight_) return nullptr;
-  completed_ = std::move(*in_flight_);
+  // The frame handed on before gives its buffers to the next submission (no allocation per frame).
+  std::swap(completed_, *in_flight_);
+  spare_ = std::move(*in_flight_);
   in_flight_.reset();
   FrameRecord& r = completed_.record;
   r.states = &completed_.states;
@@ -94,7 +97,10 @@ void FramePipeline::draw() {
   record_.draw_began_ns = protocol::monotonic_now_ns();
   record_.timing = renderer_.draw(choice);
   record_.submitted_ns = record_.gpu_busy_until_ns = protocol::monotonic_now_ns();
-  in_flight_ = InFlight{record_, evaluator_.states()};
+  const auto& states = evaluator_.states();
+  spare_.record = record_;
+  spare_.states.assign(states.begin(), states.end());
+  in_flight_ = std::move(spare_);
 }
 
 bool FramePipeline::poll_in_flight(std::chrono::nanoseconds wait) {

@@ -82,6 +82,7 @@ class FramePipeline {
   bool overlap_ = false;
   std::optional<InFlight> in_flight_;
   InFlight completed_;
+  InFlight spare_;  // the buffers of the frame completed before, refilled for the next submission
   const governor::FrameLoad* planned_ = nullptr;
 };
 
