@@ -4,7 +4,9 @@
 #include "meter/controller/input/candump_log.hpp"
 
 #include <algorithm>
+#include <fstream>
 #include <ostream>
+#include <stdexcept>
 #include <vector>
 
 #include "meter/controller/input/candump_line.hpp"
@@ -50,7 +52,11 @@ ParsedLog parse_candump_log(std::string_view text) { return read_log_lines<Candu
 // Room for a frame every 40 bytes: the shortest lines its usual writers write.
 ParsedLog read_candump_log(std::istream& in) { return read_log_lines<CandumpReader>(in, 40); }
 
-ParsedLog load_candump_log(const std::string& path) { return parse_candump_log(read_log_file(path)); }
+ParsedLog load_candump_log(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);  // read a block at a time, as run and decode read it
+  if (!in) throw std::runtime_error(path + ": cannot open the log for reading");
+  return read_candump_log(in);
+}
 
 bool sniff_candump_log(std::string_view head) {
   // The first few complete lines: a damaged first line still leaves the file recognisable, and a

@@ -3,7 +3,6 @@
 
 #include <array>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "meter/controller/input/asc_log.hpp"
@@ -87,14 +86,6 @@ const LogFormat* find_log_writer(std::string_view path) {
       for (std::string_view ext : f.extensions)
         if (has_extension(path, ext)) return &f;
   return nullptr;
-}
-
-std::string read_log_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the log for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return std::move(ss).str();
 }
 
 std::string_view trim_line_end(std::string_view line) {

@@ -51,8 +51,6 @@ const LogFormat* find_log_writer(std::string_view path);
 // records, file:line and what was expected there).
 ParsedLog load_log_file(const std::string& path);
 
-// The whole file as bytes; throws std::runtime_error naming it when it cannot be read.
-std::string read_log_file(const std::string& path);
 
 // A text log's line without the spaces, tabs and carriage return at its end (blank lines are not
 // errors in any text format).
