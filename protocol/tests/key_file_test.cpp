@@ -37,6 +37,8 @@ TEST(KeyFile, EveryBadLineNamesFileLineAndWhatWasExpected) {
       {"4294967296 " + kHex, "key id '4294967296'"},
       {"1 abc", "k:1: key 1: expected 64 hex digits (a 256-bit key), got 3"},
       {"\n1 " + kHex.substr(1) + "g", "k:2: key 1: character 64 of the key is not a hex digit"},
+      {"1 g" + kHex.substr(1), "k:1: key 1: character 1 of the key is not a hex digit"},
+      {"1 0g" + kHex.substr(2), "k:1: key 1: character 2 of the key is not a hex digit"},
       {"1 " + std::string(64, '0'), "all zeros"},
       {"1 " + kHex + "\n1 " + kHex, "k:2: key id 1 appears twice"},
       {std::string(kMaxKeyFileBytes + 1, '#'), "a key file at most"},

@@ -5,7 +5,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <sodium.h>
+
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -37,14 +40,18 @@ std::string parse_line(std::string_view line, LinkKey& key) {
     return "key " + std::to_string(key.id) + ": expected " + std::to_string(2 * kLinkKeySize) +
            " hex digits (a 256-bit key), got " + std::to_string(hex.size()) + " characters";
   }
-  const auto not_hex = hex.find_first_not_of("0123456789abcdefABCDEF");
-  if (not_hex != std::string_view::npos) {
-    return "key " + std::to_string(key.id) + ": character " + std::to_string(not_hex + 1) + " of the key is not a hex digit";
+  // libsodium's decoder takes time independent of the digits (a key's bytes do not show in timing).
+  const char* stop = nullptr;
+  std::size_t decoded = 0;
+  if (sodium_hex2bin(key.key.bytes.data(), key.key.bytes.size(), hex.data(), hex.size(), nullptr, &decoded, &stop) != 0 ||
+      decoded != kLinkKeySize) {
+    // The decoder stops at a pair it cannot finish: the bad digit is its first or its second.
+    auto at = static_cast<std::size_t>(stop - hex.data());
+    if (at < hex.size() && std::isxdigit(static_cast<unsigned char>(hex[at]))) ++at;
+    ++at;  // counted from 1
+    return "key " + std::to_string(key.id) + ": character " + std::to_string(at) + " of the key is not a hex digit";
   }
-  for (std::size_t i = 0; i < kLinkKeySize; ++i) {
-    std::from_chars(hex.data() + 2 * i, hex.data() + 2 * i + 2, key.key.bytes[i], 16);  // two hex digits: cannot fail
-  }
-  if (std::all_of(key.key.bytes.begin(), key.key.bytes.end(), [](std::uint8_t b) { return b == 0; })) {
+  if (sodium_is_zero(key.key.bytes.data(), key.key.bytes.size()) == 1) {
     return "key " + std::to_string(key.id) + " is all zeros (not a key: generate one, docs/security.md)";
   }
   return {};
@@ -117,7 +124,9 @@ KeyFileResult load_key_file(const std::string& path) {
     if (n == 0 || (got += static_cast<std::size_t>(n)) == text.size()) break;
   }
   text.resize(got);
-  return parse_key_file(text, path);
+  auto parsed = parse_key_file(text, path);
+  sodium_memzero(text.data(), text.size());  // the keys' text does not outlive the read in freed memory
+  return parsed;
 }
 
 }  // namespace meter::protocol
