@@ -3,6 +3,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "meter/protocol/trace_events.hpp"
 #include "output_file.hpp"
 
 namespace meter::runner {
@@ -32,7 +33,7 @@ void TimingCsv::on_frame(const engine::FrameRecord& frame) {
   if (!presentation_) return row(frame.request.frame, frame.request.t, frame.timing, frame.governor);
   std::ostringstream text;
   cells(text, frame.request.frame, frame.request.t, frame.timing, frame.governor);
-  waiting_.push_back({frame.request.frame, text.str(), frame.render_ended_ns});
+  waiting_.add(frame.request.frame, text.str(), frame.render_ended_ns, protocol::monotonic_now_ns(), writer());
 }
 
 void TimingCsv::await_presentation() {
@@ -44,24 +45,31 @@ void TimingCsv::await_presentation() {
 }
 
 void TimingCsv::on_presented(const platform::PresentedFrame& shown) {
-  if (presentation_) flush(shown.frame, shown.discarded ? nullptr : &shown);
+  if (presentation_) waiting_.presented(shown, protocol::monotonic_now_ns(), writer());
+}
+
+void TimingCsv::not_presented(std::uint64_t frame) {
+  if (presentation_) waiting_.not_presented(frame, protocol::monotonic_now_ns(), writer());
 }
 
 void TimingCsv::presentation_done() {
-  if (presentation_) flush(UINT64_MAX, nullptr);
+  if (presentation_) waiting_.done(writer());
 }
 
-void TimingCsv::flush(std::uint64_t frame, const platform::PresentedFrame* shown) {
-  while (!waiting_.empty() && waiting_.front().frame <= frame) {
-    const Waiting& w = waiting_.front();
-    out_ << w.text << ",";
-    if (shown && w.frame == frame)
-      out_ << shown->presented_ns << "," << shown->sequence << "," << std::fixed << std::setprecision(3) << double(shown->presented_ns - w.render_ended_ns) / 1e6;
-    else
-      out_ << ",,";
-    out_ << "\n";
-    waiting_.pop_front();
-  }
+PresentationRows::Write TimingCsv::writer() {
+  return [this](const std::string& text, std::int64_t render_ended_ns, const platform::PresentedFrame* shown) {
+    write(text, render_ended_ns, shown);
+  };
+}
+
+void TimingCsv::write(const std::string& text, std::int64_t render_ended_ns, const platform::PresentedFrame* shown) {
+  out_ << text << ",";
+  if (shown)
+    out_ << shown->presented_ns << "," << shown->sequence << "," << std::fixed << std::setprecision(3)
+         << double(shown->presented_ns - render_ended_ns) / 1e6;
+  else
+    out_ << ",,";
+  out_ << "\n";
 }
 
 }  // namespace meter::runner
