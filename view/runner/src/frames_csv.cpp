@@ -5,7 +5,6 @@
 #include <sstream>
 
 #include "meter/protocol/catalog.hpp"
-#include "meter/protocol/trace_events.hpp"
 #include "output_file.hpp"
 
 namespace meter::runner {
@@ -28,7 +27,8 @@ std::string governor_cells_text(const GovernorCells& c) {
 
 FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings, bool integrity,
                      bool governor, bool presentation)
-    : out_(create_output_file(file)), integrity_(integrity), governor_(governor), presentation_(presentation) {
+    : out_(create_output_file(file)), integrity_(integrity), governor_(governor) {
+  if (presentation) set_holding();
   out_ << "frame,time_s,png,link_up,drawn";
   std::set<std::string> seen;
   for (std::size_t i = 0; i < bindings.size(); ++i) {
@@ -53,7 +53,7 @@ FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine
   for (std::size_t i : text_columns_) out_ << "," << bindings[i].node << ".value";
   if (integrity_) out_ << ",integrity_faults,integrity_total,integrity_fault";
   if (governor_) out_ << "," << kGovernorColumns;
-  if (presentation_) out_ << ",presented_ns,refresh_seq";
+  if (holding()) out_ << ",presented_ns,refresh_seq";
   out_ << "\n";
   out_.flush();  // a reader following the file sees the columns before the first row
 }
@@ -61,7 +61,7 @@ FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine
 void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
                     const std::vector<engine::BindingState>& states, const IntegrityCells* integrity,
                     const GovernorCells* governor) {
-  if (!presentation_) {
+  if (!holding()) {
     cells(out_, frame, t, png, link_up, drawn, states, integrity, governor);
     out_ << "\n";
     out_.flush();
@@ -69,7 +69,7 @@ void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool 
   }
   std::ostringstream text;
   cells(text, frame, t, png, link_up, drawn, states, integrity, governor);
-  waiting_.add(frame, text.str(), 0, protocol::monotonic_now_ns(), writer());
+  hold(frame, text.str(), 0);
 }
 
 void FramesCsv::cells(std::ostream& out, std::uint64_t frame, double t, const std::string& png, bool link_up,
@@ -88,18 +88,6 @@ void FramesCsv::cells(std::ostream& out, std::uint64_t frame, double t, const st
     out << "," << c.faults << "," << c.total << "," << csv_quoted(c.first);
   }
   if (governor_) out << governor_cells_text(governor ? *governor : GovernorCells{});
-}
-
-void FramesCsv::on_presented(const platform::PresentedFrame& shown) {
-  if (presentation_) waiting_.presented(shown, protocol::monotonic_now_ns(), writer());
-}
-
-void FramesCsv::not_presented(std::uint64_t frame) {
-  if (presentation_) waiting_.not_presented(frame, protocol::monotonic_now_ns(), writer());
-}
-
-void FramesCsv::presentation_done() {
-  if (presentation_) waiting_.done(writer());
 }
 
 PresentationRows::Write FramesCsv::writer() {

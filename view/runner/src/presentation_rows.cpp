@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "meter/protocol/trace_events.hpp"
+
 namespace meter::runner {
 
 bool PresentationRows::fate(std::uint64_t frame, std::optional<platform::PresentedFrame>& shown) const {
@@ -61,6 +63,22 @@ void PresentationRows::release(const Write& write) {
     rows_.pop_front();
     write(r.text, r.render_ended_ns, r.shown ? &*r.shown : nullptr);
   }
+}
+
+void PresentationHeldCsv::on_presented(const platform::PresentedFrame& shown) {
+  if (holding_) rows_.presented(shown, protocol::monotonic_now_ns(), writer());
+}
+
+void PresentationHeldCsv::not_presented(std::uint64_t frame) {
+  if (holding_) rows_.not_presented(frame, protocol::monotonic_now_ns(), writer());
+}
+
+void PresentationHeldCsv::presentation_done() {
+  if (holding_) rows_.done(writer());
+}
+
+void PresentationHeldCsv::hold(std::uint64_t frame, std::string text, std::int64_t render_ended_ns) {
+  rows_.add(frame, std::move(text), render_ended_ns, protocol::monotonic_now_ns(), writer());
 }
 
 }  // namespace meter::runner

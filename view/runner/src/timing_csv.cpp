@@ -3,7 +3,6 @@
 #include <iomanip>
 #include <sstream>
 
-#include "meter/protocol/trace_events.hpp"
 #include "output_file.hpp"
 
 namespace meter::runner {
@@ -30,30 +29,18 @@ void TimingCsv::cells(std::ostream& out, std::uint64_t frame, double t, const en
 }
 
 void TimingCsv::on_frame(const engine::FrameRecord& frame) {
-  if (!presentation_) return row(frame.request.frame, frame.request.t, frame.timing, frame.governor);
+  if (!holding()) return row(frame.request.frame, frame.request.t, frame.timing, frame.governor);
   std::ostringstream text;
   cells(text, frame.request.frame, frame.request.t, frame.timing, frame.governor);
-  waiting_.add(frame.request.frame, text.str(), frame.render_ended_ns, protocol::monotonic_now_ns(), writer());
+  hold(frame.request.frame, text.str(), frame.render_ended_ns);
 }
 
 void TimingCsv::await_presentation() {
-  if (presentation_ || !out_.is_open()) return;
-  presentation_ = true;
+  if (holding() || !out_.is_open()) return;
+  set_holding();
   // The header is written: it gains the display's columns at its end.
   out_.seekp(-1, std::ios_base::cur);
   out_ << ",presented_ns,refresh_seq,to_presented_ms\n";
-}
-
-void TimingCsv::on_presented(const platform::PresentedFrame& shown) {
-  if (presentation_) waiting_.presented(shown, protocol::monotonic_now_ns(), writer());
-}
-
-void TimingCsv::not_presented(std::uint64_t frame) {
-  if (presentation_) waiting_.not_presented(frame, protocol::monotonic_now_ns(), writer());
-}
-
-void TimingCsv::presentation_done() {
-  if (presentation_) waiting_.done(writer());
 }
 
 PresentationRows::Write TimingCsv::writer() {

@@ -21,7 +21,6 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/pipeline/frame_governor.hpp"
-#include "meter/runner/presentation_listener.hpp"
 #include "meter/runner/presentation_rows.hpp"
 
 namespace meter::runner {
@@ -39,7 +38,7 @@ inline constexpr const char* kGovernorColumns = "predicted_ms,measured_ms,units_
 // ",<cells>" in kGovernorColumns' order.
 std::string governor_cells_text(const GovernorCells& cells);
 
-class FramesCsv : public PresentationListener {
+class FramesCsv : public PresentationHeldCsv {
  public:
   // Writes the header for the scene's bindings (and the integrity columns when `integrity`).
   // Throws ViewError when the file cannot be written.
@@ -56,23 +55,18 @@ class FramesCsv : public PresentationListener {
   void row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
            const std::vector<engine::BindingState>& states, const IntegrityCells* integrity = nullptr,
            const GovernorCells* governor = nullptr);
-  void on_presented(const platform::PresentedFrame& shown) override;
-  void not_presented(std::uint64_t frame) override;
-  void presentation_done() override;
 
  private:
   void cells(std::ostream& out, std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
              const std::vector<engine::BindingState>& states, const IntegrityCells* integrity,
              const GovernorCells* governor) const;
-  PresentationRows::Write writer();
+  PresentationRows::Write writer() override;
 
   std::ofstream out_;
   std::vector<std::size_t> columns_;       // binding index per signal column group
   std::vector<std::size_t> text_columns_;  // binding index per text column
   bool integrity_ = false;
   bool governor_ = false;
-  bool presentation_ = false;
-  PresentationRows waiting_;
 };
 
 // RFC 4180 quoting: texts may hold commas or quotes (a map entry, a designer's format string).

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "meter/platform/display.hpp"
+#include "meter/runner/presentation_listener.hpp"
 
 namespace meter::runner {
 
@@ -63,6 +64,25 @@ class PresentationRows {
   std::optional<std::uint64_t> through_;  // every frame up to this one had its fate told
   bool done_ = false;
   static constexpr std::size_t kFates = 256;
+};
+
+// The listener side of a CSV whose rows wait for the display (frames.csv, the timing CSV): once
+// holding() is set, rows go through hold() and the display's news releases them through writer().
+class PresentationHeldCsv : public PresentationListener {
+ public:
+  void on_presented(const platform::PresentedFrame& shown) override;
+  void not_presented(std::uint64_t frame) override;
+  void presentation_done() override;
+
+ protected:
+  bool holding() const { return holding_; }
+  void set_holding() { holding_ = true; }
+  void hold(std::uint64_t frame, std::string text, std::int64_t render_ended_ns);
+  virtual PresentationRows::Write writer() = 0;
+
+ private:
+  bool holding_ = false;
+  PresentationRows rows_;
 };
 
 }  // namespace meter::runner

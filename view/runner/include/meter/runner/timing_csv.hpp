@@ -16,36 +16,30 @@
 #include "meter/engine/pipeline/frame_sink.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/runner/frames_csv.hpp"
-#include "meter/runner/presentation_listener.hpp"
 #include "meter/runner/presentation_rows.hpp"
 
 namespace meter::runner {
 
 // A frame sink: one row per frame the pipeline renders.
-class TimingCsv : public engine::FrameSink, public PresentationListener {
+class TimingCsv : public engine::FrameSink, public PresentationHeldCsv {
  public:
   // An empty path: no file (row() does nothing). Throws ViewError when the file cannot be written.
-  TimingCsv() : TimingCsv(std::string()) {}  // no file
+  TimingCsv() = default;  // no file
   explicit TimingCsv(const std::string& path, bool governor = false);
   void row(std::uint64_t frame, double t, const engine::FrameTiming& timing, const GovernorCells* governor = nullptr);
   void on_frame(const engine::FrameRecord& frame) override;
   // The display's columns: each row waits for its frame's presentation feedback.
   void await_presentation();
-  void on_presented(const platform::PresentedFrame& shown) override;
-  void not_presented(std::uint64_t frame) override;
-  void presentation_done() override;
 
  private:
   void cells(std::ostream& out, std::uint64_t frame, double t, const engine::FrameTiming& timing,
              const GovernorCells* governor) const;
-  // A row released by waiting_: `text` and the display's cells.
+  // A row released for the display's news: `text` and the display's cells.
   void write(const std::string& text, std::int64_t render_ended_ns, const platform::PresentedFrame* shown);
-  PresentationRows::Write writer();
+  PresentationRows::Write writer() override;
 
   std::ofstream out_;
   bool governor_ = false;
-  bool presentation_ = false;
-  PresentationRows waiting_;
 };
 
 }  // namespace meter::runner
