@@ -21,9 +21,11 @@ void DisplaySink::on_frame(const engine::FrameRecord& frame) {
   // Test only: a lost copy keeps the back buffer as it stood; its damage goes with the next copy.
   const bool lost = integrity_ && integrity_->display_copy_lost(n);
   if (lost) lost_.insert(lost_.end(), damage.begin(), damage.end());
-  if (!lost && !lost_.empty()) damage.insert(damage.end(), lost_.begin(), lost_.end()), lost_.clear();
+  if (!lost && !lost_.empty()) {
+    damage.insert(damage.end(), lost_.begin(), lost_.end());
+    lost_.clear();
+  }
   const std::int64_t began = protocol::monotonic_now_ns();
-  if (frame.render_ended_ns) summary_.after_render_ms += double(began - frame.render_ended_ns) / 1e6;
   // The frame goes into the back buffer once: for its damage, or for the monitor's first read (a
   // frame that drew nothing is shown again so that what the monitor judged is what is shown).
   bool copied = false, tried = lost;
@@ -40,13 +42,14 @@ void DisplaySink::on_frame(const engine::FrameRecord& frame) {
   if (integrity_) check(frame, copy, copied, copy_ms);
   if (copied) {
     ctx_.display->show(n);
+    if (frame.render_ended_ns) summary_.after_render_ms += double(began - frame.render_ended_ns) / 1e6;
     ++summary_.presents;
     summary_.pixels_damaged += static_cast<std::uint64_t>(platform::area(damage));
     last_frame_ = n;
     summary_.present_ms += double(protocol::monotonic_now_ns() - began) / 1e6;
-  }
-  else
+  } else {
     for (PresentationListener* l : listeners_) l->not_presented(n);
+  }
   note_stalls(n);
   take(0);
 }
