@@ -2,7 +2,7 @@
 """meter-view --output wayland against a real compositor: Weston 10's headless backend with its GL
 renderer (llvmpipe), one Weston for every case, in a private XDG_RUNTIME_DIR.
 
-  usage: wayland_check.py METER_CONVERT METER_VIEW SCENES_DIR WORKDIR
+  usage: wayland_check.py METER_CONVERT METER_VIEW SCENES_DIR WORKDIR METER_CONTROLLER CLUSTER_MSP
 
 Cases, in order (the last one stops Weston):
   screenshot  one state (--set) held on the display; Weston's own screenshot (weston-screenshooter,
@@ -11,8 +11,14 @@ Cases, in order (the last one stops Weston):
   pacing      a recording played (40 frames at 60 fps): every frame presented (presentation
               feedback in the timing CSV), the times strictly increasing and never two frames in one
               refresh; each frame presented after its render ended;
-  frozen      Weston stopped (SIGSTOP) for 1.5 s while a recording plays: the frame callback that
-              does not come is a stall, logged as a frozen display; the play ends normally after SIGCONT;
+  live        the cluster live from meter-controller replaying the demo drive, the integrity monitor on
+              the shown buffer: the display's copy of frames 20-40 lost (--inject-fault display@20-40;
+              the renderer's own target stays right) is caught by the monitor reading the back buffer
+              (integrity faults from frame 20, none before it or from frame 50 on), those frames have
+              no presentation time in frames.csv, the others do, increasing; Weston stopped (SIGSTOP)
+              for 2 s: the frame callback that does not come is a frozen display, logged and sent in
+              STATUS (the controller logs "display-frozen", and "integrity" for the lost copies); the
+              view ends normally on SIGTERM after SIGCONT;
   no_compositor  --output wayland:NAME with no compositor there: exit 1 naming the socket;
   compositor_gone  Weston killed while a frame is shown: meter-view exits 3 ("the display went away").
 Pixels are read with ImageMagick (`convert ... rgb:`), no Python packages.
@@ -82,7 +88,7 @@ class View:
 
 
 def main():
-    convert, view, scenes, work = sys.argv[1:5]
+    convert, view, scenes, work, controller, cluster = sys.argv[1:7]
     for tool in ("weston", "weston-screenshooter", "convert"):
         if not shutil.which(tool):
             fail(f"{tool} not found: run scripts/install-deps test (weston, imagemagick)")
@@ -109,7 +115,8 @@ def main():
         target = "wayland:" + socket
         for case, run in (("screenshot", lambda: screenshot(view, msp, target, env, work)),
                           ("pacing", lambda: pacing(view, msp, target, env, work)),
-                          ("frozen", lambda: frozen(view, msp, target, env, work, weston)),
+                          ("live", lambda: live(view, controller, cluster, os.path.dirname(scenes), target, env, work,
+                                                weston)),
                           ("no_compositor", lambda: no_compositor(view, msp, env, work)),
                           ("compositor_gone", lambda: compositor_gone(view, msp, target, env, work, weston))):
             began = time.monotonic()
@@ -186,21 +193,71 @@ def pacing(view, msp, target, env, work):
           f"{gaps_ms[-1]:.1f} ms (min / median / max)")
 
 
-def frozen(view, msp, target, env, work, weston):
-    rec = ramp(os.path.join(work, "long.rec"), 100)
-    v = View([view, "--scene", msp, "--play", rec, "--fps", "60", "--output", target, "--info", "--out",
-              os.path.join(work, "frozen")], env, os.path.join(work, "frozen.log"))
-    v.wait_for("meter-view: display: wayland")
-    time.sleep(0.7)  # the first frames are on screen
-    weston.send_signal(signal.SIGSTOP)
-    time.sleep(1.5)
-    weston.send_signal(signal.SIGCONT)
-    if v.wait() != 0:
-        fail("the play after the compositor froze and came back did not exit 0:\n" + v.text())
-    stalls = [line for line in v.text().splitlines() if " stalls (" in line]
-    if "frozen display" not in v.text() or not stalls or " 0 stalls (" in stalls[0]:
-        fail("a compositor stopped for 1.5 s was not reported as a frozen display:\n" + v.text())
-    print("frozen: " + [line for line in v.text().splitlines() if "frozen display" in line][0])
+def frames_rows(path):
+    try:
+        with open(path) as f:
+            return list(csv.DictReader(f))
+    except FileNotFoundError:
+        return []
+
+
+def live(view, controller, cluster, root, target, env, work, weston):
+    d = os.path.join(work, "live")
+    os.makedirs(d)
+    demo = os.path.join(root, "controller", "vehicles", "demo")
+    sock = os.path.join(d, "link.sock")
+    ctl_log = os.path.join(d, "controller.log")
+    ctl = subprocess.Popen([controller, "run", "--dbc", os.path.join(demo, "demo.dbc"), "--map",
+                            os.path.join(demo, "demo.map"), "--input",
+                            "log:" + os.path.join(root, "vcan", "logs", "demo-drive.log"), "--link", "unix:" + sock,
+                            "--state-dir", os.path.join(d, "state"), "--link-timeout", "5000"],
+                           stdout=subprocess.DEVNULL, stderr=open(ctl_log, "w"))
+    frames_csv = os.path.join(d, "frames.csv")
+    try:
+        # A link timeout above the freeze: the view's loop waits in the display meanwhile, and a lost
+        # link would take the STATUS that reports the freeze with it.
+        v = View([view, "--scene", cluster, "--link", "unix:" + sock, "--link-timeout", "5000", "--msaa", "1",
+                  "--output", target, "--duration",
+                  "60", "--out", d, "--dump-every", "10", "--inject-fault", "display@20-40"], env,
+                 os.path.join(d, "view.log"))
+        end = time.monotonic() + 60
+        while not any(int(r["frame"]) >= 60 for r in frames_rows(frames_csv)):
+            if v.proc.poll() is not None or time.monotonic() > end:
+                fail("the live view did not reach frame 60:\n" + v.text())
+            time.sleep(0.1)
+        weston.send_signal(signal.SIGSTOP)
+        time.sleep(2.0)
+        weston.send_signal(signal.SIGCONT)
+        v.wait_for("frozen display", 20)
+        time.sleep(1.0)  # a STATUS or two after the stall
+        v.proc.send_signal(signal.SIGTERM)
+        if v.wait() != 0:
+            fail("the live view did not exit 0 on SIGTERM:\n" + v.text())
+    finally:
+        ctl.terminate()
+        ctl.wait(20)
+    text = v.text()
+    summary = [line for line in text.splitlines() if line.startswith("meter-view: integrity: ")]
+    first = summary[0].split("first at frame ")[1].split(",")[0] if summary and "first at frame" in summary[0] else None
+    if first is None or not 20 <= int(first) <= 40:
+        fail(f"the lost display copies (frames 20-40) were not caught from frame 20 on (first fault: {first}):\n" + text)
+    rows = [r for r in frames_rows(frames_csv) if r["png"]]
+    faults = {int(r["frame"]): int(r["integrity_faults"]) for r in rows}
+    if faults.get(30, 0) == 0 or any(n for f, n in faults.items() if f < 20 or f >= 50):
+        fail(f"integrity faults per dumped frame {faults}: expected some at frame 30, none before 20 or from 50 on")
+    shown = [(int(r["frame"]), int(r["presented_ns"])) for r in rows if r["presented_ns"]]
+    lost = [int(r["frame"]) for r in rows if 20 <= int(r["frame"]) <= 40 and r["presented_ns"]]
+    if lost or len(shown) < 4 or any(b[1] <= a[1] for a, b in zip(shown, shown[1:])):
+        fail(f"frames.csv presentation times: shown {shown}, lost frames with a time {lost}")
+    ctl_text = open(ctl_log).read()
+    raised = " ".join(line for line in ctl_text.splitlines() if "view reports a fault" in line)
+    if "display-frozen" not in raised or "integrity" not in raised:
+        fail("the controller did not hear of the frozen display and the integrity faults in STATUS:\n" + ctl_text)
+    monitor = [line for line in text.splitlines() if "the integrity monitor on the shown buffer" in line]
+    if not monitor:
+        fail("the monitor did not check the shown buffer:\n" + text)
+    print(f"live: lost copies caught from frame {first}; {len(shown)} dumped frames with a presentation time; "
+          f"controller: {raised.count('display-frozen')} display-frozen; " + monitor[0].split("; the ")[-1])
 
 
 def no_compositor(view, msp, env, work):

@@ -16,6 +16,7 @@ std::string describe_fault_flags(std::uint32_t flags) {
     if (b == kViewFaultFrameDeadline) out += "frame-deadline";
     else if (b == kViewFaultDumpFailed) out += "dump-failed";
     else if (b == kViewFaultIntegrity) out += "integrity";
+    else if (b == kViewFaultDisplayFrozen) out += "display-frozen";
     else if (b == kControllerFaultBusWarning) out += "bus-warning";
     else if (b == kControllerFaultBusPassive) out += "bus-passive";
     else if (b == kControllerFaultBusOff) out += "bus-off";

@@ -204,6 +204,9 @@ TEST_P(PartialRedraw, WrittenBoxesGrowByTheResolveFiltersReach) {
     }
   }
   EXPECT_GT(partial_boxes, 4);
+  // No display took its list: none was kept for it, and its first take is the whole target.
+  EXPECT_EQ(box.take_written(Renderer::WrittenReader::Display),
+            (std::vector<platform::PixelRegion>{platform::PixelRegion{0, 0, 640, 240}}));
 }
 
 TEST_P(PartialRedraw, MorphingSceneEqualsFullRedraw) {

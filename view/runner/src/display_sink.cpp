@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "meter/platform/display_damage.hpp"
 #include "meter/protocol/trace_events.hpp"
+#include "meter/protocol/wire.hpp"
 
 namespace meter::runner {
 
@@ -14,24 +16,77 @@ DisplaySink::DisplaySink(RenderContext& ctx, std::ostream& log) : ctx_(ctx), log
 }
 
 void DisplaySink::on_frame(const engine::FrameRecord& frame) {
-  const auto damage = ctx_.renderer.take_written(engine::Renderer::WrittenReader::Display);
-  if (!damage.empty()) {
-    const std::int64_t began = protocol::monotonic_now_ns();
-    if (frame.render_ended_ns) summary_.after_render_ms += double(began - frame.render_ended_ns) / 1e6;
-    ctx_.display->present(ctx_.renderer.resolved_target(), damage, frame.request.frame);
-    summary_.present_ms += double(protocol::monotonic_now_ns() - began) / 1e6;
-    // A frame callback or page flip that did not come: the display froze (counted, first logged).
-    if (const std::uint64_t stalls = ctx_.display->stalls(); stalls > summary_.stalls) {
-      if (summary_.stalls == 0)
-        log_ << "meter-view: display: frame " << frame.request.frame
-             << ": the previous frame was never shown within the wait (no frame callback or page flip): frozen display\n";
-      summary_.stalls = stalls;
+  const std::uint64_t n = frame.request.frame;
+  std::vector<platform::PixelRegion> damage = ctx_.renderer.take_written(engine::Renderer::WrittenReader::Display);
+  // Test only: a lost copy keeps the back buffer as it stood; its damage goes with the next copy.
+  const bool lost = integrity_ && integrity_->display_copy_lost(n);
+  if (lost) lost_.insert(lost_.end(), damage.begin(), damage.end());
+  if (!lost && !lost_.empty()) {
+    damage.insert(damage.end(), lost_.begin(), lost_.end());
+    lost_.clear();
+  }
+  const std::int64_t began = protocol::monotonic_now_ns();
+  // The frame goes into the back buffer once: for its damage, or for the monitor's first read (a
+  // frame that drew nothing is shown again so that what the monitor judged is what is shown).
+  bool copied = false, tried = lost;
+  double copy_ms = 0.0;
+  const auto copy = [&] {
+    if (!std::exchange(tried, true)) {
+      const std::int64_t t = protocol::monotonic_now_ns();
+      copied = ctx_.display->copy(ctx_.renderer.resolved_target(), damage);
+      copy_ms += double(protocol::monotonic_now_ns() - t) / 1e6;
     }
+    return copied || lost;
+  };
+  if (!damage.empty()) copy();
+  if (integrity_) check(frame, copy, copied, copy_ms);
+  if (copied) {
+    ctx_.display->show(n);
+    if (frame.render_ended_ns) summary_.after_render_ms += double(began - frame.render_ended_ns) / 1e6;
     ++summary_.presents;
     summary_.pixels_damaged += static_cast<std::uint64_t>(platform::area(damage));
-    last_frame_ = frame.request.frame;
+    last_frame_ = n;
+    summary_.present_ms += double(protocol::monotonic_now_ns() - began) / 1e6;
+  } else {
+    for (PresentationListener* l : listeners_) l->not_presented(n);
   }
+  note_stalls(n);
   take(0);
+}
+
+// The integrity monitor judges the regions read back from the back buffer the frame was copied
+// into; its safe-path repaints are copied after it, before the buffer is shown.
+void DisplaySink::check(const engine::FrameRecord& frame, const std::function<bool()>& copy, const bool& copied,
+                        double& copy_ms) {
+  const std::int64_t began = protocol::monotonic_now_ns();
+  const double copy_before = copy_ms;
+  integrity_->check_shown(frame, [&](std::span<const platform::PixelRegion> boxes) {
+    if (!copy()) return std::vector<platform::Image>(boxes.size());
+    // The reads wait for the copy (and the frame's resolve) to finish, as the swap would: that wait
+    // is timed apart, so monitor_ms is the monitor's own reads, judgement and repairs.
+    const std::int64_t t = protocol::monotonic_now_ns();
+    ctx_.display->gl().Finish();
+    copy_ms += double(protocol::monotonic_now_ns() - t) / 1e6;
+    return ctx_.display->read_shown(boxes);
+  });
+  if (copied) {
+    const auto repaired = ctx_.renderer.take_written(engine::Renderer::WrittenReader::Display);
+    if (!repaired.empty()) ctx_.display->copy_more(ctx_.renderer.resolved_target(), repaired);
+  }
+  summary_.monitor_ms += double(protocol::monotonic_now_ns() - began) / 1e6 - (copy_ms - copy_before);
+  ++summary_.monitored;
+}
+
+// A frame callback or page flip that did not come: the display froze (counted, the first logged,
+// each reported as a fault in STATUS).
+void DisplaySink::note_stalls(std::uint64_t frame) {
+  const std::uint64_t stalls = ctx_.display->stalls();
+  if (stalls <= summary_.stalls) return;
+  if (summary_.stalls == 0)
+    log_ << "meter-view: display: frame " << frame
+         << ": the previous frame was never shown within the wait (no frame callback or page flip): frozen display\n";
+  summary_.stalls = stalls;
+  if (health_) health_->report(protocol::kViewFaultDisplayFrozen, ViewHealth::Clock::now());
 }
 
 void DisplaySink::finish() {
@@ -46,7 +101,11 @@ void DisplaySink::finish() {
        << summary_.stalls << " stalls (a frame callback or page flip that did not come); refresh " << summary_.refresh_ns / 1e6 << " ms; copied "
        << summary_.pixels_copied << " pixels for " << summary_.pixels_damaged << " damaged; per frame "
        << summary_.after_render_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms from render end to the copy, "
-       << summary_.present_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms in present\n";
+       << summary_.present_ms / double(std::max<std::uint64_t>(1, summary_.presents)) << " ms in present";
+  if (summary_.monitored)
+    log_ << "; the integrity monitor on the shown buffer " << summary_.monitor_ms / double(summary_.monitored)
+         << " ms per frame (" << summary_.monitored << " frames)";
+  log_ << "\n";
 }
 
 void DisplaySink::take(int wait_ms) {

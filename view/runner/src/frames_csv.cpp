@@ -26,8 +26,9 @@ std::string governor_cells_text(const GovernorCells& c) {
 }
 
 FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings, bool integrity,
-                     bool governor)
+                     bool governor, bool presentation)
     : out_(create_output_file(file)), integrity_(integrity), governor_(governor) {
+  if (presentation) set_holding();
   out_ << "frame,time_s,png,link_up,drawn";
   std::set<std::string> seen;
   for (std::size_t i = 0; i < bindings.size(); ++i) {
@@ -52,27 +53,51 @@ FramesCsv::FramesCsv(const std::filesystem::path& file, const std::vector<engine
   for (std::size_t i : text_columns_) out_ << "," << bindings[i].node << ".value";
   if (integrity_) out_ << ",integrity_faults,integrity_total,integrity_fault";
   if (governor_) out_ << "," << kGovernorColumns;
+  if (holding()) out_ << ",presented_ns,refresh_seq";
   out_ << "\n";
+  out_.flush();  // a reader following the file sees the columns before the first row
 }
 
 void FramesCsv::row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
                     const std::vector<engine::BindingState>& states, const IntegrityCells* integrity,
                     const GovernorCells* governor) {
-  out_ << frame << "," << std::fixed << std::setprecision(4) << t << "," << png << "," << link_up << "," << drawn;
+  if (!holding()) {
+    cells(out_, frame, t, png, link_up, drawn, states, integrity, governor);
+    out_ << "\n";
+    out_.flush();
+    return;
+  }
+  std::ostringstream text;
+  cells(text, frame, t, png, link_up, drawn, states, integrity, governor);
+  hold(frame, text.str(), 0);
+}
+
+void FramesCsv::cells(std::ostream& out, std::uint64_t frame, double t, const std::string& png, bool link_up,
+                      bool drawn, const std::vector<engine::BindingState>& states, const IntegrityCells* integrity,
+                      const GovernorCells* governor) const {
+  out << frame << "," << std::fixed << std::setprecision(4) << t << "," << png << "," << link_up << "," << drawn;
   for (std::size_t i : columns_) {
     const auto& s = states.at(i);
-    out_ << "," << std::setprecision(6) << s.value << "," << protocol::to_string(s.status) << "," << s.failsafe;
+    out << "," << std::setprecision(6) << s.value << "," << protocol::to_string(s.status) << "," << s.failsafe;
   }
-  for (std::size_t i : text_columns_) out_ << "," << csv_quoted(states.at(i).text);
-  for (std::size_t i : text_columns_) out_ << "," << std::setprecision(6) << states.at(i).value;
+  for (std::size_t i : text_columns_) out << "," << csv_quoted(states.at(i).text);
+  for (std::size_t i : text_columns_) out << "," << std::setprecision(6) << states.at(i).value;
   if (integrity_) {
     const IntegrityCells none;
     const IntegrityCells& c = integrity ? *integrity : none;
-    out_ << "," << c.faults << "," << c.total << "," << csv_quoted(c.first);
+    out << "," << c.faults << "," << c.total << "," << csv_quoted(c.first);
   }
-  if (governor_) out_ << governor_cells_text(governor ? *governor : GovernorCells{});
-  out_ << "\n";
-  out_.flush();
+  if (governor_) out << governor_cells_text(governor ? *governor : GovernorCells{});
+}
+
+PresentationRows::Write FramesCsv::writer() {
+  return [this](const std::string& text, std::int64_t, const platform::PresentedFrame* shown) {
+    out_ << text << ",";
+    if (shown) out_ << shown->presented_ns << "," << shown->sequence;
+    else out_ << ",";
+    out_ << "\n";
+    out_.flush();
+  };
 }
 
 }  // namespace meter::runner

@@ -181,10 +181,11 @@ std::vector<bridge::PixelRect> IntegrityMonitor::read_rects(std::size_t i, std::
   return bands;
 }
 
-void IntegrityMonitor::prepare(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator) {
+void IntegrityMonitor::prepare(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator, bool resolve) {
   if (!on_) return;
   expectations_.evaluate(evaluator, expected_);
   prepared_ = true;
+  if (!resolve) return;
   std::vector<platform::PixelRegion> boxes;
   for (std::size_t i = 0; i < table_.regions.size(); ++i)
     if (expected_[i].known)
@@ -193,7 +194,11 @@ void IntegrityMonitor::prepare(engine::Renderer& renderer, const engine::Binding
 }
 
 const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& renderer,
-                                                           const engine::BindingEvaluator& evaluator) {
+                                                           const engine::BindingEvaluator& evaluator,
+                                                           const RegionReader* reader) {
+  const auto read_boxes = [&](std::span<const platform::PixelRegion> boxes) {
+    return reader ? (*reader)(boxes) : renderer.read_regions(boxes);
+  };
   frame_faults_.clear();
   if (!on_) return frame_faults_;
   ++frame_;
@@ -223,7 +228,7 @@ const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& ren
   if (read.empty()) return frame_faults_;
   ++frames_checked_;
   regions_read_ += read.size();
-  std::vector<platform::Image> got = renderer.read_regions(boxes);
+  std::vector<platform::Image> got = read_boxes(boxes);
   std::size_t next = 0;
   for (std::size_t i : read)
     for (std::size_t k = 0; k < reads[i].rects.size(); ++k) reads[i].images.push_back(std::move(got[next++]));
@@ -235,7 +240,7 @@ const std::vector<IntegrityFault>& IntegrityMonitor::check(engine::Renderer& ren
     std::vector<RegionRead> again(table_.regions.size());
     boxes.clear();
     for (std::size_t i : undecided) boxes.push_back(boxes_[i]);
-    got = renderer.read_regions(boxes);
+    got = read_boxes(boxes);
     for (std::size_t k = 0; k < undecided.size(); ++k) {
       again[undecided[k]] = {{std::move(got[k])}, {table_.regions[undecided[k]].rect}};
       read_whole(undecided[k]);

@@ -28,10 +28,11 @@ FaultSchedule parse_fault_schedule(const std::string& text, const engine::Scene&
   const auto colon = what.find(':');
   const std::string kind_text = what.substr(0, colon), region = colon == std::string::npos ? "" : what.substr(colon + 1);
   FaultSchedule s;
-  const auto kind = engine::parse_fault_kind(kind_text);
+  s.display_copy_lost = kind_text == "display";
+  const auto kind = s.display_copy_lost ? std::optional(engine::FaultKind::StuckFrame) : engine::parse_fault_kind(kind_text);
   if (!kind)
     throw ViewError("--inject-fault " + text + ": unknown fault \"" + kind_text +
-                    "\" (expected drop, colour, cover, text, stuck or needle)");
+                    "\" (expected drop, colour, cover, text, stuck, needle or display)");
   s.fault.kind = *kind;
   if (*kind != engine::FaultKind::StuckFrame) {
     const auto& regions = scene.integrity.regions;
@@ -80,15 +81,15 @@ IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, V
 }
 
 void IntegrityStage::before_frame(std::uint64_t frame) {
-  monitor_.prepare(ctx_.renderer, ctx_.pipeline.evaluator());
-  if (!schedule_) return;
+  monitor_.prepare(ctx_.renderer, ctx_.pipeline.evaluator(), !on_display_);
+  if (!schedule_ || schedule_->display_copy_lost) return;
   if (frame == schedule_->first) ctx_.renderer.inject(schedule_->fault);
   if (schedule_->last && frame == *schedule_->last + 1) ctx_.renderer.inject(std::nullopt);
 }
 
-void IntegrityStage::after_frame(std::uint64_t frame, Clock::time_point now) {
+void IntegrityStage::after_frame(std::uint64_t frame, Clock::time_point now, const RegionReader* reader) {
   if (!monitor_.on()) return;
-  const auto& faults = monitor_.check(ctx_.renderer, ctx_.pipeline.evaluator());
+  const auto& faults = monitor_.check(ctx_.renderer, ctx_.pipeline.evaluator(), reader);
   cells_.faults = faults.size();
   cells_.total = monitor_.faults();
   cells_.first = faults.empty() ? std::string() : faults.front().describe();

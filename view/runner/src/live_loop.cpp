@@ -2,8 +2,8 @@
 // (every pending message applied right before a frame); a frame is due on the view's clock
 // (sequential) or as soon as a change may be drawn (concurrent, overlapped). Overlapped: a frame's
 // GL work executes, fenced, while the next frame is taken in, evaluated and planned. Its sinks, in
-// order: the timing CSV, the latency trace, the integrity monitor, the PNG dump (frames.csv rows),
-// the trace-json slices.
+// order: the timing CSV, the latency trace, the integrity monitor, the display (with --output: the
+// monitor checks the frame in its back buffer), the PNG dump (frames.csv rows), the trace-json slices.
 #include "meter/runner/live_loop.hpp"
 
 #include <algorithm>
@@ -140,7 +140,8 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
       sub_(live_endpoint(options), view_link_options(options)),
       catalog_seen_(sub_.catalog_changes()),
       integrity_(ctx, options, health_, log),
-      csv_(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), integrity_.on(), ctx.governed.governing()),
+      csv_(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), integrity_.on(), ctx.governed.governing(),
+           ctx.display != nullptr),
       trace_(options.trace_csv),
       events_(options.trace_json, options.trace_on_overrun_ms, ctx.out_dir),
       pacer_(options.fps, Clock::now()),
@@ -169,13 +170,19 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
     completes_first_ = ctx.governed.governing() || !options.inject_cost.empty();
   }
   ctx_.pipeline.set_governor(&ctx.governed);  // docs/uniform-frame-rate.md
-  for (engine::FrameSink* sink : std::initializer_list<engine::FrameSink*>{&ctx.timing, &trace_, &integrity_, &dump_, &frame_trace_})
+  // With a display, it comes before the dump: the monitor judges the frame in the display's back
+  // buffer (the display's sink asks it) and the dump's rows take the cells of their own frame.
+  for (engine::FrameSink* sink : std::initializer_list<engine::FrameSink*>{&ctx.timing, &trace_, &integrity_})
     ctx_.pipeline.add_sink(*sink);
-  if (ctx.display_sink) {  // last: shows what the monitor passed; its feedback to the traces
+  if (ctx.display_sink) {  // its feedback to the traces and frames.csv
     ctx_.pipeline.add_sink(*ctx.display_sink);
-    ctx.display_sink->add_listener(trace_);
-    ctx.display_sink->add_listener(frame_trace_);
+    if (integrity_.on()) ctx.display_sink->check_with(integrity_);
+    ctx.display_sink->report_to(health_);
+    for (PresentationListener* l : std::initializer_list<PresentationListener*>{&trace_, &frame_trace_, &csv_})
+      ctx.display_sink->add_listener(*l);
   }
+  ctx_.pipeline.add_sink(dump_);
+  ctx_.pipeline.add_sink(frame_trace_);
 }
 
 // A link poll that applied changes is an intake slice, from the poll's start (so a poll that

@@ -38,15 +38,18 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
   }
   for (const auto& s : options.sets) parse_set(s, values, "--set");
   engine::FramePipeline& pipeline = ctx.pipeline;
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), false, false, ctx.display != nullptr);
   pipeline.add_sink(ctx.timing);
-  if (ctx.display_sink) pipeline.add_sink(*ctx.display_sink);
+  if (ctx.display_sink) {
+    pipeline.add_sink(*ctx.display_sink);
+    ctx.display_sink->add_listener(csv);
+  }
   pipeline.evaluate(values, !options.link_lost, -1.0);  // negative dt: no smoothing, the state itself
   log_script_messages(ctx.pipeline.evaluator(), log);
   pipeline.render(engine::FrameRequest{0, 0.0, true, true, false, false});  // read back; written below, not by a sink
   pipeline.finish();
   const auto png = ctx.out_dir / options.png_name;
   platform::write_png(ctx.renderer.last_image(), png);
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings());
   csv.row(0, 0.0, png.filename().string(), !options.link_lost, true, ctx.pipeline.evaluator().states());
   if (options.info) {
     log << "meter-view: wrote " << png.string() << " in "

@@ -111,7 +111,8 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   const auto times = play_frame_times(options.fps, options.duration_s > 0 ? options.duration_s : span.span_s);
   DumpPolicy policy = dump_policy(options);
   RecordingState state(frames, log);
-  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), false, ctx.governed.governing());
+  FramesCsv csv(ctx.out_dir / "frames.csv", ctx.pipeline.evaluator().bindings(), false, ctx.governed.governing(),
+                ctx.display != nullptr);
   PngWriter png_writer;
   FrameDumpSetup setup;
   setup.while_full = [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); };
@@ -120,7 +121,10 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
   pipeline.set_governor(&ctx.governed);
   pipeline.add_sink(ctx.timing);
   pipeline.add_sink(dump);
-  if (ctx.display_sink) pipeline.add_sink(*ctx.display_sink);
+  if (ctx.display_sink) {
+    pipeline.add_sink(*ctx.display_sink);
+    ctx.display_sink->add_listener(csv);  // frames.csv's presentation times
+  }
   const double dt = 1.0 / options.fps;
   for (std::uint64_t k = 0; k < times.size(); ++k) {
     const double t = times[k];

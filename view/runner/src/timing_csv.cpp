@@ -29,39 +29,34 @@ void TimingCsv::cells(std::ostream& out, std::uint64_t frame, double t, const en
 }
 
 void TimingCsv::on_frame(const engine::FrameRecord& frame) {
-  if (!presentation_) return row(frame.request.frame, frame.request.t, frame.timing, frame.governor);
+  if (!holding()) return row(frame.request.frame, frame.request.t, frame.timing, frame.governor);
   std::ostringstream text;
   cells(text, frame.request.frame, frame.request.t, frame.timing, frame.governor);
-  waiting_.push_back({frame.request.frame, text.str(), frame.render_ended_ns});
+  hold(frame.request.frame, text.str(), frame.render_ended_ns);
 }
 
 void TimingCsv::await_presentation() {
-  if (presentation_ || !out_.is_open()) return;
-  presentation_ = true;
+  if (holding() || !out_.is_open()) return;
+  set_holding();
   // The header is written: it gains the display's columns at its end.
   out_.seekp(-1, std::ios_base::cur);
   out_ << ",presented_ns,refresh_seq,to_presented_ms\n";
 }
 
-void TimingCsv::on_presented(const platform::PresentedFrame& shown) {
-  if (presentation_) flush(shown.frame, shown.discarded ? nullptr : &shown);
+PresentationRows::Write TimingCsv::writer() {
+  return [this](const std::string& text, std::int64_t render_ended_ns, const platform::PresentedFrame* shown) {
+    write(text, render_ended_ns, shown);
+  };
 }
 
-void TimingCsv::presentation_done() {
-  if (presentation_) flush(UINT64_MAX, nullptr);
-}
-
-void TimingCsv::flush(std::uint64_t frame, const platform::PresentedFrame* shown) {
-  while (!waiting_.empty() && waiting_.front().frame <= frame) {
-    const Waiting& w = waiting_.front();
-    out_ << w.text << ",";
-    if (shown && w.frame == frame)
-      out_ << shown->presented_ns << "," << shown->sequence << "," << std::fixed << std::setprecision(3) << double(shown->presented_ns - w.render_ended_ns) / 1e6;
-    else
-      out_ << ",,";
-    out_ << "\n";
-    waiting_.pop_front();
-  }
+void TimingCsv::write(const std::string& text, std::int64_t render_ended_ns, const platform::PresentedFrame* shown) {
+  out_ << text << ",";
+  if (shown)
+    out_ << shown->presented_ns << "," << shown->sequence << "," << std::fixed << std::setprecision(3)
+         << double(shown->presented_ns - render_ended_ns) / 1e6;
+  else
+    out_ << ",,";
+  out_ << "\n";
 }
 
 }  // namespace meter::runner

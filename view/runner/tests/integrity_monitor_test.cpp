@@ -135,6 +135,12 @@ TEST(FaultSchedule, ParsesKindRegionAndFrames) {
   const auto stuck = parse_fault_schedule("stuck@5", scene, 48);
   EXPECT_EQ(stuck.fault.kind, engine::FaultKind::StuckFrame);
   EXPECT_FALSE(stuck.last.has_value());
+  EXPECT_FALSE(stuck.display_copy_lost);
+  // The display's copy lost: no region, nothing for the renderer to inject.
+  const auto display = parse_fault_schedule("display@20-40", scene, 48);
+  EXPECT_TRUE(display.display_copy_lost);
+  EXPECT_EQ(display.first, 20u);
+  EXPECT_EQ(display.last, 40u);
 }
 
 TEST(FaultSchedule, BadTextsAreNamed) {

@@ -75,6 +75,26 @@ TEST(FramesCsv, RowsAreOnDiskAtOnce) {
   EXPECT_EQ(testing::read_lines(dir / "frames.csv").size(), 2u) << "a reader following the file sees the row";
 }
 
+// With a display: the presentation columns last; a row waits for its frame's feedback, in order.
+TEST(FramesCsv, WithADisplayRowsGainTheirPresentationTime) {
+  const auto dir = testing::scratch_dir();
+  FramesCsv csv(dir / "frames.csv", {}, false, false, /*presentation=*/true);
+  csv.row(4, 0.1, "a.png", true, true, {});
+  csv.row(5, 0.2, "b.png", true, true, {});
+  EXPECT_EQ(testing::read_lines(dir / "frames.csv").size(), 1u) << "only the header: no feedback yet";
+  platform::PresentedFrame shown;
+  shown.frame = 4;
+  shown.presented_ns = 123456789;
+  shown.sequence = 9;
+  csv.on_presented(shown);
+  csv.not_presented(5);
+  csv.row(6, 0.3, "c.png", true, false, {});
+  csv.presentation_done();  // frame 6's feedback never came
+  EXPECT_EQ(testing::read_lines(dir / "frames.csv"),
+            (std::vector<std::string>{"frame,time_s,png,link_up,drawn,presented_ns,refresh_seq",
+                                      "4,0.1000,a.png,1,1,123456789,9", "5,0.2000,b.png,1,1,,", "6,0.3000,c.png,1,0,,"}));
+}
+
 TEST(FramesCsv, AnUnwritableFileIsNamed) {
   const auto file = testing::scratch_dir() / "missing" / "frames.csv";
   try {

@@ -38,6 +38,7 @@ TEST(ViewHealth, FaultNamesForTheLog) {
   EXPECT_EQ(protocol::describe_fault_flags(kViewFaultFrameDeadline | kViewFaultDumpFailed | (1U << 9)),
             "frame-deadline, dump-failed, bit 9");
   EXPECT_EQ(protocol::describe_fault_flags(protocol::kViewFaultIntegrity), "integrity");
+  EXPECT_EQ(protocol::describe_fault_flags(protocol::kViewFaultDisplayFrozen), "display-frozen");
 }
 
 }  // namespace

@@ -128,6 +128,7 @@ struct Status {
 inline constexpr std::uint32_t kViewFaultFrameDeadline = 1U << 0;  // a frame ended after the next one was due
 inline constexpr std::uint32_t kViewFaultDumpFailed = 1U << 1;     // a requested PNG dump could not be written
 inline constexpr std::uint32_t kViewFaultIntegrity = 1U << 2;      // the integrity monitor found a wrong or frozen safety region
+inline constexpr std::uint32_t kViewFaultDisplayFrozen = 1U << 3;  // the display took no frame within its wait (no frame callback or page flip)
 inline constexpr int kViewFaultHoldMs = 1000;
 // From the controller, bits 16-31:
 inline constexpr std::uint32_t kControllerFaultBusWarning = 1U << 16;  // error-warning (error counter >= 96)

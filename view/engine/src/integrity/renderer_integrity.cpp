@@ -52,8 +52,10 @@ void Renderer::resolve_watched(const FramePlan& plan) {
 }
 
 std::vector<platform::PixelRegion> Renderer::take_written(WrittenReader reader) {
+  const std::size_t r = std::size_t(reader);
+  if (!std::exchange(written_kept_[r], true)) return {platform::PixelRegion{0, 0, width_, height_}};
   // A wide resolve filter carries a change up to its margin beyond the box it was drawn in.
-  std::vector<platform::PixelRegion> out = std::exchange(written_[std::size_t(reader)], {});
+  std::vector<platform::PixelRegion> out = std::exchange(written_[r], {});
   // The margin is in drawn pixels; below scale 1 it spans more output pixels.
   const float scale = quality_.global.scale;
   if (const int m = int(std::ceil(float(target_->resolve_margin_px()) / scale)); m > 0)
@@ -66,7 +68,9 @@ std::vector<platform::PixelRegion> Renderer::take_written(WrittenReader reader) 
 
 void Renderer::note_written(const FramePlan& plan) {
   ++draws_;
-  for (auto& written : written_) {
+  for (std::size_t i = 0; i < written_.size(); ++i) {
+    if (!written_kept_[i]) continue;
+    auto& written = written_[i];
     // Many boxes (nobody took them for a while): the whole target, as a bound on the list.
     if (plan.full || written.size() > 64) written = {platform::PixelRegion{0, 0, width_, height_}};
     if (!plan.full)
@@ -75,13 +79,15 @@ void Renderer::note_written(const FramePlan& plan) {
 }
 
 void Renderer::written_all() {
-  for (auto& written : written_) written = {platform::PixelRegion{0, 0, width_, height_}};
+  for (std::size_t i = 0; i < written_.size(); ++i)
+    if (written_kept_[i]) written_[i] = {platform::PixelRegion{0, 0, width_, height_}};
 }
 
 void Renderer::note_written(const platform::PixelRegion& drawn, const platform::PixelRegion& output) {
   ++draws_;
   unresolved_.push_back(drawn);
-  for (auto& written : written_) written.push_back(output);
+  for (std::size_t i = 0; i < written_.size(); ++i)
+    if (written_kept_[i]) written_[i].push_back(output);
 }
 
 void Renderer::fill(const platform::PixelRegion& output_region, const glm::vec4& linear_colour) {

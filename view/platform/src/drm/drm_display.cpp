@@ -1,10 +1,10 @@
 // --output drm[:/dev/dri/cardN]: meter-view scans out through KMS without a compositor. An
 // OpenGL ES 3 context on Mesa's GBM platform (EGL_PLATFORM_GBM_KHR) draws into a GBM surface of the
-// connector's mode size; present() copies the resolved frame 1:1 into its back buffer, centred when
+// connector's mode size; copy() copies the resolved frame 1:1 into its back buffer, centred when
 // the mode is larger than the frame (black around it; a smaller mode is refused: the frame would be
-// cut), locks it as the front buffer and flips the primary plane to it on the next vblank
-// (kms_output.cpp). Double buffered: one buffer on screen, at most one flip queued; the next
-// present waits for that flip's vblank event first (the pacing), then releases the buffer it
+// cut; egl_display_backend.cpp), show() locks it as the front buffer and flips the primary plane to
+// it on the next vblank (kms_output.cpp). Double buffered: one buffer on screen, at most one flip queued; the next
+// copy waits for that flip's vblank event first (the pacing), then releases the buffer it
 // replaced.
 #include <gbm.h>
 
@@ -15,8 +15,7 @@
 
 #include "backends.hpp"
 #include "drm/kms_output.hpp"
-#include "egl/egl_window.hpp"
-#include "meter/platform/display_damage.hpp"
+#include "egl/egl_display_backend.hpp"
 
 namespace meter::platform::detail {
 namespace {
@@ -44,13 +43,11 @@ std::string card_of(const std::string& target) {
 class DrmDisplay final : public EglDisplayBackend {
  public:
   explicit DrmDisplay(const DisplayOptions& options)
-      : EglDisplayBackend("drm"), kms_(card_of(options.target), options.frame_wait_ms), frame_w_(options.width),
-        frame_h_(options.height), damage_(kms_.width(), kms_.height()) {
-    if (kms_.width() < frame_w_ || kms_.height() < frame_h_)
-      throw BackendError("drm: " + kms_.info() + ": the mode is smaller than the " + std::to_string(frame_w_) + "x" +
-                         std::to_string(frame_h_) + " frame (refused: it would be cut; give the panel a larger mode)");
-    origin_x_ = (kms_.width() - frame_w_) / 2;
-    origin_y_ = (kms_.height() - frame_h_) / 2;
+      : EglDisplayBackend("drm"), kms_(card_of(options.target), options.frame_wait_ms) {
+    if (kms_.width() < options.width || kms_.height() < options.height)
+      throw BackendError("drm: " + kms_.info() + ": the mode is smaller than the " + std::to_string(options.width) + "x" +
+                         std::to_string(options.height) + " frame (refused: it would be cut; give the panel a larger mode)");
+    place(kms_.width(), kms_.height(), options.width, options.height);
     try {
       gbm_ = gbm_create_device(kms_.fd());
       if (!gbm_) throw BackendError("drm: gbm_create_device failed on " + kms_.info() + "; install libgbm1");
@@ -67,33 +64,22 @@ class DrmDisplay final : public EglDisplayBackend {
   }
   ~DrmDisplay() override { release(); }
 
-  void present(const RenderTarget& frame, std::span<const PixelRegion> damage, std::uint64_t frame_number) override {
+  bool copy(const RenderTarget& frame, std::span<const PixelRegion> damage) override {
     if (!kms_.wait_for_flip()) {
       // The last flip never completed: a stall (counted); this frame is not shown, and its damage
       // goes with the next one that is.
       carried_.insert(carried_.end(), damage.begin(), damage.end());
-      return;
+      return false;
     }
     if (shown_bo_ && queued_bo_) gbm_surface_release_buffer(surface_, std::exchange(shown_bo_, nullptr));
     if (queued_bo_) shown_bo_ = std::exchange(queued_bo_, nullptr);
-    // Damage in the mode's pixels: the frame's boxes moved to where it is centred.
-    std::vector<PixelRegion> moved;
     carried_.insert(carried_.end(), damage.begin(), damage.end());
-    for (const auto& r : std::exchange(carried_, {})) moved.push_back({r.x + origin_x_, r.y + origin_y_, r.width, r.height});
-    std::vector<PixelRegion> repaint = damage_.repaint(egl_->buffer_age(), moved);
-    const Gl& gl = egl_->gl();
-    if (repaint.size() == 1 && repaint[0] == PixelRegion{0, 0, kms_.width(), kms_.height()}) {
-      // A buffer of unknown contents: black around the frame, then all of the frame.
-      gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-      gl.Disable(GL_SCISSOR_TEST);
-      gl.ClearColor(0, 0, 0, 1);
-      gl.Clear(GL_COLOR_BUFFER_BIT);
-      repaint = {PixelRegion{origin_x_, origin_y_, frame_w_, frame_h_}};
-    }
-    // Centred: the frame's box is as far from the bottom as from the top, so its top-left corner in
-    // FrameBlit's terms is (origin_x_, origin_y_) too.
-    egl_->blit().draw(frame, origin_x_, origin_y_, kms_.height(), repaint);
-    copied_ += static_cast<std::uint64_t>(area(repaint));
+    copy_frame(frame, std::exchange(carried_, {}));
+    return true;
+  }
+
+  void show(std::uint64_t frame_number) override {
+    const std::vector<PixelRegion> damage = take_shown_damage();
     std::string error;
     if (!egl_->swap({}, error)) throw DisplayLost("drm: eglSwapBuffers failed (" + error + ")");
     gbm_bo* bo = gbm_surface_lock_front_buffer(surface_);
@@ -105,20 +91,15 @@ class DrmDisplay final : public EglDisplayBackend {
     }
     // FB_DAMAGE_CLIPS have their origin top-left.
     std::vector<PixelRegion> clips;
-    for (const auto& r : moved)
-      if (const PixelRegion c = clip(r, kms_.width(), kms_.height()); !c.empty())
-        clips.push_back({c.x, kms_.height() - c.y - c.height, c.width, c.height});
+    for (const auto& r : damage) clips.push_back({r.x, surface_h_ - r.y - r.height, r.width, r.height});
     kms_.flip(data->fb, clips, frame_number);
-    damage_.presented(moved);
     (shown_bo_ ? queued_bo_ : shown_bo_) = bo;  // the first (the modeset) is on screen at once
   }
 
   std::vector<PresentedFrame> take_presented(int wait_ms) override { return kms_.take_presented(wait_ms); }
   std::uint64_t stalls() const override { return kms_.stalls(); }
-  std::uint64_t pixels_copied() const override { return copied_; }
   std::string display_info() const override {
-    return kms_.info() + "; the " + std::to_string(frame_w_) + "x" + std::to_string(frame_h_) + " frame at (" +
-           std::to_string(origin_x_) + ", " + std::to_string(origin_y_) + "), double buffered, " +
+    return kms_.info() + "; " + placement() + ", double buffered, " +
            (egl_->has_buffer_age() ? "buffer age" : "no buffer age: full copies");
   }
 
@@ -130,14 +111,11 @@ class DrmDisplay final : public EglDisplayBackend {
   }
 
   KmsOutput kms_;
-  int frame_w_, frame_h_, origin_x_ = 0, origin_y_ = 0;
-  DamageHistory damage_;
   gbm_device* gbm_ = nullptr;
   gbm_surface* surface_ = nullptr;
   gbm_bo* shown_bo_ = nullptr;
   gbm_bo* queued_bo_ = nullptr;
   std::vector<PixelRegion> carried_;  // damage of frames a stall kept off the screen
-  std::uint64_t copied_ = 0;
 };
 
 }  // namespace

@@ -61,20 +61,4 @@ class EglWindow {
   std::optional<FrameBlit> blit_;
 };
 
-// A display whose GpuBackend is an EglWindow (made by the derived class once its native window
-// exists, and released by it before that window goes).
-class EglDisplayBackend : public DisplayBackend {
- public:
-  BackendKind kind() const override { return BackendKind::Egl; }
-  std::string_view name() const override { return egl_platform_; }
-  const Gl& gl() const override { return egl_->gl(); }
-  std::string renderer_info() const override { return egl_->renderer_info(); }
-  void make_current() override { egl_->make_current(); }
-
- protected:
-  explicit EglDisplayBackend(const char* platform) : egl_platform_(platform) {}
-  const char* egl_platform_;
-  std::unique_ptr<EglWindow> egl_;
-};
-
 }  // namespace meter::platform::detail

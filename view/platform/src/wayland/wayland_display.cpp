@@ -1,8 +1,8 @@
 // --output wayland: an OpenGL ES 3 context on the compositor's EGL platform
 // (EGL_PLATFORM_WAYLAND_KHR) with a window surface on the xdg-shell toplevel (wayland_window.cpp).
-// The renderer draws into its FBOs as offscreen; present() copies the resolved frame 1:1 into the
-// back buffer (FrameBlit: the same 8-bit values the PNG dump writes), only the boxes the buffer
-// lacks by its age (EGL_EXT_buffer_age), and swaps with this frame's damage
+// The renderer draws into its FBOs as offscreen; copy() copies the resolved frame 1:1 into the
+// back buffer (egl_display_backend.cpp: FrameBlit, the same 8-bit values the PNG dump writes), only
+// the boxes the buffer lacks by its age (EGL_EXT_buffer_age); show() swaps with the frame's damage
 // (eglSwapBuffersWithDamage{KHR,EXT}) so the compositor repaints only what changed. Swap interval
 // 0: the pacing is the surface's frame callback, waited for before the next copy.
 #include <wayland-client.h>
@@ -14,8 +14,7 @@
 #include <vector>
 
 #include "backends.hpp"
-#include "egl/egl_window.hpp"
-#include "meter/platform/display_damage.hpp"
+#include "egl/egl_display_backend.hpp"
 #include "wayland/wayland_window.hpp"
 
 namespace meter::platform::detail {
@@ -34,9 +33,9 @@ class WaylandDisplay final : public EglDisplayBackend {
  public:
   explicit WaylandDisplay(const DisplayOptions& options)
       : EglDisplayBackend("wayland"),
-        window_(socket_of(options.target), options.fullscreen, options.frame_wait_ms),
-        width_(options.width), height_(options.height), damage_(options.width, options.height) {
-    egl_window_ = wl_egl_window_create(window_.surface(), width_, height_);
+        window_(socket_of(options.target), options.fullscreen, options.frame_wait_ms) {
+    place(options.width, options.height, options.width, options.height);  // the compositor centres the surface
+    egl_window_ = wl_egl_window_create(window_.surface(), options.width, options.height);
     if (!egl_window_) throw BackendError("wayland: wl_egl_window_create failed");
     try {
       egl_ = std::make_unique<EglWindow>(kWaylandEgl, window_.display(), egl_window_);
@@ -50,38 +49,34 @@ class WaylandDisplay final : public EglDisplayBackend {
     wl_egl_window_destroy(egl_window_);
   }
 
-  void present(const RenderTarget& frame, std::span<const PixelRegion> damage, std::uint64_t frame_number) override {
+  bool copy(const RenderTarget& frame, std::span<const PixelRegion> damage) override {
     window_.wait_for_frame();
-    const std::vector<PixelRegion> repaint = damage_.repaint(egl_->buffer_age(), damage);
-    egl_->blit().draw(frame, 0, 0, height_, repaint);
-    copied_ += static_cast<std::uint64_t>(area(repaint));
+    copy_frame(frame, damage);
+    return true;
+  }
+
+  void show(std::uint64_t frame_number) override {
     window_.before_commit(frame_number);
-    // The sink presents only frames that wrote pixels: every call has at least one box.
+    const std::vector<PixelRegion> damage = take_shown_damage();
     std::vector<EGLint> rects;
-    for (const auto& r : damage)
-      if (const PixelRegion c = clip(r, width_, height_); !c.empty()) rects.insert(rects.end(), {c.x, c.y, c.width, c.height});
+    for (const auto& r : damage) rects.insert(rects.end(), {r.x, r.y, r.width, r.height});
     std::string error;
     const bool swapped = egl_->swap(rects, error);
     window_.check_alive("swapping buffers");
     if (!swapped) throw DisplayLost("wayland: eglSwapBuffers failed (" + error + ")");
-    damage_.presented(damage);
   }
 
   std::vector<PresentedFrame> take_presented(int wait_ms) override { return window_.take_presented(wait_ms); }
   std::uint64_t stalls() const override { return window_.stalls(); }
-  std::uint64_t pixels_copied() const override { return copied_; }
   std::string display_info() const override {
-    return window_.info() + ", " + std::to_string(width_) + "x" + std::to_string(height_) + " EGL window (" +
+    return window_.info() + ", " + std::to_string(surface_w_) + "x" + std::to_string(surface_h_) + " EGL window (" +
            (egl_->has_buffer_age() ? "buffer age" : "no buffer age: full copies") + ", " +
            (egl_->has_swap_with_damage() ? "swap with damage" : "swap without damage") + ")";
   }
 
  private:
   WaylandWindow window_;
-  int width_, height_;
-  DamageHistory damage_;
   wl_egl_window* egl_window_ = nullptr;
-  std::uint64_t copied_ = 0;
 };
 
 }  // namespace

@@ -186,6 +186,8 @@ class Renderer {
   // regions (all of it for a full frame) as planned, safe-path redraws and injected covers. Only
   // these can hold pixels other than the ones read before. Each reader has its own list: the
   // integrity monitor's reads and a display's copies (meter/platform/display.hpp) take them apart.
+  // A list is kept only for a reader that took it once (no list grows for a display or monitor
+  // that is not there): a reader's first call gives the whole target.
   enum class WrittenReader { Monitor = 0, Display = 1 };
   std::vector<platform::PixelRegion> take_written(WrittenReader reader = WrittenReader::Monitor);
   // Safe path for an item whose check failed: `region` of the target becomes one solid colour
@@ -302,6 +304,7 @@ class Renderer {
   std::optional<FaultInjection> fault_;
   std::vector<glm::mat4> held_world_;
   std::array<std::vector<platform::PixelRegion>, 2> written_;  // per WrittenReader, see take_written()
+  std::array<bool, 2> written_kept_{};                         // per WrittenReader: it took its list once
   void written_all();  // every reader's list: the whole target
   // Quality levels (see set_quality()).
   DrawUnits units_;

@@ -1,7 +1,7 @@
 // A GL backend whose frames reach a display: a Wayland compositor's surface (xdg-shell toplevel)
-// or, later, a KMS CRTC. The renderer draws into its RenderTarget FBOs on this backend's context as
-// on the offscreen backends; present() copies the resolved frame 1:1 into the surface's back buffer
-// (the boxes that changed since that buffer was last shown, by its buffer age) and shows it.
+// or a KMS CRTC. The renderer draws into its RenderTarget FBOs on this backend's context as on the
+// offscreen backends; copy() copies the resolved frame 1:1 into the surface's back buffer (the
+// boxes that changed since that buffer was last shown, by its buffer age), show() shows it.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "meter/platform/backend.hpp"
+#include "meter/platform/image.hpp"
 #include "meter/platform/render_target.hpp"
 
 namespace meter::platform {
@@ -43,16 +44,31 @@ class DisplayLost : public BackendError {
 
 class DisplayBackend : public GpuBackend {
  public:
-  // Copies `frame` (the renderer's resolved target, frame-sized) into the back buffer and shows
-  // it. `damage`: the boxes of the frame (GL window coordinates) written since the last present.
-  // Waits first for the compositor's frame callback of the previous present (the pacing: at most
-  // one frame queued ahead of the screen). Throws DisplayLost when the display is gone.
-  virtual void present(const RenderTarget& frame, std::span<const PixelRegion> damage,
-                       std::uint64_t frame_number) = 0;
+  // A frame reaches the screen in three steps, so that what will be shown can be read back (the
+  // integrity monitor) and repaired (its safe path) before it is: copy, read_shown / copy_more,
+  // show. present() is the three without a read.
+  //
+  // Copies `frame` (the renderer's resolved target, frame-sized) into the back buffer: `damage`
+  // (the boxes of the frame, GL window coordinates, written since the last copy) and what the
+  // buffer lacks by its age. Waits first for the previous show's frame callback or page flip (the
+  // pacing: at most one frame queued ahead of the screen). Returns false when no buffer can take
+  // the frame now (a page flip still pending after the wait: a stall; its damage goes with the next
+  // copy). Throws DisplayLost when the display is gone.
+  virtual bool copy(const RenderTarget& frame, std::span<const PixelRegion> damage) = 0;
+  // After copy(): more boxes of `frame` into the same back buffer (a repair after the copy).
+  virtual void copy_more(const RenderTarget& frame, std::span<const PixelRegion> boxes) = 0;
+  // After copy(): the boxes (frame GL window coordinates) read back from the back buffer, rows
+  // top-down, 8-bit RGBA: the pixels the screen will show.
+  virtual std::vector<Image> read_shown(std::span<const PixelRegion> boxes) = 0;
+  // After copy(): shows the back buffer as frame `frame_number`, its damage the boxes copied.
+  virtual void show(std::uint64_t frame_number) = 0;
+  void present(const RenderTarget& frame, std::span<const PixelRegion> damage, std::uint64_t frame_number) {
+    if (copy(frame, damage)) show(frame_number);
+  }
   // The feedback that has arrived, in the order the frames were presented (taken once). With
   // `wait_ms` > 0, waits that long at most for the feedback of every frame presented so far.
   virtual std::vector<PresentedFrame> take_presented(int wait_ms = 0) = 0;
-  // Frame callbacks that came later than DisplayOptions::frame_wait_ms (the display froze).
+  // Frame callbacks or page flips that came later than DisplayOptions::frame_wait_ms (the display froze).
   virtual std::uint64_t stalls() const = 0;
   // Pixels copied into back buffers so far, and pixels of the frames' damage: a partial redraw
   // stays partial on the display when the first stays close to the second.

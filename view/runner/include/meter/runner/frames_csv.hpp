@@ -6,7 +6,11 @@
 // first fault: region, expected, seen; quoted); with the frame-rate governor on, last:
 // predicted_ms, measured_ms (the governor's prediction for the frame and its measured time),
 // units_reduced (draw units below full quality), msaa, scale (the global rung), reduced (those
-// units and their levels, "name=shading/lodN ..."; quoted).
+// units and their levels, "name=shading/lodN ..."; quoted); with a display (--output), last:
+// presented_ns (CLOCK_MONOTONIC: when the frame turned into light, from the display's presentation
+// feedback) and refresh_seq (the output's refresh counter then; 0 where it keeps none), both empty
+// for a frame never shown. Such rows wait for their frame's feedback (PresentationRows: at most
+// 1 s), in frame order.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +21,7 @@
 
 #include "meter/engine/evaluation/bindings.hpp"
 #include "meter/engine/pipeline/frame_governor.hpp"
+#include "meter/runner/presentation_rows.hpp"
 
 namespace meter::runner {
 
@@ -33,22 +38,30 @@ inline constexpr const char* kGovernorColumns = "predicted_ms,measured_ms,units_
 // ",<cells>" in kGovernorColumns' order.
 std::string governor_cells_text(const GovernorCells& cells);
 
-class FramesCsv {
+class FramesCsv : public PresentationHeldCsv {
  public:
   // Writes the header for the scene's bindings (and the integrity columns when `integrity`).
   // Throws ViewError when the file cannot be written.
-  // With `governor`, the governor's columns last.
+  // With `governor`, the governor's columns next; with `presentation` (a display), the display's
+  // columns last and each row held until its frame's feedback (the display's sink tells this
+  // listener).
   FramesCsv(const std::filesystem::path& file, const std::vector<engine::Binding>& bindings, bool integrity = false,
-            bool governor = false);
+            bool governor = false, bool presentation = false);
 
   // `states`: BindingEvaluator::states() after the update the frame was rendered with, one per
-  // binding. Flushed at once (a reader may follow the file while the view runs).
+  // binding. Flushed at once, or with a display once its frame's feedback came (a reader may
+  // follow the file while the view runs).
   // `integrity`: the frame's monitor cells (written when the header has the columns; none = 0).
   void row(std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
            const std::vector<engine::BindingState>& states, const IntegrityCells* integrity = nullptr,
            const GovernorCells* governor = nullptr);
 
  private:
+  void cells(std::ostream& out, std::uint64_t frame, double t, const std::string& png, bool link_up, bool drawn,
+             const std::vector<engine::BindingState>& states, const IntegrityCells* integrity,
+             const GovernorCells* governor) const;
+  PresentationRows::Write writer() override;
+
   std::ofstream out_;
   std::vector<std::size_t> columns_;       // binding index per signal column group
   std::vector<std::size_t> text_columns_;  // binding index per text column

@@ -7,6 +7,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,6 +70,11 @@ std::vector<IntegrityFault> judge_reads(const bridge::IntegrityTable& table,
                                         std::vector<RegionRead>& reads, std::vector<RegionMemory>& memory,
                                         std::vector<std::size_t>* undecided = nullptr);
 
+// Where check() reads the regions it judges (GL window coordinates of the frame, rows top-down):
+// unset, the renderer's resolved target; with a display, the back buffer the frame was copied
+// into (DisplayBackend::read_shown), what the screen will show.
+using RegionReader = std::function<std::vector<platform::Image>(std::span<const platform::PixelRegion>)>;
+
 class IntegrityMonitor {
  public:
   // Off (reads and checks nothing) when the scene has no safety regions, `enabled` is false, or
@@ -84,13 +91,16 @@ class IntegrityMonitor {
   // every region at least every kRefreshFrames calls. A needle is read through its window around
   // the expected angle, and whole when the window cannot decide, when it was read whole last
   // kRefreshFrames calls ago, and the first time. Returns this frame's faults.
-  const std::vector<IntegrityFault>& check(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator);
+  // `reader`: where the regions are read (nullptr: the renderer's resolved target).
+  const std::vector<IntegrityFault>& check(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator,
+                                           const RegionReader* reader = nullptr);
   // Optional, before the frame is rendered with the evaluator's state check() will judge: tells
   // the renderer which boxes check() will read (Renderer::resolve_with_frame), so their MSAA
   // resolve joins the frame's own GPU flush instead of costing one more; and check() judges the
   // frame against the state named here, though the evaluator may hold the next frame's by then.
-  // The verdicts are the same with or without it.
-  void prepare(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator);
+  // The verdicts are the same with or without it. `resolve` false: the state only (the regions are
+  // read from a display's back buffer, which the frame's own resolve and copy fill).
+  void prepare(engine::Renderer& renderer, const engine::BindingEvaluator& evaluator, bool resolve = true);
 
   std::uint64_t frames_checked() const { return frames_checked_; }
   std::uint64_t faults() const { return faults_; }

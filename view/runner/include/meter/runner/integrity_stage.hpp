@@ -19,11 +19,13 @@
 
 namespace meter::runner {
 
-// --inject-fault KIND[:REGION]@FIRST[-LAST]: KIND as engine::parse_fault_kind, REGION a safety
-// region's name (every kind but stuck needs one), frames FIRST..LAST (the live loop's numbers; no
-// LAST: to the end).
+// --inject-fault KIND[:REGION]@FIRST[-LAST]: KIND as engine::parse_fault_kind, or "display" (the
+// display's copy of those frames is lost: the back buffer keeps what it held and is not shown),
+// REGION a safety region's name (every kind but stuck and display needs one), frames FIRST..LAST
+// (the live loop's numbers; no LAST: to the end).
 struct FaultSchedule {
   engine::FaultInjection fault;
+  bool display_copy_lost = false;  // "display": a fault of the display path, not of the renderer
   std::uint64_t first = 0;
   std::optional<std::uint64_t> last;
 };
@@ -55,14 +57,29 @@ class IntegrityStage : public engine::FrameSink {
   // prepare); the injected fault starts or ends.
   void before_frame(std::uint64_t frame) override;
   // After the frame rendered: checks it; a fault is logged and reported to the constructor's health.
-  void on_frame(const engine::FrameRecord& frame) override { after_frame(frame.request.frame, Clock::now()); }
+  // Not with a display (watch_display): the display's sink checks the frame it is about to show.
+  void on_frame(const engine::FrameRecord& frame) override {
+    if (!on_display_) after_frame(frame.request.frame, Clock::now(), nullptr);
+  }
+  // With a display: its sink calls check_shown() with the back buffer the frame was copied into,
+  // before it is shown; the monitor's boxes are not resolved with the frame (the frame's own
+  // resolve and copy fill what is read).
+  void watch_display() { on_display_ = true; }
+  void check_shown(const engine::FrameRecord& frame, const RegionReader& reader) {
+    after_frame(frame.request.frame, Clock::now(), &reader);
+  }
+  // Test only (--inject-fault display@...): the display's copy of `frame` is lost.
+  bool display_copy_lost(std::uint64_t frame) const {
+    return schedule_ && schedule_->display_copy_lost && frame >= schedule_->first &&
+           (!schedule_->last || frame <= *schedule_->last);
+  }
   // The frames.csv cells of the frame last checked (nullptr when the monitor is off).
   const IntegrityCells* cells() const { return monitor_.on() ? &cells_ : nullptr; }
   void summary(std::ostream& log) const;
   const IntegrityMonitor& monitor() const { return monitor_; }
 
  private:
-  void after_frame(std::uint64_t frame, Clock::time_point now);
+  void after_frame(std::uint64_t frame, Clock::time_point now, const RegionReader* reader);
 
   RenderContext& ctx_;
   ViewHealth& health_;
@@ -72,6 +89,7 @@ class IntegrityStage : public engine::FrameSink {
   IntegrityCells cells_;
   FaultLogLimit limit_;
   std::optional<std::uint64_t> first_fault_frame_;
+  bool on_display_ = false;
 };
 
 }  // namespace meter::runner

@@ -40,7 +40,8 @@ struct RenderContext {
   engine::FramePipeline pipeline;
   GovernedFrames governed;  // the frame pipeline's quality input in the live and play modes
   TimingCsv timing;         // a sink of every mode's frame pipeline
-  // With a display: the sink that shows each frame (added last by every mode), else nullptr.
+  // With a display: the sink that shows each frame (added by every mode: last in play and offline,
+  // right after the integrity monitor in live), else nullptr.
   std::unique_ptr<DisplaySink> display_sink;
 };
 

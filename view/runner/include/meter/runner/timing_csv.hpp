@@ -4,11 +4,11 @@
 // "presented_ns,refresh_seq,to_presented_ms" last: when the frame turned into light
 // (CLOCK_MONOTONIC, the compositor's presentation feedback), the output's refresh counter then, and
 // how long after its render ended; all empty for a frame never shown (skipped, or replaced
-// before a refresh). Such rows are written once their frame's feedback came.
+// before a refresh). Such rows are written once their frame's fate is known, or after at most
+// PresentationRows::kHoldNs without it.
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <fstream>
 #include <ostream>
 #include <string>
@@ -16,12 +16,12 @@
 #include "meter/engine/pipeline/frame_sink.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/runner/frames_csv.hpp"
-#include "meter/runner/presentation_listener.hpp"
+#include "meter/runner/presentation_rows.hpp"
 
 namespace meter::runner {
 
 // A frame sink: one row per frame the pipeline renders.
-class TimingCsv : public engine::FrameSink, public PresentationListener {
+class TimingCsv : public engine::FrameSink, public PresentationHeldCsv {
  public:
   // An empty path: no file (row() does nothing). Throws ViewError when the file cannot be written.
   TimingCsv() = default;  // no file
@@ -30,24 +30,16 @@ class TimingCsv : public engine::FrameSink, public PresentationListener {
   void on_frame(const engine::FrameRecord& frame) override;
   // The display's columns: each row waits for its frame's presentation feedback.
   void await_presentation();
-  void on_presented(const platform::PresentedFrame& shown) override;
-  void presentation_done() override;
 
  private:
-  struct Waiting {
-    std::uint64_t frame;
-    std::string text;  // the row up to the display's columns
-    std::int64_t render_ended_ns;
-  };
   void cells(std::ostream& out, std::uint64_t frame, double t, const engine::FrameTiming& timing,
              const GovernorCells* governor) const;
-  // Writes the waiting rows before `frame` without feedback, and `frame`'s with `shown`.
-  void flush(std::uint64_t frame, const platform::PresentedFrame* shown);
+  // A row released for the display's news: `text` and the display's cells.
+  void write(const std::string& text, std::int64_t render_ended_ns, const platform::PresentedFrame* shown);
+  PresentationRows::Write writer() override;
 
   std::ofstream out_;
   bool governor_ = false;
-  bool presentation_ = false;
-  std::deque<Waiting> waiting_;
 };
 
 }  // namespace meter::runner
