@@ -6,10 +6,8 @@ function(meter_test_program_settings target)
   # instrumented, expanded gtest macros was most of their compile (clang, one batch of the
   # controller's unit tests: 11.8 s of CPU at -O1, 4.7 s at -O0; of the converter's: 29.0 s, 15.0 s),
   # and the sanitizer build is on scripts/test's critical path, while its unit tests run beside the
-  # VM tests where a core is free. They run slower: templates a driver instantiates (nlohmann/json's
-  # parser, GLM) run at -O0 where the linker keeps the driver's copy (the controller's tests: 7.4 s
-  # of CPU at -O1, 14.5 s at -O0; the protocol's 1.9 s, 7.8 s). -O0 hides none of the sanitizers'
-  # checks; the libraries under test stay at -O2.
+  # VM tests where a core is free (the controller's: 7.4 s of CPU at -O1, 14.5 s at -O0). -O0 hides
+  # none of the sanitizers' checks; the libraries under test stay at -O2.
   if(METER_SANITIZE)
     target_compile_options(${target} PRIVATE -O0)
   else()
