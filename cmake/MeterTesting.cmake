@@ -2,17 +2,8 @@
 # program compiled exactly like the target that made it, so both get their settings here.
 function(meter_test_program_settings target)
   # The test drivers themselves at -O1 in optimised builds (a third less compile time than -O3);
-  # the libraries they test keep the build's own flags. Under the sanitizers at -O0: optimising the
-  # instrumented, expanded gtest macros was most of their compile (clang, one batch of the
-  # controller's unit tests: 11.8 s of CPU at -O1, 4.7 s at -O0; of the converter's: 29.0 s, 15.0 s),
-  # and the sanitizer build is on scripts/test's critical path, while its unit tests run beside the
-  # VM tests where a core is free (the controller's: 7.4 s of CPU at -O1, 14.5 s at -O0). -O0 hides
-  # none of the sanitizers' checks; the libraries under test stay at -O2.
-  if(METER_SANITIZE)
-    target_compile_options(${target} PRIVATE -O0)
-  else()
-    target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo>:-O1>)
-  endif()
+  # the libraries they test keep the build's own flags.
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo>:-O1>)
   # A test file's fixtures live in an anonymous namespace and TEST_F derives from them; a unity batch
   # includes the file, and GCC then takes it for a header and warns of the derived class's linkage.
   # The idiom is right in a test file; the product keeps the warning (it caught a file-local type
