@@ -4,6 +4,7 @@
 #include <chrono>
 #include <map>
 
+#include "meter/engine/gl/program_binary_cache.hpp"
 #include "meter/engine/merged_draws.hpp"
 #include "meter/engine/renderer.hpp"
 
@@ -24,8 +25,8 @@ bool reads_normals(const bridge::Program& p) {
 }  // namespace
 
 GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged,
-                   platform::ProgramCache* programs)
-    : gl_(gl), program_cache_(programs), scene_(scene) {
+                   platform::ProgramCache* programs, ProgramBinaryCache* binaries)
+    : gl_(gl), program_cache_(programs), binaries_(binaries), scene_(scene) {
   // Programs: the package's generated ones, or (benchmark baseline) the uber-shader alone.
   if (uber_shader) {
     if (!uber_shader->uber) throw SceneError("RendererOptions::uber_shader is not an uber-shader program");
@@ -102,7 +103,11 @@ void GpuScene::compile(GpuProgram& program, const std::string& fragment_source) 
   GpuProgram* gp = &program;
   const bridge::Program& p = *gp->info;
   const std::string& fragment = fragment_source.empty() ? p.fragment_source : fragment_source;
-  gp->program = platform::acquire_program(program_cache_, gl_, p.vertex_source, fragment, gp->label);
+  const auto began = std::chrono::steady_clock::now();
+  gp->program = binaries_ && !program_cache_ ? binaries_->link(gl_, p.vertex_source, fragment, gp->label)
+                                             : platform::acquire_program(program_cache_, gl_, p.vertex_source, fragment, gp->label);
+  program_link_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count();
+  ++programs_linked_;
   for (const auto& u : p.uniforms) {
     GpuProgram::Uniform gu;
     gu.semantic = u.semantic;
