@@ -5,6 +5,7 @@
 #include <map>
 
 #include "meter/engine/gl/program_binary_cache.hpp"
+#include "meter/engine/gl/texture_mips.hpp"
 #include "meter/engine/merged_draws.hpp"
 #include "meter/engine/renderer.hpp"
 
@@ -142,7 +143,16 @@ void GpuScene::upload_textures() {
     gl_.TexImage2D(GL_TEXTURE_2D, 0, t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
     const bool mip = t.min_filter == GL_NEAREST_MIPMAP_NEAREST || t.min_filter == GL_LINEAR_MIPMAP_NEAREST ||
                      t.min_filter == GL_NEAREST_MIPMAP_LINEAR || t.min_filter == GL_LINEAR_MIPMAP_LINEAR;
-    if (mip) gl_.GenerateMipmap(GL_TEXTURE_2D);
+    if (mip && box_mips_apply(t.width, t.height, t.srgb)) {
+      const auto levels = box_mip_chain(t.rgba, t.width, t.height);
+      for (std::size_t k = 0; k < levels.size(); ++k) {
+        const int level = static_cast<int>(k) + 1;
+        gl_.TexImage2D(GL_TEXTURE_2D, level, GL_RGBA8, std::max(1, t.width >> level), std::max(1, t.height >> level), 0,
+                       GL_RGBA, GL_UNSIGNED_BYTE, levels[k].data());
+      }
+    } else if (mip) {
+      gl_.GenerateMipmap(GL_TEXTURE_2D);
+    }
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, t.min_filter);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, t.wrap_s);
