@@ -164,7 +164,7 @@ bool split(const fs::path& pkg, const fs::path& root, const std::vector<Config>&
 }
 
 int run_tool(const std::vector<std::string>& argv) {
-  const ProcessRun r = run_process(argv, {}, "");
+  const ProcessRun r = run_process(argv, {}, "", true);
   return r.ok ? 0 : 1;
 }
 
@@ -185,7 +185,7 @@ bool governed(const fs::path& pkg, const fs::path& root) {
     std::vector<std::string> argv{METER_VIEW_EXE, "--scene", msp.string(), "--play", rec.string(), "--fps", "30",
                                   "--duration", "20", "--out", (root / "play").string()};
     if (gov) argv.insert(argv.end(), {"--target-ms", "33"});
-    const ProcessRun r = run_process(argv, {}, "");
+    const ProcessRun r = run_process(argv, {}, "", true);
     std::printf("%-11s %s peak RSS %.1f MiB (goal <= 122 MiB = 128 MB), %.1f s\n", gov ? "governed" : "ungoverned",
                 r.ok ? "" : "FAILED", double(r.peak_kib) / 1024.0, r.to_exit_ms / 1000.0);
   }

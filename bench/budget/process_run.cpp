@@ -1,5 +1,6 @@
 #include "process_run.hpp"
 
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,7 +12,7 @@
 namespace meter::bench {
 
 ProcessRun run_process(const std::vector<std::string>& argv, const std::vector<std::string>& env,
-                       const std::string& png) {
+                       const std::string& png, bool quiet) {
   using Clock = std::chrono::steady_clock;
   auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
   std::vector<char*> args;
@@ -24,6 +25,10 @@ ProcessRun run_process(const std::vector<std::string>& argv, const std::vector<s
       const auto eq = e.find('=');
       if (eq == std::string::npos) unsetenv(e.c_str());
       else setenv(e.substr(0, eq).c_str(), e.substr(eq + 1).c_str(), 1);
+    }
+    if (quiet) {  // the tool's report is not the bench's
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO);
     }
     execv(args[0], args.data());
     _exit(127);

@@ -14,8 +14,9 @@ struct ProcessRun {
 };
 
 // `argv[0]` is the program; `env` holds NAME=VALUE pairs set in the child (a NAME with no '='
-// is unset); `png` is the file whose appearance marks the first frame.
+// is unset); `png` is the file whose appearance marks the first frame (empty: none); `quiet` sends
+// the child's output to /dev/null.
 ProcessRun run_process(const std::vector<std::string>& argv, const std::vector<std::string>& env,
-                       const std::string& png);
+                       const std::string& png, bool quiet = false);
 
 }  // namespace meter::bench

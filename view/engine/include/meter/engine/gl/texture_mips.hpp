@@ -1,7 +1,7 @@
 // A texture's mip chain made on the CPU instead of by glGenerateMipmap. On llvmpipe the driver's
-// mipmap pass is a blit whose shaders LLVM compiles in every process (Mesa 22's shader cache keeps
-// fragment shaders, not the draw module's vertex shaders): for the cluster's one 256x256 texture
-// that was 60-300 ms of every start. Where llvmpipe's result is known exactly (8-bit linear RGBA,
+// mipmap pass is a blit whose shaders LLVM compiles in every process, warm shader cache or not: for
+// the cluster's one 256x256 texture that was 240-440 ms of every start on the loaded 2-core
+// development machine (bench/budget). Where llvmpipe's result is known exactly (8-bit linear RGBA,
 // power-of-two sides: each level the rounded mean of two neighbours across, then of two rows down,
 // checked against glGenerateMipmap texel for texel by texture_mips_render_test) the CPU chain is
 // that result; sRGB or other sizes keep glGenerateMipmap. On a GPU driver the chain is a 2x2 box,
