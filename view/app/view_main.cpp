@@ -95,6 +95,10 @@ int main(int argc, char** argv) {
                  "live: keep the last 5 s of trace events in memory and write them to <out>/overrun_<frame>.json "
                  "when a frame takes longer than MS milliseconds (at most one file per 5 s)")
       ->check(CLI::PositiveNumber)->needs(link_opt);
+  app.add_option("--program-cache", o.program_cache,
+                 "directory where linked GL programs are kept across runs as the driver's binaries (default "
+                 "$XDG_CACHE_HOME/meter, else ~/.cache/meter); off: compile every program at every start")
+      ->capture_default_str();
   app.add_flag("--info", o.info, "print the GL renderer line and scene statistics to stderr");
   bool no_monitor = false;
   app.add_flag("--no-integrity-monitor", no_monitor,

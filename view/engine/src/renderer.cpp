@@ -28,7 +28,8 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
   quality_.global.msaa = std::max(1, options.msaa);
   make_targets();
   if (options_.uber_shader) options_.concatenate = false;  // the uber-shader has no vertex-alpha input
-  gpu_ = std::make_unique<GpuScene>(gl_, scene, options_.uber_shader, options_.concatenate, options_.programs);
+  gpu_ = std::make_unique<GpuScene>(gl_, scene, options_.uber_shader, options_.concatenate, options_.programs,
+                                    options_.program_binaries);
   submission_ = std::make_unique<DrawSubmission>(gl_, scene, *gpu_, evaluator_.light_nodes());
   // The uber-shader baseline has no shadow lookups: it gets no maps either.
   if (!options_.uber_shader) {
@@ -53,6 +54,9 @@ Renderer::~Renderer() {
   shadows_.reset();
   gpu_.reset();
 }
+
+std::size_t Renderer::programs_linked() const { return gpu_->programs_linked(); }
+double Renderer::program_link_ms() const { return gpu_->program_link_ms(); }
 
 std::string Renderer::backend_info() const { return backend_.renderer_info(); }
 

@@ -97,6 +97,14 @@ Gl load_gl(GetProcAddress get_proc, std::string_view backend_name, bool is_gles)
     gl.MinSampleShading = reinterpret_cast<PfnMinSampleShading>(load("glMinSampleShading"));
   else if (is_gles && has_extension(gl, "GL_OES_sample_shading"))
     gl.MinSampleShading = reinterpret_cast<PfnMinSampleShading>(load("glMinSampleShadingOES"));
+  // Program binaries: GLES 3.0, desktop GL 4.1; a driver may still offer no format.
+  if (is_gles || info.major > 4 || (info.major == 4 && info.minor >= 1)) {
+    gl.GetProgramBinary = reinterpret_cast<PFNGLGETPROGRAMBINARYPROC>(load("glGetProgramBinary"));
+    gl.ProgramBinary = reinterpret_cast<PFNGLPROGRAMBINARYPROC>(load("glProgramBinary"));
+    GLint formats = 0;
+    gl.GetIntegerv(GL_NUM_PROGRAM_BINARY_FORMATS, &formats);
+    info.has_program_binary = gl.GetProgramBinary && gl.ProgramBinary && formats > 0;
+  }
   while (gl.GetError() != GL_NO_ERROR) {
   }
   return gl;

@@ -1,5 +1,6 @@
 #include "meter/runner/render_context.hpp"
 
+#include <cstdlib>
 #include <system_error>
 
 #include "meter/runner/display_sink.hpp"
@@ -26,8 +27,18 @@ std::unique_ptr<platform::GpuBackend> backend_for(const ViewOptions& options, co
   return platform::create_backend(*kind);
 }
 
-engine::RendererOptions renderer_options(const ViewOptions& options) {
+// --program-cache: off, a directory, or (empty) the XDG default; null when off or no default exists.
+std::unique_ptr<engine::ProgramBinaryCache> program_binaries_for(const ViewOptions& options, std::ostream& log) {
+  if (options.program_cache == "off") return nullptr;
+  std::filesystem::path dir = options.program_cache;
+  if (dir.empty()) dir = engine::default_program_cache_directory(std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
+  if (dir.empty()) return nullptr;
+  return std::make_unique<engine::ProgramBinaryCache>(dir, log);
+}
+
+engine::RendererOptions renderer_options(const ViewOptions& options, engine::ProgramBinaryCache* binaries) {
   engine::RendererOptions ro;
+  ro.program_binaries = binaries;
   ro.msaa = options.msaa;
   ro.partial_redraw = !options.full_redraw;
   if (!options.size.empty()) std::tie(ro.width, ro.height) = parse_size(options.size);
@@ -42,12 +53,20 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
       scene(engine::read_package(options.scene_path)),
       backend(backend_for(options, scene)),
       display(dynamic_cast<platform::DisplayBackend*>(backend.get())),
-      renderer(*backend, scene, renderer_options(options)),
+      program_binaries(program_binaries_for(options, log)),
+      renderer(*backend, scene, renderer_options(options, program_binaries.get())),
       pipeline(scene, renderer),
       governed(renderer, options, log) {
   if (options.info) {
     log << "meter-view: " << renderer.backend_info() << "; " << scene.draws.size() << " draws, "
         << scene.programs.size() << " programs\n";
+    log << "meter-view: " << renderer.programs_linked() << " programs linked in " << renderer.program_link_ms() << " ms";
+    if (program_binaries) {
+      const auto& c = program_binaries->counts();
+      log << "; program cache " << program_binaries->directory().string() << ": " << c.loaded << " loaded, "
+          << c.compiled << " compiled, " << c.refused << " refused, " << c.stored << " stored";
+    }
+    log << "\n";
   }
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);

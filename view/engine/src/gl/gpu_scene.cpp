@@ -4,6 +4,8 @@
 #include <chrono>
 #include <map>
 
+#include "meter/engine/gl/program_binary_cache.hpp"
+#include "meter/engine/gl/texture_mips.hpp"
 #include "meter/engine/merged_draws.hpp"
 #include "meter/engine/renderer.hpp"
 
@@ -24,8 +26,8 @@ bool reads_normals(const bridge::Program& p) {
 }  // namespace
 
 GpuScene::GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged,
-                   platform::ProgramCache* programs)
-    : gl_(gl), program_cache_(programs), scene_(scene) {
+                   platform::ProgramCache* programs, ProgramBinaryCache* binaries)
+    : gl_(gl), program_cache_(programs), binaries_(binaries), scene_(scene) {
   // Programs: the package's generated ones, or (benchmark baseline) the uber-shader alone.
   if (uber_shader) {
     if (!uber_shader->uber) throw SceneError("RendererOptions::uber_shader is not an uber-shader program");
@@ -102,7 +104,11 @@ void GpuScene::compile(GpuProgram& program, const std::string& fragment_source) 
   GpuProgram* gp = &program;
   const bridge::Program& p = *gp->info;
   const std::string& fragment = fragment_source.empty() ? p.fragment_source : fragment_source;
-  gp->program = platform::acquire_program(program_cache_, gl_, p.vertex_source, fragment, gp->label);
+  const auto began = std::chrono::steady_clock::now();
+  gp->program = binaries_ && !program_cache_ ? binaries_->link(gl_, p.vertex_source, fragment, gp->label)
+                                             : platform::acquire_program(program_cache_, gl_, p.vertex_source, fragment, gp->label);
+  program_link_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count();
+  ++programs_linked_;
   for (const auto& u : p.uniforms) {
     GpuProgram::Uniform gu;
     gu.semantic = u.semantic;
@@ -137,7 +143,16 @@ void GpuScene::upload_textures() {
     gl_.TexImage2D(GL_TEXTURE_2D, 0, t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
     const bool mip = t.min_filter == GL_NEAREST_MIPMAP_NEAREST || t.min_filter == GL_LINEAR_MIPMAP_NEAREST ||
                      t.min_filter == GL_NEAREST_MIPMAP_LINEAR || t.min_filter == GL_LINEAR_MIPMAP_LINEAR;
-    if (mip) gl_.GenerateMipmap(GL_TEXTURE_2D);
+    if (mip && box_mips_apply(t.width, t.height, t.srgb)) {
+      const auto levels = box_mip_chain(t.rgba, t.width, t.height);
+      for (std::size_t k = 0; k < levels.size(); ++k) {
+        const int level = static_cast<int>(k) + 1;
+        gl_.TexImage2D(GL_TEXTURE_2D, level, GL_RGBA8, std::max(1, t.width >> level), std::max(1, t.height >> level), 0,
+                       GL_RGBA, GL_UNSIGNED_BYTE, levels[k].data());
+      }
+    } else if (mip) {
+      gl_.GenerateMipmap(GL_TEXTURE_2D);
+    }
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, t.min_filter);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, t.wrap_s);

@@ -20,6 +20,7 @@
 namespace meter::engine {
 
 struct RendererStats;
+class ProgramBinaryCache;  // meter/engine/gl/program_binary_cache.hpp
 
 struct GpuProgram {
   GLuint program = 0;  // 0 until compiled (a cheaper level's program: when a frame first uses it)
@@ -108,9 +109,10 @@ class GpuScene {
   // `uber_shader`: every draw goes through this one program (benchmark baseline), else the
   // package's generated programs. `merged`: the merged groups get their buffers.
   // `programs` (may be null: the scene links its own) lends programs linked for the same sources
-  // by an earlier scene on this context, and must outlive this.
+  // by an earlier scene on this context, and must outlive this. `binaries` (may be null; used
+  // where `programs` is null) keeps the linked programs across runs, and must outlive this.
   GpuScene(const platform::Gl& gl, const Scene& scene, const bridge::Program* uber_shader, bool merged,
-           platform::ProgramCache* programs = nullptr);
+           platform::ProgramCache* programs = nullptr, ProgramBinaryCache* binaries = nullptr);
   ~GpuScene();
   GpuScene(const GpuScene&) = delete;
   GpuScene& operator=(const GpuScene&) = delete;
@@ -129,6 +131,10 @@ class GpuScene {
   // The depth-only variant of `program` (its vertex shader, an empty fragment shader: what a shadow
   // map's pass needs); null before prepare_depth compiled it.
   const GpuProgram* depth_program(const GpuProgram* program) const;
+
+  // Programs linked so far (compiled or from kept binaries) and the wall time that took.
+  std::size_t programs_linked() const { return programs_linked_; }
+  double program_link_ms() const { return program_link_ms_; }
 
   const std::vector<std::unique_ptr<GpuDraw>>& draws() const { return draws_; }
   GLuint texture(int index) const { return index >= 0 ? textures_[static_cast<std::size_t>(index)] : white_texture_; }
@@ -149,6 +155,9 @@ class GpuScene {
 
   const platform::Gl& gl_;
   platform::ProgramCache* program_cache_ = nullptr;
+  ProgramBinaryCache* binaries_ = nullptr;
+  std::size_t programs_linked_ = 0;
+  double program_link_ms_ = 0.0;
   const Scene& scene_;
   std::vector<std::unique_ptr<GpuProgram>> programs_;
   std::map<const GpuProgram*, std::unique_ptr<GpuProgram>> depth_programs_;

@@ -42,6 +42,8 @@
 
 namespace meter::engine {
 
+class ProgramBinaryCache;  // meter/engine/gl/program_binary_cache.hpp
+
 struct RendererOptions {
   int width = 0, height = 0;  // 0 = the scene config's size
   int msaa = 4;
@@ -78,6 +80,10 @@ struct RendererOptions {
   // sources changed, and llvmpipe keeps the machine code it compiled for the others at their first
   // draw. Null: the renderer links its own. Must outlive the renderer.
   platform::ProgramCache* programs = nullptr;
+  // Linked programs kept across runs as the driver's binaries (a view started again loads what it
+  // linked last time; gl/program_binary_cache.hpp). Used when `programs` is null. Null: every
+  // program compiled. Must outlive the renderer.
+  ProgramBinaryCache* program_binaries = nullptr;
 };
 
 struct FrameTiming {
@@ -166,6 +172,10 @@ class Renderer {
   GLuint resolved_framebuffer();
 
   const RendererStats& stats() const { return stats_; }
+  // Programs linked so far (at construction, and later for a level a frame first drew) and the
+  // wall time the links took: the start-up's program share (bench/budget).
+  std::size_t programs_linked() const;
+  double program_link_ms() const;
   int width() const { return width_; }
   int height() const { return height_; }
   std::string backend_info() const;

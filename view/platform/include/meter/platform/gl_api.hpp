@@ -227,6 +227,9 @@ using PfnMemoryBarrier = void(GL_APIENTRYP)(GLbitfield barriers);
 // once per covered MSAA sample instead of once per pixel (GLES 3.2 / desktop GL 4.0 core;
 // OES_sample_shading on older GLES).
 using PfnMinSampleShading = void(GL_APIENTRYP)(GLfloat value);
+// A linked program's binary out of the driver and back into a program (GLES 3.0 / desktop GL 4.1
+// core): the program-binary cache keeps links across runs (meter/engine/gl/program_binary_cache.hpp).
+// Usable only where the driver offers a format (GL_NUM_PROGRAM_BINARY_FORMATS > 0).
 #define METER_GL_OPTIONAL_FUNCTIONS(X)                 \
   X(QueryCounter, PfnQueryCounter)                     \
   X(GetQueryObjectui64v, PfnGetQueryObjectui64v)       \
@@ -234,7 +237,9 @@ using PfnMinSampleShading = void(GL_APIENTRYP)(GLfloat value);
   X(TexStorage2DMultisample, PfnTexStorage2DMultisample) \
   X(GetMultisamplefv, PfnGetMultisamplefv)             \
   X(MemoryBarrier, PfnMemoryBarrier)                   \
-  X(MinSampleShading, PfnMinSampleShading)
+  X(MinSampleShading, PfnMinSampleShading)           \
+  X(GetProgramBinary, PFNGLGETPROGRAMBINARYPROC)       \
+  X(ProgramBinary, PFNGLPROGRAMBINARYPROC)
 
 // What kind of GL the table talks to; decides the few places where desktop GL and GLES differ.
 struct GlInfo {
@@ -248,6 +253,9 @@ struct GlInfo {
   // TexStorage2DMultisample, GetMultisamplefv and GLSL ES 3.10's sampler2DMS usable (the film
   // filter resolve, resolve_filter.hpp)
   bool has_multisample_texture = false;
+  // GetProgramBinary and ProgramBinary usable and at least one binary format offered (Mesa offers
+  // one while its shader cache is not switched off: MESA_SHADER_CACHE_DISABLE gives none)
+  bool has_program_binary = false;
   // Desktop GL encodes into sRGB attachments only with glEnable(GL_FRAMEBUFFER_SRGB); on GLES the
   // encode is always on. RenderTarget::bind() enables it when this is true.
   bool needs_framebuffer_srgb_enable = false;

@@ -10,6 +10,7 @@
 #include <ostream>
 
 #include "meter/engine/evaluation/bindings.hpp"
+#include "meter/engine/gl/program_binary_cache.hpp"
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/engine/package_reader.hpp"
 #include "meter/engine/renderer.hpp"
@@ -34,6 +35,8 @@ struct RenderContext {
   engine::Scene scene;
   std::unique_ptr<platform::GpuBackend> backend;
   platform::DisplayBackend* display = nullptr;  // the backend, when --output names a display
+  // The linked programs kept across runs (--program-cache), null when off; outlives the renderer.
+  std::unique_ptr<engine::ProgramBinaryCache> program_binaries;
   engine::Renderer renderer;
   // The engine's frame pipeline over the renderer, with the binding evaluator it owns; each mode
   // adds its sinks (and, live and play, the governor) and runs it.

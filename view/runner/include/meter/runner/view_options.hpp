@@ -16,6 +16,9 @@ struct ViewOptions {
   std::string out_dir = ".";
   std::string timing_csv;        // empty = none
   bool info = false;             // GL renderer line and scene statistics to the log
+  // Where linked programs are kept across runs (engine::ProgramBinaryCache): empty = the default,
+  // $XDG_CACHE_HOME/meter or ~/.cache/meter; "off" = every program compiled at every start.
+  std::string program_cache;
 
   // offline (link empty)
   std::vector<std::string> sets;  // NAME=VALUE[@status]
