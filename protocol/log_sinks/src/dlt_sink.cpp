@@ -1,7 +1,8 @@
 // COVESA DLT through libdlt: the program registers its application id (MCTL, MVEW, MTOL) and one
 // context per component (docs/logging.md); each record is a verbose message: the text, then one
 // "key=value" string per field. Without a dlt-daemon libdlt keeps the messages in its ring buffer
-// and a thread of its own retries the daemon's FIFO; nothing here waits for it.
+// (dropping the oldest when full) and a thread of its own retries the daemon's FIFO; nothing here
+// waits for it, and at exit it waits at most kExitResendMs.
 #include <dlt/dlt.h>
 
 #include <map>
@@ -23,10 +24,16 @@ DltLogLevelType dlt_level(protocol::LogLevel level) {
   return DLT_LOG_INFO;
 }
 
+constexpr std::uint32_t kExitResendMs = 200;
+
 class DltSink : public protocol::RecordSink {
  public:
   DltSink(const std::string& program, protocol::LogLevel threshold) : threshold_(dlt_level(threshold)) {
+    dlt_log_init(DLT_LOG_TO_STDERR);  // libdlt's own notes (no daemon yet ...) on stderr, never stdout
     dlt_register_app(protocol::dlt_app_id(program).c_str(), program.c_str());
+    // At exit libdlt waits for a daemon to take what it still buffers: at most this long, so a
+    // process without a daemon still ends at once.
+    dlt_set_resend_timeout_atexit(kExitResendMs);
   }
   ~DltSink() override {
     for (auto& [id, ctx] : contexts_) dlt_unregister_context(&ctx);

@@ -53,4 +53,14 @@ void configure_process_logging(const std::string& program, const std::string& si
   protocol::configure_logging(program, *threshold, std::move(out));
 }
 
+ProcessLog::ProcessLog(const std::string& program, const std::string& sink, const std::string& level, std::string component)
+    : program_(program), stream_(protocol::LogLevel::Info, std::move(component)) {
+  configure_process_logging(program, sink, level);
+}
+
+ProcessLog::~ProcessLog() {
+  stream_.end_line();
+  protocol::configure_logging(program_, protocol::LogLevel::Info, nullptr);
+}
+
 }  // namespace meter::log_sinks

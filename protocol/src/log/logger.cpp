@@ -68,7 +68,11 @@ void write_log(LogRecord record) {
 
 LogLine::LogLine(std::ostream& err, LogLevel level, std::string component, std::vector<LogField> fields,
                  std::source_location where)
-    : err_(err) {
+    : LogLine(level, std::move(component), std::move(fields), where) {
+  if (dynamic_cast<LogStream*>(&err) == nullptr) err_ = &err;
+}
+
+LogLine::LogLine(LogLevel level, std::string component, std::vector<LogField> fields, std::source_location where) {
   record_.level = level;
   record_.component = std::move(component);
   record_.fields = std::move(fields);
@@ -80,8 +84,8 @@ LogLine::~LogLine() {
   try {
     std::string text = std::move(text_).str();
     while (!text.empty() && text.back() == '\n') text.pop_back();
-    if (dynamic_cast<LogStream*>(&err_) == nullptr) {
-      err_ << text << '\n';
+    if (err_ != nullptr) {
+      *err_ << text << '\n';
       return;
     }
     split_prefix(text, record_.prefix, record_.message);
@@ -96,7 +100,9 @@ LogStream::LogStream(LogLevel level, std::string component)
   rdbuf(&buffer_);
 }
 
-LogStream::~LogStream() {
+LogStream::~LogStream() { end_line(); }
+
+void LogStream::end_line() {
   if (!buffer_.line_.empty()) buffer_.emit();
 }
 

@@ -6,6 +6,7 @@
 
 #include "meter/platform/display_damage.hpp"
 #include "meter/protocol/trace_events.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
 
@@ -23,7 +24,7 @@ void DisplaySink::on_frame(const engine::FrameRecord& frame) {
     // A frame callback or page flip that did not come: the display froze (counted, first logged).
     if (const std::uint64_t stalls = ctx_.display->stalls(); stalls > summary_.stalls) {
       if (summary_.stalls == 0)
-        log_ << "meter-view: display: frame " << frame.request.frame
+        protocol::LogLine(log_, protocol::LogLevel::Warning, "display", {protocol::log_field("frame", static_cast<std::int64_t>(frame.request.frame))}) << "meter-view: display: frame " << frame.request.frame
              << ": the previous frame was never shown within the wait (no frame callback or page flip): frozen display\n";
       summary_.stalls = stalls;
     }

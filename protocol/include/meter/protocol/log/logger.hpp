@@ -40,6 +40,9 @@ class LogLine {
  public:
   LogLine(std::ostream& err, LogLevel level, std::string component, std::vector<LogField> fields = {},
           std::source_location where = std::source_location::current());
+  // Straight to the process's logger (code that has no `err` stream: the link, the package reader).
+  LogLine(LogLevel level, std::string component, std::vector<LogField> fields = {},
+          std::source_location where = std::source_location::current());
   ~LogLine();
   LogLine(const LogLine&) = delete;
   LogLine& operator=(const LogLine&) = delete;
@@ -50,7 +53,7 @@ class LogLine {
   }
 
  private:
-  std::ostream& err_;
+  std::ostream* err_ = nullptr;  // none: the logger
   LogRecord record_;
   std::ostringstream text_;
 };
@@ -61,6 +64,8 @@ class LogStream : public std::ostream {
  public:
   LogStream(LogLevel level, std::string component);
   ~LogStream() override;
+  // A line written without its newline becomes a record now (the destructor does the same).
+  void end_line();
 
  private:
   class LineBuffer : public std::streambuf {

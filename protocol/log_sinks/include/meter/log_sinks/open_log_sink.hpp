@@ -30,6 +30,22 @@ std::unique_ptr<protocol::RecordSink> make_dlt_sink(std::string program, protoco
 // info. Throws std::invalid_argument naming the option and the values it takes.
 void configure_process_logging(const std::string& program, const std::string& sink, const std::string& level);
 
+// What a program's main holds while it runs: the logger set from its options and the stream its
+// code writes `err` lines to (each line a record of `component` at level info). On destruction the
+// logger goes back to plain text on stderr, closing the journal or DLT while libdlt still runs.
+class ProcessLog {
+ public:
+  ProcessLog(const std::string& program, const std::string& sink, const std::string& level, std::string component);
+  ~ProcessLog();
+  ProcessLog(const ProcessLog&) = delete;
+  ProcessLog& operator=(const ProcessLog&) = delete;
+  std::ostream& err() { return stream_; }
+
+ private:
+  std::string program_;
+  protocol::LogStream stream_;
+};
+
 // The options' help texts, one wording for every program.
 inline constexpr const char* kLogHelp =
     "Where log records go: text (plain lines on stderr, the default), json (one JSON object a line on stderr), "
