@@ -103,6 +103,7 @@ LogStream::LogStream(LogLevel level, std::string component)
 LogStream::~LogStream() { end_line(); }
 
 void LogStream::end_line() {
+  std::lock_guard lock(buffer_.mutex_);
   if (!buffer_.line_.empty()) buffer_.emit();
 }
 
@@ -123,6 +124,7 @@ LogStream::LineBuffer::int_type LogStream::LineBuffer::overflow(int_type c) {
 }
 
 std::streamsize LogStream::LineBuffer::xsputn(const char* s, std::streamsize n) {
+  std::lock_guard lock(mutex_);
   for (std::streamsize i = 0; i < n; ++i) {
     if (s[i] == '\n') {
       emit();  // an empty line too: a blank separator stays one

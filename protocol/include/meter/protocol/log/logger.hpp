@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <ostream>
 #include <source_location>
 #include <sstream>
@@ -71,10 +72,11 @@ class LogStream : public std::ostream {
   class LineBuffer : public std::streambuf {
    public:
     LineBuffer(LogLevel level, std::string component) : level_(level), component_(std::move(component)) {}
-    void emit();
+    void emit();  // with mutex_ held
     LogLevel level_;
     std::string component_;
     std::string line_;
+    std::mutex mutex_;  // threads writing at once get whole records, never a torn buffer
 
    protected:
     int_type overflow(int_type c) override;
