@@ -101,11 +101,11 @@ TEST(LogRecordForms, JournalFields) {
 }
 
 TEST(LogRecordForms, DltIds) {
-  EXPECT_EQ(dlt_app_id("meter-controller"), "MCTL");
-  EXPECT_EQ(dlt_app_id("meter-view"), "MVEW");
-  EXPECT_EQ(dlt_app_id("meter-linkplay"), "MTOL");
-  EXPECT_EQ(dlt_context_id("integrity"), "INTG");
-  EXPECT_EQ(dlt_context_id("e2e"), "E2E");
-  EXPECT_EQ(dlt_context_id("new-part"), "NEW_");
-  EXPECT_EQ(dlt_context_id(""), "MAIN");
+  const std::pair<const char*, const char*> apps[] = {
+      {"meter-controller", "MCTL"}, {"meter-view", "MVEW"}, {"meter-linkplay", "MTOL"}};
+  for (const auto& [program, id] : apps) EXPECT_EQ(dlt_app_id(program), id) << program;
+  // the table's ids; an unknown component: its first four letters, upper case; none: MAIN
+  const std::pair<const char*, const char*> contexts[] = {
+      {"integrity", "INTG"}, {"e2e", "E2E"}, {"new-part", "NEW_"}, {"", "MAIN"}};
+  for (const auto& [component, id] : contexts) EXPECT_EQ(dlt_context_id(component), id) << component;
 }
