@@ -33,6 +33,8 @@ meter_pkg(MODBUS libmodbus libmodbus-dev)
 meter_config(CLI11 libcli11-dev)
 # both processes: sd_notify to the service manager (ready, watchdog keep-alives; docs/deploy.md)
 meter_pkg(SYSTEMD libsystemd libsystemd-dev)
+# both processes: --log dlt, COVESA DLT through libdlt (docs/logging.md)
+meter_pkg(DLT automotive-dlt libdlt-dev)
 # What a command-line shell (a program's main: its options, then a call into its library) links:
 # CLI11 compiled at -O1. CLI11 is header-only, and optimising its parser at -O3 was about 88 % of
 # such a file's compile (clang -ftime-trace: 25.1 of 28.7 s in the back end, 2.3 s parsing);

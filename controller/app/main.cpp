@@ -14,6 +14,7 @@
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/odometer_reset_command.hpp"
 #include "meter/controller/run/run_command.hpp"
+#include "meter/log_sinks/open_log_sink.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/link_options.hpp"
 
@@ -62,6 +63,10 @@ int main(int argc, char** argv) {
   r->add_option("--record", run.record,
                 "Write every published change as a link recording stamped with the input's clock (with "
                 "--replay fast: the simulated clock), which meter-view --play renders (docs/fleet.md)");
+  std::string log_sink, log_level;
+  r->add_option("--log", log_sink, meter::log_sinks::kLogHelp)->check(CLI::IsMember({"text", "json", "journal", "dlt"}));
+  r->add_option("--log-level", log_level, meter::log_sinks::kLogLevelHelp)
+      ->check(CLI::IsMember({"error", "warning", "info", "debug"}));
   r->add_option("--trace-json", run.trace_json,
                 "Write a Chrome trace-event JSON (receive, decode, publish on CLOCK_MONOTONIC; opens in Perfetto UI)");
 
@@ -111,7 +116,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
 
   CLI11_PARSE(app, argc, argv);
-  if (*r) return run_command(run, std::cout, std::cerr);
+  if (*r) {
+    meter::log_sinks::ProcessLog log("meter-controller", log_sink, log_level, "run");  // every err line a record
+    return run_command(run, std::cout, log.err());
+  }
   if (*d) {
     try {
       meter::protocol::use_catalog_option(decode_catalog);

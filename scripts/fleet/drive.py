@@ -13,7 +13,7 @@ import subprocess
 import tempfile
 import time
 
-from . import checks, junit
+from . import checks, junit, logs
 
 OUTPUTS = ("frames", "checks", "link.rec", "controller.log", "view.log", "timing.csv", "junit.xml",
            "result.json", "video.log")
@@ -25,11 +25,7 @@ def _cpu():
 
 
 def _tail(path, n=2):
-    try:
-        with open(path, errors="replace") as f:
-            return " | ".join(line.rstrip() for line in f.readlines()[-n:])
-    except OSError:
-        return ""
+    return logs.tail(logs.read(path), n)
 
 
 def _stage(name, argv, log, stages):
@@ -45,14 +41,6 @@ def _stage(name, argv, log, stages):
     return code == 0
 
 
-def _lines_with(path, needle):
-    try:
-        with open(path, errors="replace") as f:
-            return [line.rstrip() for line in f if needle in line]
-    except OSError:
-        return []
-
-
 def _input_arg(spec):
     name, sep, path = spec.partition("=")
     return f"{name}=log:{path}" if sep else f"log:{spec}"
@@ -60,7 +48,7 @@ def _input_arg(spec):
 
 def controller_argv(drive, bin_dir, rec, sock):
     argv = [os.path.join(bin_dir, "meter-controller"), "run", "--map", drive["map"], "--replay", "fast",
-            "--exit-at-end", "--record", rec, "--link", f"unix:{sock}"]
+            "--exit-at-end", "--record", rec, "--link", f"unix:{sock}", "--log", "json"]
     for spec in drive["logs"]:
         argv += ["--input", _input_arg(spec)]
     for spec in drive["dbcs"]:
@@ -74,7 +62,7 @@ def view_argv(drive, bin_dir, rec, out):
     argv = [os.path.join(bin_dir, "meter-view"), "--scene", drive["scene"], "--backend", drive["backend"],
             "--play", rec, "--fps", f"{drive['fps']:g}", "--dump-every", str(drive["dump_every"]),
             "--msaa", str(drive["msaa"]), "--out", os.path.join(out, "frames"),
-            "--timing-csv", os.path.join(out, "timing.csv")]
+            "--timing-csv", os.path.join(out, "timing.csv"), "--log", "json"]
     if drive["size"]:
         argv += ["--size", drive["size"]]
     if drive["dump_at"]:
@@ -143,8 +131,9 @@ def run(drive, out, bin_dir, source_dir, attempt=1, extra=None):
                   if os.path.isdir(frames_dir) else [],
         "controller_summary": _tail(os.path.join(out, "controller.log"), 1),
         "view_summary": _tail(os.path.join(out, "view.log"), 1),
-        "faults": _lines_with(os.path.join(out, "view.log"), "controller report")
-                  + _lines_with(os.path.join(out, "controller.log"), "fault"),
+        # the faults each process reported, from its structured records (a `fault` field)
+        "faults": logs.faults(logs.read(os.path.join(out, "view.log")))
+                  + logs.faults(logs.read(os.path.join(out, "controller.log"))),
         "drive": {k: drive[k] for k in ("logs", "dbcs", "map", "scene", "fps", "dump_every", "signal", "golden")},
     }
     result.update(extra or {})

@@ -67,13 +67,16 @@ def satisfied(relation):
     m = re.fullmatch(r"\s*([a-z0-9.+-]+)(?::any)?\s*(?:\((<<|<=|=|>=|>>)\s*([^)]+)\))?\s*", relation)
     if not m:
         fail(f"cannot read the relation '{relation}'")
-    q = subprocess.run(["dpkg-query", "-W", "-f", "${Status}\t${Version}", m.group(1)], capture_output=True, text=True)
-    if q.returncode != 0 or not q.stdout.startswith("install ok installed"):
+    # One line per installed architecture of the package (a foreign architecture adds libc6:arm64 ...).
+    q = subprocess.run(["dpkg-query", "-W", "-f", "${Status}\t${Version}\n", m.group(1)], capture_output=True, text=True)
+    versions = [line.split("\t")[1] for line in q.stdout.splitlines() if line.startswith("install ok installed\t")]
+    if q.returncode != 0 or not versions:
         return False
     if not m.group(2):
         return True
     ops = {"<<": "lt", "<=": "le", "=": "eq", ">=": "ge", ">>": "gt"}
-    return subprocess.run(["dpkg", "--compare-versions", q.stdout.split("\t")[1], ops[m.group(2)], m.group(3)]).returncode == 0
+    return any(subprocess.run(["dpkg", "--compare-versions", v, ops[m.group(2)], m.group(3)]).returncode == 0
+               for v in versions)
 
 
 def check_depends_and_unpack(debs, root):

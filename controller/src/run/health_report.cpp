@@ -1,6 +1,9 @@
 #include "health_report.hpp"
 
 #include <cstdio>
+#include <sstream>
+
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::controller {
 
@@ -24,11 +27,13 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
   const BusHealth old = bus_;
   bus_ = bus;
   if (bus.state != old.state || (first_ && bus.state != BusState::ErrorActive)) {
-    err << "meter-controller: " << input_ << ": bus " << to_string(bus.state) << " (tx/rx error counters "
+    protocol::LogLine(err, bus.state == BusState::ErrorActive ? protocol::LogLevel::Info : protocol::LogLevel::Warning, "health",
+                      {protocol::log_field("input", input_), protocol::log_field("bus_state", std::string(to_string(bus.state)))})
+        << "meter-controller: " << input_ << ": bus " << to_string(bus.state) << " (tx/rx error counters "
         << unsigned(bus.tx_errors) << "/" << unsigned(bus.rx_errors) << ", " << bus.error_frames << " error frames)\n";
     trace.health("bus_state", static_cast<std::uint64_t>(bus.state));
   }
-  if (bus.polled_links != old.polled_links) err << "meter-controller: " << input_ << ": " << bus.polled_links << "\n";
+  if (bus.polled_links != old.polled_links) protocol::LogLine(err, protocol::LogLevel::Warning, "input", {protocol::log_field("input", input_)}) << "meter-controller: " << input_ << ": " << bus.polled_links << "\n";
   if (bus.error_frames != old.error_frames) trace.health("error_frames", bus.error_frames);
   if (bus.kernel_drops != old.kernel_drops) trace.health("kernel_drops", bus.kernel_drops);
   if (bus.interface_drops != old.interface_drops) trace.health("interface_drops", bus.interface_drops);
@@ -37,7 +42,7 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
   const bool lost = bus.kernel_drops != logged_drops_ || bus.interface_drops != logged_interface_drops_ ||
                     bus.replay_slips != logged_slips_;
   if (lost && (last_loss_line_ns_ == 0 || t - last_loss_line_ns_ >= kLossLineEveryNs)) {
-    err << "meter-controller: " << input_ << ": frames lost: " << bus.kernel_drops - logged_drops_
+    protocol::LogLine(err, protocol::LogLevel::Warning, "health", {protocol::log_field("input", input_)}) << "meter-controller: " << input_ << ": frames lost: " << bus.kernel_drops - logged_drops_
         << " dropped by the kernel (receive queue full), " << bus.interface_drops - logged_interface_drops_
         << " by the interface (input backlog full), " << bus.replay_slips - logged_slips_ << " replay slips; totals "
         << bus.kernel_drops << " drops, " << bus.interface_drops << " interface drops, " << bus.replay_slips
@@ -53,9 +58,9 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
     for (int b = 0; b < 32; ++b)
       if (raised & (1U << b)) ++fault_counts_[b];
     if (raised)
-      err << "meter-controller: view reports a fault: " << protocol::describe_fault_flags(raised)
+      protocol::LogLine(err, protocol::LogLevel::Warning, "health", {protocol::log_field("fault", protocol::describe_fault_flags(raised))}) << "meter-controller: view reports a fault: " << protocol::describe_fault_flags(raised)
           << " (STATUS fault flags " << hex(faults) << ")\n";
-    if (cleared) err << "meter-controller: view fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+    if (cleared) protocol::LogLine(err, protocol::LogLevel::Info, "health", {protocol::log_field("cleared", protocol::describe_fault_flags(cleared))}) << "meter-controller: view fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
     trace.health("view_faults", faults);
     view_faults_ = faults;
   }
@@ -78,23 +83,27 @@ void HealthReport::report_e2e(const BusHealth& bus, std::int64_t t, std::ostream
   std::uint64_t refused = 0, before = 0;
   for (std::size_t i = 0; i < bus.e2e.size(); ++i) refused += bus.e2e[i].refused, before += logged_refused_[i];
   if (refused != before && (last_e2e_line_ns_ == 0 || t - last_e2e_line_ns_ >= kLossLineEveryNs)) {
-    err << "meter-controller: " << input_ << ": e2e: " << refused - before << " frame(s) refused (not used:";
+    std::ostringstream line;
+    line << "meter-controller: " << input_ << ": e2e: " << refused - before << " frame(s) refused (not used:";
     for (std::size_t i = 0; i < bus.e2e.size(); ++i) {
       const E2eHealth& m = bus.e2e[i];
-      if (m.refused != logged_refused_[i]) err << " " << m.message << " " << m.refused - logged_refused_[i];
+      if (m.refused != logged_refused_[i]) line << " " << m.message << " " << m.refused - logged_refused_[i];
       logged_refused_[i] = m.refused;
     }
-    err << "); totals: ";
+    line << "); totals: ";
     for (std::size_t i = 0; i < bus.e2e.size(); ++i)
-      if (bus.e2e[i].refused) err << describe(bus.e2e[i]) << (i + 1 < bus.e2e.size() ? ", " : "");
-    err << "\n";
+      if (bus.e2e[i].refused) line << describe(bus.e2e[i]) << (i + 1 < bus.e2e.size() ? ", " : "");
+    protocol::LogLine(err, protocol::LogLevel::Warning, "e2e",
+                      {protocol::log_field("input", input_), protocol::log_field("refused", static_cast<std::int64_t>(refused - before))})
+        << line.str();
     trace.health("e2e_refused", refused);
     last_e2e_line_ns_ = t;
   }
   for (std::size_t i = 0; i < bus.e2e.size(); ++i) {
     const E2eHealth& m = bus.e2e[i];
     if (m.mismatch && !mismatch_logged_[i])
-      err << "meter-controller: " << input_ << ": e2e: " << m.message << ": likely configuration mismatch: " << m.refused
+      protocol::LogLine(err, protocol::LogLevel::Error, "e2e", {protocol::log_field("input", input_), protocol::log_field("can_message", m.message)})
+          << "meter-controller: " << input_ << ": e2e: " << m.message << ": likely configuration mismatch: " << m.refused
           << " of " << m.checked << " frames refused (" << m.checksum << " checksum, " << m.repeated << " repeated, "
           << m.out_of_sequence << " out of sequence); its signals time out as if it were silent: check its [e2e "
           << m.message << "] section, the make and the DBC ('meter-controller decode --e2e' on a recorded log)\n";

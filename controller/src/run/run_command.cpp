@@ -24,6 +24,7 @@
 #include "open_input.hpp"
 #include "publish_recording.hpp"
 #include "service_notify.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::controller {
 namespace {
@@ -124,13 +125,13 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     const std::vector<std::optional<Database>> dbs = load_dbcs(specs, o.strict, err);
     Mapping map = load_mapping(o.map);
     Model model(input_dbcs(specs, dbs), map,
-                ModelOptions{o.state_dir, [&err](const std::string& line) { err << "meter-controller: " << line << "\n"; }});
+                ModelOptions{o.state_dir, [&err](const std::string& line) { protocol::LogLine(err, protocol::LogLevel::Warning, "model") << "meter-controller: " << line; }});
 
     std::unique_ptr<Input> input;
     try {
       input = open_inputs(specs, dbs, o.replay, map, model, err);
     } catch (const SocketCanError& e) {
-      err << "meter-controller: " << e.what() << "\n";
+      protocol::LogLine(err, protocol::LogLevel::Error, "input") << "meter-controller: " << e.what() << "\n";
       return 3;
     }
 
@@ -146,7 +147,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     protocol::Publisher pub(protocol::endpoint_from_option(o.link), lo);
     ControllerService service(err);  // the service manager: ready, keep-alives, stopping (docs/deploy.md)
     service.listening(pub.endpoint().to_string());
-    if (o.verbose) err << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
+    if (o.verbose) protocol::LogLine(err, protocol::LogLevel::Info, "run", {protocol::log_field("input", input->describe())}) << "meter-controller: " << input->describe() << " -> " << pub.endpoint().to_string() << "\n";
 
     // --record: the same changes on the input's clock (the first tick changes every output: a SNAPSHOT).
     PublishRecording recording(o.record);
@@ -211,7 +212,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     model.persist_now();
     trace.flush();
     recording.close();
-    if (!events.close()) err << "meter-controller: write error on " << o.trace_json << "\n";
+    if (!events.close()) protocol::LogLine(err, protocol::LogLevel::Error, "trace", {protocol::log_field("file", o.trace_json)}) << "meter-controller: write error on " << o.trace_json << "\n";
     if (o.verbose) {
       for (const auto& x : model.outputs())
         err << "  final " << protocol::find_signal(x.id)->name << " = " << fmt_double(x.value) << " ("
@@ -229,7 +230,7 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
     print_stats(out, model, pub, health);
     return 0;
   } catch (const std::exception& e) {
-    err << "meter-controller: " << e.what() << "\n";
+    protocol::LogLine(err, protocol::LogLevel::Error, "run") << "meter-controller: " << e.what() << "\n";
     return 1;
   }
 }

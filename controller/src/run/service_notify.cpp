@@ -1,11 +1,12 @@
 #include "service_notify.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 #include <systemd/sd-daemon.h>
 
 namespace meter::controller {
 
 ControllerService::ControllerService(std::ostream& err) {
-  if (!watchdog_.error().empty()) err << "meter-controller: " << watchdog_.error() << "; no watchdog keep-alives\n";
+  if (!watchdog_.error().empty()) protocol::LogLine(err, protocol::LogLevel::Warning, "service") << "meter-controller: " << watchdog_.error() << "; no watchdog keep-alives\n";
 }
 
 void ControllerService::listening(const std::string& endpoint) {

@@ -45,7 +45,7 @@ bool KeyRing::poll(const std::string& who, bool now) {
   std::string error;
   const bool changed = refresh(error);
   if (!error.empty()) log_limited("key-file", who + ": " + error);
-  if (changed) log_limited("key-file", who + ": read " + path_ + " again (keys " + ids() + ")");
+  if (changed) log_limited("key-file", who + ": read " + path_ + " again (keys " + ids() + ")", LogLevel::Info);
   return changed;
 }
 

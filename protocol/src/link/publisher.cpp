@@ -188,7 +188,7 @@ struct Publisher::Impl {
     if (auto* close = std::get_if<Close>(&frame.message)) {
       last_error = peer.channel->label() + " closed the link: " + std::string(to_string(close->reason)) +
                    (close->text.empty() ? "" : ": " + close->text);
-      detail::log_limited("peer-close", last_error);
+      detail::log_limited("peer-close", last_error, close->reason == CloseReason::Normal ? LogLevel::Info : LogLevel::Warning);
       if (close->reason != CloseReason::Normal) ++stats.handshakes_refused;
       peer.closing = true;
       peer.live = false;

@@ -200,7 +200,7 @@ struct Subscriber::Impl {
     ++stats.catalogs_taken;
     changed = true;
     detail::log_limited("catalog-taken", options.name + ": using " + table.catalog().source() + " (" +
-                                             std::to_string(table.size()) + " signals)");
+                                             std::to_string(table.size()) + " signals)", LogLevel::Info);
   }
 
   void refuse(CloseReason reason, const std::string& why) {

@@ -10,6 +10,7 @@
 
 #include "meter/platform/flip_rows.hpp"
 #include "shader_resolve.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::platform {
 namespace {
@@ -86,7 +87,7 @@ bool RenderTarget::settle_samples(const GpuBackend& backend, const RenderTargetO
     warning_ = "RenderTarget: " + std::to_string(requested) + "x MSAA requested but " +
                std::string(backend.name()) + " allows at most GL_MAX_SAMPLES=" +
                std::to_string(info.max_samples) + "; using " + std::to_string(samples_);
-    std::fprintf(stderr, "warning: %s\n", warning_.c_str());
+    protocol::LogLine(protocol::LogLevel::Warning, "render") << "warning: " << warning_;
   }
 
   resolve_ = options.resolve;

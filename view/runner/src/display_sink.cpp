@@ -7,6 +7,7 @@
 
 #include "meter/platform/display_damage.hpp"
 #include "meter/protocol/trace_events.hpp"
+#include "meter/protocol/log/logger.hpp"
 #include "meter/protocol/wire.hpp"
 
 namespace meter::runner {
@@ -83,8 +84,8 @@ void DisplaySink::note_stalls(std::uint64_t frame) {
   const std::uint64_t stalls = ctx_.display->stalls();
   if (stalls <= summary_.stalls) return;
   if (summary_.stalls == 0)
-    log_ << "meter-view: display: frame " << frame
-         << ": the previous frame was never shown within the wait (no frame callback or page flip): frozen display\n";
+    protocol::LogLine(log_, protocol::LogLevel::Warning, "display", {protocol::log_field("frame", static_cast<std::int64_t>(frame))})
+        << "meter-view: display: frame " << frame << ": the previous frame was never shown within the wait (no frame callback or page flip): frozen display\n";
   summary_.stalls = stalls;
   if (health_) health_->report(protocol::kViewFaultDisplayFrozen, ViewHealth::Clock::now());
 }

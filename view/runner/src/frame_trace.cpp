@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "meter/protocol/trace_events.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
 namespace {
@@ -63,7 +64,7 @@ void FrameTrace::on_frame(const engine::FrameRecord& f) {
   }
   const std::int64_t frame_ns = protocol::monotonic_now_ns() - f.evaluate_began_ns;
   if (const std::string file = events_.frame_ended(f.request.frame, frame_ns); !file.empty()) {
-    log_ << "meter-view: frame " << f.request.frame << " took " << frame_ns / 1'000'000 << " ms (--trace-on-overrun "
+    protocol::LogLine(log_, protocol::LogLevel::Warning, "pipeline", {protocol::log_field("frame", static_cast<std::int64_t>(f.request.frame))}) << "meter-view: frame " << f.request.frame << " took " << frame_ns / 1'000'000 << " ms (--trace-on-overrun "
          << overrun_ms_ << "): the last seconds of trace in " << file << "\n";
   }
 }

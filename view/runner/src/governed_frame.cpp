@@ -10,6 +10,7 @@
 #include "meter/engine/governor/warm_up_choices.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "meter/runner/view_error.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
 namespace gov = engine::governor;
@@ -73,7 +74,7 @@ GovernedFrames::GovernedFrames(engine::Renderer& renderer, const ViewOptions& op
     : renderer_(renderer), log_(&log), target_ms_(options.target_ms), start_(Clock::now()), last_print_(start_) {
   if (!options.inject_cost.empty()) {
     inject_ = parse_cost_injection(options.inject_cost);
-    log << "meter-view: TEST COST INJECTION: " << options.inject_cost << " (ns per drawn pixel @ frames)\n";
+    protocol::LogLine(log, protocol::LogLevel::Warning, "governor") << "meter-view: TEST COST INJECTION: " << options.inject_cost << " (ns per drawn pixel @ frames)\n";
   }
   if (options.stats && options.stats_interval_s > 0)
     interval_ = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.stats_interval_s));

@@ -5,6 +5,7 @@
 
 #include "meter/protocol/wire.hpp"
 #include "meter/runner/view_error.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
 
@@ -76,7 +77,7 @@ IntegrityStage::IntegrityStage(RenderContext& ctx, const ViewOptions& options, V
   }
   if (!options.inject_fault.empty()) {
     schedule_ = parse_fault_schedule(options.inject_fault, ctx.scene, ctx.renderer.height());
-    log << "meter-view: TEST FAULT INJECTION: " << options.inject_fault << "\n";
+    protocol::LogLine(log, protocol::LogLevel::Warning, "integrity") << "meter-view: TEST FAULT INJECTION: " << options.inject_fault << "\n";
   }
 }
 
@@ -97,7 +98,7 @@ void IntegrityStage::after_frame(std::uint64_t frame, Clock::time_point now, con
   health_.report(protocol::kViewFaultIntegrity, now);
   if (!first_fault_frame_) first_fault_frame_ = frame;
   for (const auto& f : faults)
-    if (limit_.admit(f.region, now)) log_ << "meter-view: integrity fault at frame " << frame << ": " << f.describe() << "\n";
+    if (limit_.admit(f.region, now)) protocol::LogLine(log_, protocol::LogLevel::Error, "integrity", {protocol::log_field("frame", static_cast<std::int64_t>(frame)), protocol::log_field("region", f.region), protocol::log_field("fault", "integrity")}) << "meter-view: integrity fault at frame " << frame << ": " << f.describe() << "\n";
 }
 
 void IntegrityStage::summary(std::ostream& log) const {

@@ -32,6 +32,7 @@
 #include "meter/runner/trace_ring.hpp"
 #include "meter/runner/view_error.hpp"
 #include "meter/runner/view_health.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
 namespace {
@@ -164,7 +165,7 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
   events_.thread_name(2, "png writer");
   events_.thread_name(3, "gpu");
   png_writer_.slow_check(slow_.of("check"));
-  if (!slow_.stage.empty()) log_ << "meter-view: TEST SLOW STAGE: " << options.inject_slow_stage << "\n";
+  if (!slow_.stage.empty()) protocol::LogLine(log_, protocol::LogLevel::Warning, "pipeline") << "meter-view: TEST SLOW STAGE: " << options.inject_slow_stage << "\n";
   if (overlapped_) {
     ctx_.pipeline.set_overlap(true);
     completes_first_ = ctx.governed.governing() || !options.inject_cost.empty();
@@ -221,7 +222,7 @@ void LiveLoop::follow_catalog() {
   if (sub_.catalog_changes() == catalog_seen_) return;
   catalog_seen_ = sub_.catalog_changes();
   for (const auto& name : ctx_.pipeline.evaluator().rebind(sub_.catalog())) {
-    log_ << "meter-view: the controller's catalog " << sub_.catalog().source() << " has no signal " << name
+    protocol::LogLine(log_, protocol::LogLevel::Warning, "link", {protocol::log_field("signal", name)}) << "meter-view: the controller's catalog " << sub_.catalog().source() << " has no signal " << name
          << "; its bindings show not-available\n";
   }
 }
@@ -342,7 +343,7 @@ void LiveLoop::note_dump_failures(Clock::time_point now) {
   const std::uint64_t failures = png_writer_.failures();
   if (failures == dump_failures_seen_) return;
   if (dump_failures_seen_ == 0)
-    log_ << "meter-view: a PNG dump failed (the view draws on): " << png_writer_.first_error() << "\n";
+    protocol::LogLine(log_, protocol::LogLevel::Error, "dump") << "meter-view: a PNG dump failed (the view draws on): " << png_writer_.first_error() << "\n";
   for (; dump_failures_seen_ < failures; ++dump_failures_seen_) health_.report(protocol::kViewFaultDumpFailed, now);
 }
 
@@ -350,7 +351,7 @@ void LiveLoop::note_drops() {
   const std::uint64_t drops = png_writer_.dropped();
   if (drops == 0 || drops_logged_ > 0) return;
   drops_logged_ = drops;
-  log_ << "meter-view: the PNG writer is behind: dumps are dropped (--dump-policy drop), counted at exit\n";
+  protocol::LogLine(log_, protocol::LogLevel::Warning, "dump") << "meter-view: the PNG writer is behind: dumps are dropped (--dump-policy drop), counted at exit\n";
 }
 
 void LiveLoop::note_controller_faults() {
@@ -358,9 +359,9 @@ void LiveLoop::note_controller_faults() {
   const std::uint32_t now_flags = st ? st->fault_flags : 0;
   if (now_flags == controller_faults_) return;
   if (const std::uint32_t raised = now_flags & ~controller_faults_)
-    log_ << "meter-view: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
+    protocol::LogLine(log_, protocol::LogLevel::Warning, "health", {protocol::log_field("fault", protocol::describe_fault_flags(raised))}) << "meter-view: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
   if (const std::uint32_t cleared = controller_faults_ & ~now_flags)
-    log_ << "meter-view: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+    protocol::LogLine(log_, protocol::LogLevel::Info, "health", {protocol::log_field("cleared", protocol::describe_fault_flags(cleared))}) << "meter-view: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
   controller_faults_ = now_flags;
 }
 
@@ -388,7 +389,7 @@ void LiveLoop::run() {
   ctx_.pipeline.finish();
   if (policy_.dump_on_exit(frame_)) dump_.dump_standing(frame_ - 1, pacer_.seconds_at(Clock::now()), sub_.link_up());
   png_writer_.finish();  // every dumped frame is on disk before the exit status says so
-  if (!events_.close()) log_ << "meter-view: write error on " << options_.trace_json << "\n";
+  if (!events_.close()) protocol::LogLine(log_, protocol::LogLevel::Error, "trace", {protocol::log_field("file", options_.trace_json)}) << "meter-view: write error on " << options_.trace_json << "\n";
   summary();
   png_writer_.check();  // a failed dump makes the exit status say so
 }
@@ -420,7 +421,7 @@ void fetch_controller_catalog(const ViewOptions& options, std::ostream& log) {
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(options.catalog_wait_ms);
   while (!sub.link_up() && std::chrono::steady_clock::now() < until) sub.poll(std::chrono::milliseconds(10));
   if (!sub.link_up()) {
-    log << "meter-view: no controller within " << options.catalog_wait_ms << " ms; loading the scene with the catalog "
+    protocol::LogLine(log, protocol::LogLevel::Warning, "link") << "meter-view: no controller within " << options.catalog_wait_ms << " ms; loading the scene with the catalog "
         << sub.catalog().source() << "\n";
   }
 }

@@ -13,6 +13,7 @@
 #include "meter/runner/frames_csv.hpp"
 #include "meter/runner/png_writer.hpp"
 #include "meter/runner/view_error.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
 namespace {
@@ -87,9 +88,9 @@ class RecordingState {
  private:
   void note_faults(std::uint32_t flags, double t) {
     if (const std::uint32_t raised = flags & ~faults_)
-      log_ << "meter-view: t=" << t << " s: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
+      protocol::LogLine(log_, protocol::LogLevel::Warning, "health", {protocol::log_field("fault", protocol::describe_fault_flags(raised))}) << "meter-view: t=" << t << " s: controller reports: " << protocol::describe_fault_flags(raised) << "\n";
     if (const std::uint32_t cleared = faults_ & ~flags)
-      log_ << "meter-view: t=" << t << " s: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
+      protocol::LogLine(log_, protocol::LogLevel::Info, "health", {protocol::log_field("cleared", protocol::describe_fault_flags(cleared))}) << "meter-view: t=" << t << " s: controller fault cleared: " << protocol::describe_fault_flags(cleared) << "\n";
     faults_ = flags;
   }
 

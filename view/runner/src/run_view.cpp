@@ -7,6 +7,7 @@
 #include "meter/runner/play_recording.hpp"
 #include "meter/runner/process_signals.hpp"
 #include "meter/runner/render_context.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
 
@@ -27,10 +28,10 @@ int run_view(const ViewOptions& options, std::ostream& log) {
     }
     return 0;
   } catch (const platform::DisplayLost& e) {
-    log << "meter-view: error: the display went away: " << e.what() << "\n";
+    protocol::LogLine(log, protocol::LogLevel::Error, "display") << "meter-view: error: the display went away: " << e.what() << "\n";
     return kExitDisplayLost;
   } catch (const std::exception& e) {
-    log << "meter-view: error: " << e.what() << "\n";
+    protocol::LogLine(log, protocol::LogLevel::Error, "view") << "meter-view: error: " << e.what() << "\n";
     return 1;
   }
 }

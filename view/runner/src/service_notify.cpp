@@ -1,11 +1,12 @@
 #include "meter/runner/service_notify.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 #include <systemd/sd-daemon.h>
 
 namespace meter::runner {
 
 ViewService::ViewService(std::ostream& log) {
-  if (!watchdog_.error().empty()) log << "meter-view: " << watchdog_.error() << "; no watchdog keep-alives\n";
+  if (!watchdog_.error().empty()) protocol::LogLine(log, protocol::LogLevel::Warning, "service") << "meter-view: " << watchdog_.error() << "; no watchdog keep-alives\n";
 }
 
 void ViewService::frame_drawn() {

@@ -11,6 +11,7 @@
 #include "meter/bridge/package_schema.hpp"
 #include "record_decoder.hpp"
 #include "scene_references.hpp"
+#include "meter/protocol/log/logger.hpp"
 
 namespace meter::engine {
 namespace {
@@ -128,7 +129,7 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
     const std::string note = origin + ": skipped chunk '" + tag + "' (" + std::to_string(chunk.body.size()) + " bytes at byte " +
                              std::to_string(chunk.offset - kChunkHeaderSize) + "): not a section this build knows";
     if (notes) notes->push_back(note);
-    else std::cerr << "meter: note: " << note << "\n";
+    else protocol::LogLine(protocol::LogLevel::Info, "package") << "meter: note: " << note;
   }
   check_references(s, origin);
   load_config(s, origin);
