@@ -209,8 +209,9 @@ bool WaylandWindow::frame_ready(int wait_ms) {
 
 void WaylandWindow::wait_for_frame() {
   while (frame_callback_) {
-    const int left = frame_wait_left_ms();
-    if (left <= 0 || !dispatch_once(left, "waiting for a frame callback")) {
+    // Events already sent are read even when the wait ran out (a frame that took long to draw).
+    const bool read = dispatch_once(std::max(frame_wait_left_ms(), 0), "waiting for a frame callback");
+    if (frame_callback_ && !read && frame_wait_left_ms() <= 0) {
       // The compositor stopped repainting this surface: counted, and the next frame goes anyway.
       ++stalls_;
       wl_callback_destroy(std::exchange(frame_callback_, nullptr));
