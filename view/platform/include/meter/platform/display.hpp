@@ -51,9 +51,10 @@ class DisplayBackend : public GpuBackend {
   // Copies `frame` (the renderer's resolved target, frame-sized) into the back buffer: `damage`
   // (the boxes of the frame, GL window coordinates, written since the last copy) and what the
   // buffer lacks by its age. Waits first for the previous show's frame callback or page flip (the
-  // pacing: at most one frame queued ahead of the screen; at once after ready_for_frame() said true). Returns false when no buffer can take
-  // the frame now (a page flip still pending after the wait: a stall; its damage goes with the next
-  // copy). Throws DisplayLost when the display is gone.
+  // pacing: at most one frame queued ahead of the screen; no wait after ready_for_frame() said
+  // true). Returns false when no buffer can take the frame now (a page flip still pending after
+  // the wait: a stall; its damage goes with the next copy). Throws DisplayLost when the display is
+  // gone.
   virtual bool copy(const RenderTarget& frame, std::span<const PixelRegion> damage) = 0;
   // After copy(): more boxes of `frame` into the same back buffer (a repair after the copy).
   virtual void copy_more(const RenderTarget& frame, std::span<const PixelRegion> boxes) = 0;
