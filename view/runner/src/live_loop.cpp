@@ -85,6 +85,7 @@ class LiveLoop {
   void trace_applied(std::int64_t poll_begin);
   void follow_catalog();
   FramePacer::FrameTime intake();
+  void wait_for_display();
   engine::FrameRequest evaluate(const FramePacer::FrameTime& ft);
   void frame(const FramePacer::FrameTime& ft);
   void frame_overlapped(const FramePacer::FrameTime& ft);
@@ -255,6 +256,7 @@ FramePacer::FrameTime LiveLoop::intake() {
     wait_for_frame(pacer_, stop_requested, [&](std::chrono::milliseconds t) { wait_poll(t); });
   }
   note_wait(stats_.intake, &events_, false, "wait for input", wait_began);
+  wait_for_display();
   {
     BusyScope busy(stats_.intake);
     slow_.in("intake");
@@ -265,6 +267,24 @@ FramePacer::FrameTime LiveLoop::intake() {
   const auto ft = pacer_.begin_frame(Clock::now(), concurrent_ && changed_since_.has_value());
   changed_since_.reset();
   return ft;
+}
+
+// With a display, a due frame is drawn once the screen took the frame before (its frame callback
+// came): one frame in flight, drawn from the newest state and shown as soon as it is drawn, rather
+// than drawn early and held in the copy until the callback (a period older by then). The link is
+// drained meanwhile in 1 ms slices, and a frame still on the GPU is completed (shown) first.
+void LiveLoop::wait_for_display() {
+  if (!ctx_.display) return;
+  const std::int64_t began = protocol::monotonic_now_ns();
+  while (!stop_requested()) {
+    if (ctx_.pipeline.in_flight()) {
+      if (ctx_.pipeline.poll_in_flight(std::chrono::milliseconds(1))) complete(nullptr, false);
+    } else if (ctx_.display->ready_for_frame(1)) {
+      break;
+    }
+    if (drain() && !changed_since_) changed_since_ = Clock::now();
+  }
+  note_wait(stats_.intake, &events_, false, "wait for the display", began);
 }
 
 // The link's state through the bindings, and what the frame is asked for. Sequential: the render

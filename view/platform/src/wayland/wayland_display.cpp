@@ -4,7 +4,8 @@
 // back buffer (egl_display_backend.cpp: FrameBlit, the same 8-bit values the PNG dump writes), only
 // the boxes the buffer lacks by its age (EGL_EXT_buffer_age); show() swaps with the frame's damage
 // (eglSwapBuffersWithDamage{KHR,EXT}) so the compositor repaints only what changed. Swap interval
-// 0: the pacing is the surface's frame callback, waited for before the next copy.
+// 0: the pacing is the surface's frame callback: the live loop draws the next frame once it came
+// (ready_for_frame), so the copy finds it there and the frame is committed as soon as it is drawn.
 #include <wayland-client.h>
 #include <wayland-egl.h>
 
@@ -54,6 +55,8 @@ class WaylandDisplay final : public EglDisplayBackend {
     copy_frame(frame, damage);
     return true;
   }
+
+  bool ready_for_frame(int wait_ms) override { return window_.frame_ready(wait_ms); }
 
   void show(std::uint64_t frame_number) override {
     window_.before_commit(frame_number);

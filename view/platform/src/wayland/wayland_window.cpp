@@ -187,6 +187,7 @@ std::int64_t WaylandWindow::to_monotonic(std::int64_t ns) const {
 }
 
 void WaylandWindow::before_commit(std::uint64_t frame) {
+  committed_ns_ = clock_ns(CLOCK_MONOTONIC);
   frame_callback_ = wl_surface_frame(surface_);
   wl_callback_add_listener(frame_callback_, &kFrameListener, this);
   if (presentation_) {
@@ -196,11 +197,21 @@ void WaylandWindow::before_commit(std::uint64_t frame) {
   }
 }
 
+int WaylandWindow::frame_wait_left_ms() const {
+  return frame_wait_ms_ - int((clock_ns(CLOCK_MONOTONIC) - committed_ns_) / 1'000'000);
+}
+
+bool WaylandWindow::frame_ready(int wait_ms) {
+  if (frame_callback_) dispatch_once(std::clamp(frame_wait_left_ms(), 0, std::max(wait_ms, 0)), "waiting for a frame callback");
+  check_alive("waiting for a frame callback");
+  return !frame_callback_ || frame_wait_left_ms() <= 0;
+}
+
 void WaylandWindow::wait_for_frame() {
-  const std::int64_t began = clock_ns(CLOCK_MONOTONIC);
   while (frame_callback_) {
-    const int left = frame_wait_ms_ - int((clock_ns(CLOCK_MONOTONIC) - began) / 1'000'000);
-    if (left <= 0 || !dispatch_once(left, "waiting for a frame callback")) {
+    // Events already sent are read even when the wait ran out (a frame that took long to draw).
+    const bool read = dispatch_once(std::max(frame_wait_left_ms(), 0), "waiting for a frame callback");
+    if (frame_callback_ && !read && frame_wait_left_ms() <= 0) {
       // The compositor stopped repainting this surface: counted, and the next frame goes anyway.
       ++stalls_;
       wl_callback_destroy(std::exchange(frame_callback_, nullptr));

@@ -39,8 +39,11 @@ class WaylandWindow {
   // Before the commit of frame `frame` (the EGL swap): its frame callback and presentation
   // feedback are asked for.
   void before_commit(std::uint64_t frame);
-  // Waits for the frame callback of the last commit (at most frame_wait_ms; a later one counts as
-  // a stall and the frame is shown anyway). Throws DisplayLost when the compositor is gone.
+  // Reads events for at most wait_ms; true once the last commit's frame callback came or its wait
+  // ran out (frame_wait_ms after the commit). Throws DisplayLost when the compositor is gone.
+  bool frame_ready(int wait_ms);
+  // Waits for the frame callback of the last commit (until frame_wait_ms after the commit; a later
+  // one counts as a stall and the frame is shown anyway). Throws DisplayLost when the compositor is gone.
   void wait_for_frame();
   // Feedback received so far (waiting up to wait_ms for every frame committed to have one).
   std::vector<PresentedFrame> take_presented(int wait_ms);
@@ -66,6 +69,8 @@ class WaylandWindow {
   // false on timeout.
   bool dispatch_once(int timeout_ms, const char* doing);
   std::int64_t to_monotonic(std::int64_t ns) const;
+  // What is left of the wait for the last commit's frame callback (negative: overdue).
+  int frame_wait_left_ms() const;
 
   struct Feedback {
     struct wp_presentation_feedback* feedback;
@@ -87,6 +92,7 @@ class WaylandWindow {
   bool configured_ = false, closed_ = false;
   int configured_width_ = 0, configured_height_ = 0;
   wl_callback* frame_callback_ = nullptr;
+  std::int64_t committed_ns_ = 0;  // CLOCK_MONOTONIC of the commit whose frame callback is awaited
   std::deque<Feedback> pending_;
   std::vector<PresentedFrame> presented_;
   std::uint64_t stalls_ = 0;

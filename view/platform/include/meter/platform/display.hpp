@@ -51,9 +51,10 @@ class DisplayBackend : public GpuBackend {
   // Copies `frame` (the renderer's resolved target, frame-sized) into the back buffer: `damage`
   // (the boxes of the frame, GL window coordinates, written since the last copy) and what the
   // buffer lacks by its age. Waits first for the previous show's frame callback or page flip (the
-  // pacing: at most one frame queued ahead of the screen). Returns false when no buffer can take
-  // the frame now (a page flip still pending after the wait: a stall; its damage goes with the next
-  // copy). Throws DisplayLost when the display is gone.
+  // pacing: at most one frame queued ahead of the screen; no wait after ready_for_frame() said
+  // true). Returns false when no buffer can take the frame now (a page flip still pending after
+  // the wait: a stall; its damage goes with the next copy). Throws DisplayLost when the display is
+  // gone.
   virtual bool copy(const RenderTarget& frame, std::span<const PixelRegion> damage) = 0;
   // After copy(): more boxes of `frame` into the same back buffer (a repair after the copy).
   virtual void copy_more(const RenderTarget& frame, std::span<const PixelRegion> boxes) = 0;
@@ -62,6 +63,15 @@ class DisplayBackend : public GpuBackend {
   virtual std::vector<Image> read_shown(std::span<const PixelRegion> boxes) = 0;
   // After copy(): shows the back buffer as frame `frame_number`, its damage the boxes copied.
   virtual void show(std::uint64_t frame_number) = 0;
+  // Whether the screen took the last show (its frame callback came, or the wait for it ran out:
+  // copy() would not wait), reading the display's events for at most `wait_ms`. The live loop asks
+  // before it draws, so that a frame draws the newest state and is shown as soon as it is drawn,
+  // one frame in flight. Throws DisplayLost when the display is gone. Displays whose copy() does
+  // its own wait (KMS: the page flip) answer true.
+  virtual bool ready_for_frame(int wait_ms) {
+    (void)wait_ms;
+    return true;
+  }
   void present(const RenderTarget& frame, std::span<const PixelRegion> damage, std::uint64_t frame_number) {
     if (copy(frame, damage)) show(frame_number);
   }
