@@ -4,13 +4,15 @@ checked, unpacked into a fresh root and run from there alone.
 
   1. cpack writes meter-controller, meter-view, meter-tools and meter-dev; lintian finds no error.
   2. Each package's Depends is satisfied on this machine (what dpkg -i would check); each is unpacked
-     (dpkg -x) into a root under a temporary folder, outside the source and build trees.
+     (dpkg -x) into a root under a temporary folder, outside the source and build trees. The font
+     travels in the scene package: meter-tools (which converts) depends on fonts-dejavu-core, meter-view
+     does not.
   3. The packages' users made in the root by systemd-sysusers; the units in the root pass
      systemd-analyze verify (their programs are the root's).
   4. The demo's path from the root only, as the units run it: the controller replays the bundled
      drive log with the shipped vehicle files and configuration, the view draws the shipped scene
      from its link and dumps frames. Both run under strace: no path into the source or build tree is
-     opened, stat'ed or executed.
+     opened, stat'ed or executed, and the view opens no font file (its texts' font is the package's).
   5. The development kit: a program built with pkg-config's flags for meter-protocol, and a CMake
      project's find_package(meter), against the root, link the protocol library and run.
 """
@@ -85,6 +87,10 @@ def check_depends_and_unpack(debs, root):
             if not any(satisfied(alt) for alt in clause.split("|")):
                 fail(f"meter-{role}: Depends '{clause}' is not satisfied here: dpkg -i would refuse it")
         print(f"meter-{role}: Depends: {depends or '(none)'}")
+        names = {re.split(r"[\s(:]", alt.strip())[0] for alt in re.split(r"[,|]", depends)}
+        if ("fonts-dejavu-core" in names) != (role == "tools"):
+            fail(f"meter-{role}: Depends {'lacks' if role == 'tools' else 'names'} fonts-dejavu-core (the converter "
+                 "embeds the font in the scene package; the view reads it from there)")
         if subprocess.run(["dpkg", "-x", deb, root]).returncode != 0:
             fail(f"dpkg -x {deb} failed")
 
@@ -178,6 +184,12 @@ def run_demo(root, tmp):
                 if tree in line:
                     fail(f"the installed {name} reached into {tree}:\n{line}")
         print(f"{name}: {len(text.splitlines())} file-system calls traced, none into the source or build tree")
+    # The texts are drawn (the speed readout, live) from the font in the scene package.
+    fonts = [line for line in open(tmp + "/view.strace").read().splitlines()
+             if re.search(r"\.(ttf|otf|pfb|pfa|woff2?)\b|/fonts/|fontconfig", line, re.I)]
+    if fonts:
+        fail("the installed view looked for a font file:\n" + "\n".join(fonts[:5]))
+    print("view: no font file opened (the scene package carries it)")
 
 
 def check_dev_kit(root, tmp):
