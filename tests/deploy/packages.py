@@ -69,13 +69,19 @@ def satisfied(relation):
     m = re.fullmatch(r"\s*([a-z0-9.+-]+)(?::any)?\s*(?:\((<<|<=|=|>=|>>)\s*([^)]+)\))?\s*", relation)
     if not m:
         fail(f"cannot read the relation '{relation}'")
-    q = subprocess.run(["dpkg-query", "-W", "-f", "${Status}\t${Version}", m.group(1)], capture_output=True, text=True)
-    if q.returncode != 0 or not q.stdout.startswith("install ok installed"):
+    # One line per installed architecture (a foreign one, arm64 for the cross build, lists libc6
+    # twice): the package of this machine's architecture, or of all, is the one dpkg -i checks.
+    q = subprocess.run(["dpkg-query", "-W", "-f", "${Status}\t${Version}\t${Architecture}\n", m.group(1)],
+                       capture_output=True, text=True)
+    native = subprocess.run(["dpkg", "--print-architecture"], capture_output=True, text=True).stdout.strip()
+    versions = [f[1] for f in (line.split("\t") for line in q.stdout.splitlines())
+                if f[0] == "install ok installed" and f[2] in (native, "all")]
+    if q.returncode != 0 or not versions:
         return False
     if not m.group(2):
         return True
     ops = {"<<": "lt", "<=": "le", "=": "eq", ">=": "ge", ">>": "gt"}
-    return subprocess.run(["dpkg", "--compare-versions", q.stdout.split("\t")[1], ops[m.group(2)], m.group(3)]).returncode == 0
+    return subprocess.run(["dpkg", "--compare-versions", versions[0], ops[m.group(2)], m.group(3)]).returncode == 0
 
 
 def check_depends_and_unpack(debs, root):
