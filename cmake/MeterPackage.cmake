@@ -7,7 +7,8 @@
 #                     package (find_package(meter)) and a pkg-config file (meter-protocol)
 # The installed programs read no path of the source or build tree: every file they need is given on
 # their command line, and the units' configuration names the installed copies under the prefix
-# configured here. The font comes from the Debian package fonts-dejavu-core, a dependency.
+# configured here. The texts' font travels in the scene package: the converter (meter-tools) reads
+# DejaVu Sans from the Debian package fonts-dejavu-core, its dependency; the view opens no font.
 #
 # cmake --install BUILD installs every component; DESTDIR=ROOT cmake --install BUILD into a root;
 # `cpack --config BUILD/CPackConfig.cmake` (or `ninja -C BUILD package`) writes the four .deb files.
@@ -133,7 +134,7 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # The libraries each program links, with their versions, from dpkg-shlibdeps; what is opened at run
-# time (the GL drivers, the font) is stated below.
+# time (the GL drivers; the converter's font) is stated below.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_COMPRESSION_TYPE gzip)
 
@@ -142,7 +143,7 @@ set(CPACK_DEBIAN_CONTROLLER_PACKAGE_RECOMMENDS systemd)
 set(CPACK_COMPONENT_CONTROLLER_DESCRIPTION
     "instrument cluster's vehicle-control process\nmeter-controller reads CAN (SocketCAN, candump logs) or Modbus, decodes it\nwith a DBC, conditions the signals and publishes the cluster state to\nmeter-view; with its systemd unit (watchdog, sandbox), user, configuration\nin /etc/meter and the demo vehicle and drive log.")
 set(CPACK_DEBIAN_VIEW_PACKAGE_NAME meter-view)
-set(CPACK_DEBIAN_VIEW_PACKAGE_DEPENDS "fonts-dejavu-core, libegl-mesa0, libgl1-mesa-dri")
+set(CPACK_DEBIAN_VIEW_PACKAGE_DEPENDS "libegl-mesa0, libgl1-mesa-dri")
 set(CPACK_DEBIAN_VIEW_PACKAGE_RECOMMENDS "systemd, meter-controller (= ${PROJECT_VERSION})")
 set(CPACK_COMPONENT_VIEW_DESCRIPTION
     "instrument cluster's graphics process\nmeter-view renders the cluster scene offscreen (EGL or OSMesa) from the\nstate the controller publishes, checks its safety regions and dumps frames;\nwith its systemd unit (watchdog, sandbox), user, configuration in\n/etc/meter and the converted cluster scene.")

@@ -23,7 +23,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -105,7 +107,9 @@ void run_backend(mp::BackendKind kind, int frames) {
                                          .sample_format = mp::SampleFormat::Rgba16f});
   FlatPass flat(gl);
   const auto t_text = Clock::now();
-  mp::TextRenderer text(*backend, METER_FONT_FILE, 48);
+  std::ifstream font_in(METER_FONT_FILE, std::ios::binary);
+  const std::vector<std::uint8_t> font((std::istreambuf_iterator<char>(font_in)), std::istreambuf_iterator<char>());
+  mp::TextRenderer text(*backend, mp::FontData{"DejaVuSans.ttf", font}, 48);
   const double text_init_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_text).count();
   std::printf("text atlas (DejaVu Sans 48 px) + program: %.1f ms\n", text_init_ms);
 

@@ -30,6 +30,7 @@
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/convert/converter.hpp"
 #include "meter/convert/package_writer.hpp"
+#include "meter/convert/scene_font.hpp"
 #include "meter/engine/renderer.hpp"
 #include "meter/platform/backend.hpp"
 #include "meter/platform/render_target.hpp"
@@ -174,7 +175,8 @@ void layer_memory(platform::GpuBackend& backend, const engine::Scene& cluster) {
 std::vector<double> fill_floor(platform::GpuBackend& backend) {
   std::vector<double> fill;
   platform::RenderTarget t(backend, {.width = 1280, .height = 480, .samples = 4});
-  platform::TextRenderer text(backend, METER_FONT_FILE, 24);
+  const bridge::SceneFont font = convert::read_font_file(METER_FONT_FILE);
+  platform::TextRenderer text(backend, platform::FontData{font.name, font.data}, 24);
   for (int i = 0; i < 200; ++i) {
     const auto t0 = Clock::now();
     t.bind();

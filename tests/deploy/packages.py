@@ -4,13 +4,15 @@ checked, unpacked into a fresh root and run from there alone.
 
   1. cpack writes meter-controller, meter-view, meter-tools and meter-dev; lintian finds no error.
   2. Each package's Depends is satisfied on this machine (what dpkg -i would check); each is unpacked
-     (dpkg -x) into a root under a temporary folder, outside the source and build trees.
+     (dpkg -x) into a root under a temporary folder, outside the source and build trees. The font
+     travels in the scene package: meter-tools (which converts) depends on fonts-dejavu-core, meter-view
+     does not.
   3. The packages' users made in the root by systemd-sysusers; the units in the root pass
      systemd-analyze verify (their programs are the root's).
   4. The demo's path from the root only, as the units run it: the controller replays the bundled
      drive log with the shipped vehicle files and configuration, the view draws the shipped scene
      from its link and dumps frames. Both run under strace: no path into the source or build tree is
-     opened, stat'ed or executed.
+     opened, stat'ed or executed, and the view opens no font file (its texts' font is the package's).
   5. The development kit: a program built with pkg-config's flags for meter-protocol, and a CMake
      project's find_package(meter), against the root, link the protocol library and run.
 """
@@ -67,16 +69,19 @@ def satisfied(relation):
     m = re.fullmatch(r"\s*([a-z0-9.+-]+)(?::any)?\s*(?:\((<<|<=|=|>=|>>)\s*([^)]+)\))?\s*", relation)
     if not m:
         fail(f"cannot read the relation '{relation}'")
-    # One line per installed architecture of the package (a foreign architecture adds libc6:arm64 ...).
-    q = subprocess.run(["dpkg-query", "-W", "-f", "${Status}\t${Version}\n", m.group(1)], capture_output=True, text=True)
-    versions = [line.split("\t")[1] for line in q.stdout.splitlines() if line.startswith("install ok installed\t")]
+    # One line per installed architecture (a foreign one, arm64 for the cross build, lists libc6
+    # twice): the package of this machine's architecture, or of all, is the one dpkg -i checks.
+    q = subprocess.run(["dpkg-query", "-W", "-f", "${Status}\t${Version}\t${Architecture}\n", m.group(1)],
+                       capture_output=True, text=True)
+    native = subprocess.run(["dpkg", "--print-architecture"], capture_output=True, text=True).stdout.strip()
+    versions = [f[1] for f in (line.split("\t") for line in q.stdout.splitlines())
+                if f[0] == "install ok installed" and f[2] in (native, "all")]
     if q.returncode != 0 or not versions:
         return False
     if not m.group(2):
         return True
     ops = {"<<": "lt", "<=": "le", "=": "eq", ">=": "ge", ">>": "gt"}
-    return any(subprocess.run(["dpkg", "--compare-versions", v, ops[m.group(2)], m.group(3)]).returncode == 0
-               for v in versions)
+    return subprocess.run(["dpkg", "--compare-versions", versions[0], ops[m.group(2)], m.group(3)]).returncode == 0
 
 
 def check_depends_and_unpack(debs, root):
@@ -88,6 +93,10 @@ def check_depends_and_unpack(debs, root):
             if not any(satisfied(alt) for alt in clause.split("|")):
                 fail(f"meter-{role}: Depends '{clause}' is not satisfied here: dpkg -i would refuse it")
         print(f"meter-{role}: Depends: {depends or '(none)'}")
+        names = {re.split(r"[\s(:]", alt.strip())[0] for alt in re.split(r"[,|]", depends)}
+        if ("fonts-dejavu-core" in names) != (role == "tools"):
+            fail(f"meter-{role}: Depends {'lacks' if role == 'tools' else 'names'} fonts-dejavu-core (the converter "
+                 "embeds the font in the scene package; the view reads it from there)")
         if subprocess.run(["dpkg", "-x", deb, root]).returncode != 0:
             fail(f"dpkg -x {deb} failed")
 
@@ -181,6 +190,12 @@ def run_demo(root, tmp):
                 if tree in line:
                     fail(f"the installed {name} reached into {tree}:\n{line}")
         print(f"{name}: {len(text.splitlines())} file-system calls traced, none into the source or build tree")
+    # The texts are drawn (the speed readout, live) from the font in the scene package.
+    fonts = [line for line in open(tmp + "/view.strace").read().splitlines()
+             if re.search(r"\.(ttf|otf|pfb|pfa|woff2?)\b|/fonts/|fontconfig", line, re.I)]
+    if fonts:
+        fail("the installed view looked for a font file:\n" + "\n".join(fonts[:5]))
+    print("view: no font file opened (the scene package carries it)")
 
 
 def check_dev_kit(root, tmp):

@@ -1,5 +1,6 @@
 // Names and number formats of the scene config vocabulary, shared by the converter (which
-// validates formats) and the runtime (which formats the numbers a text binding shows).
+// validates formats) and the runtime (which formats the numbers a text binding shows), and whether
+// a config draws text (which needs the package's font).
 #include "meter/bridge/scene_config.hpp"
 
 #include <algorithm>
@@ -19,6 +20,16 @@ const char* to_string(BindingKind kind) {
     case BindingKind::Text: return "text";
   }
   return "?";
+}
+
+bool config_draws_text(const SceneConfig& config) {
+  const bool binding = std::any_of(config.bindings.begin(), config.bindings.end(),
+                                   [](const Binding& b) { return b.kind == BindingKind::Text; });
+  const bool script = std::any_of(config.scripts.begin(), config.scripts.end(), [](const Script& s) {
+    return std::any_of(s.outputs.begin(), s.outputs.end(),
+                       [](const ScriptOutput& o) { return o.kind == ScriptOutputKind::Text; });
+  });
+  return binding || script || !config.link_loss.text_node.empty();
 }
 
 bool valid_number_format(std::string_view f, std::string* why) {

@@ -261,7 +261,7 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   check_keys(c, j, "$",
              {"format", "size", "camera", "clear_color", "time", "ambient", "exposure", "bindings",
               "link_loss", "groups", "materials", "scripts", "comment", "pages", "theme", "units", "sweep", "resolve",
-              "sample_shading"});
+              "sample_shading", "font"});
   SceneConfig out;
   out.source_json = std::string(text);
   out.origin = origin;
@@ -288,6 +288,11 @@ SceneConfig parse_scene_config(std::string_view text, const protocol::Catalog& c
   if (j.contains("resolve")) out.resolve = parse_resolve(c, j["resolve"]);
   if (j.contains("sample_shading")) out.sample_shading = parse_sample_shading(c, j["sample_shading"]);
   if (j.contains("link_loss")) parse_link_loss(c, j["link_loss"], out.link_loss);
+  // The texts' font file: the converter embeds it in the package, the view never opens it.
+  if (j.contains("font")) {
+    out.font = string(c, j["font"], "$.font");
+    if (out.font.empty()) c.fail("$.font", "expected a font file name (TrueType or OpenType), relative to the config file");
+  }
   if (j.contains("groups")) out.groups = parse_groups(c, j["groups"]);
   if (j.contains("materials")) out.materials = parse_materials(c, j["materials"]);
   out.features = parse_scene_features(c, j);

@@ -8,6 +8,7 @@
 
 #include "convert_context.hpp"
 #include "meter/convert/flat_geometry.hpp"
+#include "meter/convert/scene_font.hpp"
 
 namespace meter::convert {
 
@@ -46,6 +47,8 @@ Scene build_scene(ConvertContext& ctx) {
   convert_nodes(ctx, s);
   convert_animations(ctx, s);
   resolve_config(s, ctx.cfg, ctx.file);
+  // The texts' font travels in the package: a missing one is a conversion error, not the view's.
+  s.font = load_scene_font(ctx.cfg);
   // Groups are checked before programs exist: members need the vertex_alpha variant.
   ctx.plan = plan_groups(s, ctx.cfg.groups, ctx.opt.propose_groups, ctx.file, ctx.opt.merge_costs ? &*ctx.opt.merge_costs : nullptr);
   for (const auto& g : ctx.plan.groups) {

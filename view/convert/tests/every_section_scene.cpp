@@ -1,6 +1,7 @@
 // The every-section scene (every_section_scene.hpp).
 #include "every_section_scene.hpp"
 
+#include "meter/convert/scene_font.hpp"
 #include "test_scenes.hpp"
 
 namespace meter::convert::test {
@@ -91,6 +92,7 @@ Scene every_section() {
   s.environment.strength = 0.5f;
   s.environment.irradiance[2] = {0.1f, 0.2f, 0.3f};
   s.config.source_json = R"({"format": "meter-scene-config/1"})";
+  s.font = read_font_file(METER_FONT_FILE);  // the reader checks that FreeType opens it
   return s;
 }
 

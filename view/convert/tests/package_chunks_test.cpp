@@ -88,7 +88,7 @@ TEST(PackageChunks, TheWriterWritesOneChunkPerSection) {
   std::vector<std::string> tags;
   for (const auto& c : chunks_of(written())) tags.push_back(c.tag);
   EXPECT_EQ(tags, (std::vector<std::string>{"SRCN", "NODE", "ROOT", "MESH", "MATL", "TEXR", "CAMR", "LGHT", "SKIN", "ANIM",
-                                            "PROG", "DRAW", "GRUP", "ENVR", "CONF", "INTG", "LEVL"}));
+                                            "PROG", "DRAW", "GRUP", "ENVR", "CONF", "INTG", "LEVL", "FONT"}));
   EXPECT_EQ(package_of(chunks_of(written())), written());
 }
 
@@ -119,11 +119,28 @@ TEST(PackageChunks, AMissingRequiredChunkIsNamed) {
   EXPECT_EQ(load_error(package_of(without_groups)), "");
 }
 
+TEST(PackageChunks, APackageWithTextsButNoFontChunkIsRefusedNamingThePackage) {
+  // Texts are drawn from the package's font only: without its FONT chunk (a package written
+  // before the font travelled with the scene) the load fails, naming the package and the chunk.
+  Scene s = meter::convert::test::every_section();
+  s.config.source_json = R"({"format": "meter-scene-config/1", "link_loss": {"text_node": "Quad"}})";
+  auto chunks = chunks_of(serialize_scene(s));
+  EXPECT_EQ(load_error(package_of(chunks)), "");
+  std::erase_if(chunks, [](const RawChunk& c) { return c.tag == "FONT"; });
+  const std::string e = load_error(package_of(chunks));
+  EXPECT_NE(e.find("p.msp: the scene draws text but the package has no chunk FONT (font)"), std::string::npos) << e;
+  EXPECT_NE(e.find("reconvert it with this build's converter"), std::string::npos) << e;
+  // A scene without text needs no font: its package loads without the chunk.
+  auto plain = chunks_of(written());
+  std::erase_if(plain, [](const RawChunk& c) { return c.tag == "FONT"; });
+  EXPECT_EQ(load_error(package_of(plain)), "");
+}
+
 TEST(PackageChunks, ALengthPastTheEndNamesTheChunkAndOffset) {
   const auto chunks = chunks_of(written());
   const std::string e = load_error(package_of(chunks, kPackageVersion, 1));
   EXPECT_NE(e.find("corrupt package at byte "), std::string::npos) << e;
-  EXPECT_NE(e.find("chunk 'LEVL' says "), std::string::npos) << e;
+  EXPECT_NE(e.find("chunk 'FONT' says "), std::string::npos) << e;  // the last chunk
   EXPECT_NE(e.find(" follow it"), std::string::npos) << e;
   auto twice = chunks;
   twice.push_back(chunks[2]);

@@ -3,6 +3,7 @@
 // and read back dumps exactly as the scene itself.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "every_section_scene.hpp"
@@ -45,6 +46,9 @@ TEST(PackageDump, PrintsEveryFieldExactly) {
   }
   // Texts with quotes or longer than a line, and arrays over 16 values: size and FNV-1a 64.
   EXPECT_NE(d.find("environment.probe.rgb = 1152 values, fnv1a64 "), std::string::npos) << d;
+  EXPECT_TRUE(has_line(d, "font.name = \"DejaVuSans.ttf\"")) << d;
+  const std::string font_size = std::to_string(std::filesystem::file_size(METER_FONT_FILE));
+  EXPECT_NE(d.find("font.data = " + font_size + " values, fnv1a64 "), std::string::npos) << d;
 }
 
 TEST(PackageDump, LongTextsAndQuotesAreHashed) {

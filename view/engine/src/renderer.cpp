@@ -37,7 +37,7 @@ Renderer::Renderer(platform::GpuBackend& backend, const Scene& scene, const Rend
     if (!maps->empty()) shadows_ = std::move(maps);
     submission_->use_shadow_maps(shadows_.get());
   }
-  text_ = std::make_unique<TextDrawing>(backend, options_.font_file, scene.config.size[1], draw_height_);
+  text_ = std::make_unique<TextDrawing>(backend, scene, scene.config.size[1], draw_height_);
   text_height_ = draw_height_;
   classes_ = classify_draws(scene, options_.concatenate, evaluator_.camera_node());
   units_ = make_draw_units(scene, classes_, options_.uber_shader == nullptr);

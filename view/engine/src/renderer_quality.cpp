@@ -129,7 +129,7 @@ FramePlan Renderer::plan_at_quality(bool force, bool read_back, FrameState& now)
         text_ = std::move(it->second);
         text_by_height_.erase(it);
       } else {
-        text_ = std::make_unique<TextDrawing>(backend_, options_.font_file, scene_.config.size[1], draw_height_);
+        text_ = std::make_unique<TextDrawing>(backend_, scene_, scene_.config.size[1], draw_height_);
       }
       text_height_ = draw_height_;
     }

@@ -97,6 +97,30 @@ TEST_P(RenderTest, Speed0RestsLeftAndMatchesGolden) {
   compare_golden(img, "dial_speed0");
 }
 
+// The texts drawn from the font in the package (its FONT chunk, read by FreeType from memory) are
+// today's pixels bit for bit: golden/dial_text_*_exact.png were written by meter-view before the
+// font travelled with the scene, when it read DejaVuSans.ttf from its file (the dial converted by
+// that meter-convert; `meter-view --set Vehicle.Speed=130 --set Cluster.Telltale.ABS=1 --set
+// Vehicle.Powertrain.FuelSystem.RelativeLevel=50` and `--link-lost`; EGL and OSMesa wrote the same).
+namespace {
+// Each the first frame of its renderer, as meter-view's one offline frame is.
+void expect_equal_to_golden(const platform::Image& img, const std::string& name) {
+  const fs::path golden = fs::path(METER_SOURCE_DIR) / "view/engine/tests/golden" / (name + ".png");
+  EXPECT_TRUE(std::isinf(platform::psnr(platform::read_png(golden), img))) << name << ": not the image drawn from the font file";
+}
+}  // namespace
+
+TEST_P(RenderTest, ASpeedTextFromThePackageFontEqualsTheImageDrawnFromTheFontFile) {
+  ASSERT_FALSE(dial().font.data.empty());
+  expect_equal_to_golden(render(valid({{1, 130.0}, {27, 1.0}, {3, 50.0}})), "dial_text_speed130_exact");  // "130"
+}
+
+TEST_P(RenderTest, TheLinkLossTextsFromThePackageFontEqualTheImageDrawnFromTheFontFile) {
+  State lost = valid({{1, 200.0}});
+  lost.link_up = false;
+  expect_equal_to_golden(render(lost), "dial_text_link_lost_exact");  // "---" and "NO SIGNAL"
+}
+
 TEST_P(RenderTest, LinkLossShowsFailsafeLook) {
   State s = valid({{1, 200.0}});
   s.link_up = false;

@@ -112,28 +112,37 @@ Bitmap render_glyph(FT_Face face, FT_UInt index, const std::string& font, char32
   return out;
 }
 
+// The face of an in-memory font file at one pixel size; `font.bytes` must outlive it.
+void open_face(FtLibrary& ft, const FontData& font, int pixel_size) {
+  const std::string& name = font.name;
+  if (font.bytes.empty()) throw TextError("font '" + name + "': no font data (an empty font file)");
+  if (FT_Init_FreeType(&ft.lib) != 0) throw TextError("FreeType initialisation failed");
+  if (FT_New_Memory_Face(ft.lib, font.bytes.data(), static_cast<FT_Long>(font.bytes.size()), 0, &ft.face) != 0) {
+    throw TextError("font '" + name + "': FreeType cannot open it as a font face (not a TTF/OTF?)");
+  }
+  if (FT_Set_Pixel_Sizes(ft.face, 0, static_cast<FT_UInt>(pixel_size)) != 0) {
+    throw TextError("font '" + name + "': cannot set pixel size " + std::to_string(pixel_size));
+  }
+}
+
 }  // namespace
 
-GlyphAtlas::GlyphAtlas(const GpuBackend& backend, const std::filesystem::path& font_file, int pixel_size)
+void check_font(const FontData& font) {
+  FtLibrary ft;
+  open_face(ft, font, 24);
+  if (!FT_IS_SCALABLE(ft.face)) throw TextError("font '" + font.name + "': not a scalable (outline) font");
+  if (FT_Get_Char_Index(ft.face, U'0') == 0) throw TextError("font '" + font.name + "': has no glyph for the digit 0");
+}
+
+GlyphAtlas::GlyphAtlas(const GpuBackend& backend, const FontData& font_data, int pixel_size)
     : gl_(&backend.gl()), pixel_size_(pixel_size) {
-  const std::string font = font_file.string();
+  const std::string& font = font_data.name;
   if (pixel_size < 4 || pixel_size > 256) {
     throw TextError("font '" + font + "': pixel size " + std::to_string(pixel_size) +
                     " outside 4..256");
   }
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(font_file, ec)) {
-    throw TextError("font '" + font + "': file does not exist (DejaVu Sans comes from the Debian "
-                    "package fonts-dejavu-core)");
-  }
   FtLibrary ft;
-  if (FT_Init_FreeType(&ft.lib) != 0) throw TextError("FreeType initialisation failed");
-  if (FT_New_Face(ft.lib, font.c_str(), 0, &ft.face) != 0) {
-    throw TextError("font '" + font + "': FreeType cannot open it as a font face (not a TTF/OTF?)");
-  }
-  if (FT_Set_Pixel_Sizes(ft.face, 0, static_cast<FT_UInt>(pixel_size)) != 0) {
-    throw TextError("font '" + font + "': cannot set pixel size " + std::to_string(pixel_size));
-  }
+  open_face(ft, font_data, pixel_size);
   ascender_ = static_cast<int>((ft.face->size->metrics.ascender + 32) >> 6);
   descender_ = static_cast<int>((-ft.face->size->metrics.descender + 32) >> 6);
   line_height_ = static_cast<int>((ft.face->size->metrics.height + 32) >> 6);
@@ -245,8 +254,8 @@ void main() {
 
 }  // namespace
 
-TextRenderer::TextRenderer(const GpuBackend& backend, const std::filesystem::path& font_file, int pixel_size)
-    : gl_(&backend.gl()), atlas_(std::make_unique<GlyphAtlas>(backend, font_file, pixel_size)) {
+TextRenderer::TextRenderer(const GpuBackend& backend, const FontData& font, int pixel_size)
+    : gl_(&backend.gl()), atlas_(std::make_unique<GlyphAtlas>(backend, font, pixel_size)) {
   const Gl& gl = *gl_;
   program_ = compile_program(gl, kVertexShader, kFragmentShader, "TextRenderer");
   u_viewport_ = gl.GetUniformLocation(program_, "u_viewport");

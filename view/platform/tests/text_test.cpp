@@ -1,13 +1,13 @@
 // FreeType text: UTF-8 decoding, colours, font errors, and on both backends: glyph pixels equal
 // FreeType's own bitmap (1:1, crisp), all ink inside the measured box, alignment, filled rects.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
 
-#include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <vector>
 
 #include "gl_test_util.hpp"
 #include "meter/platform/render_target.hpp"
@@ -53,6 +53,17 @@ TEST(Color, ParsesHex) {
   EXPECT_THROW(mp::Color::from_hex("#GG8000"), mp::TextError);
 }
 
+// DejaVu Sans (fonts-dejavu-core, found by the build) read once into memory, as the scene package
+// carries it.
+const mp::FontData& dejavu() {
+  static const std::vector<std::uint8_t> bytes = [] {
+    std::ifstream in(METER_FONT_FILE, std::ios::binary);
+    return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }();
+  static const mp::FontData font{"DejaVuSans.ttf", bytes};
+  return font;
+}
+
 class TextTest : public ::testing::TestWithParam<BackendKind> {
  protected:
   void SetUp() override { backend_ = mp::create_backend(GetParam()); }
@@ -62,33 +73,31 @@ class TextTest : public ::testing::TestWithParam<BackendKind> {
 INSTANTIATE_TEST_SUITE_P(Both, TextTest, ::testing::Values(BackendKind::Egl, BackendKind::OSMesa),
                          mp::test::backend_param_name);
 
-TEST_P(TextTest, FontErrorsNameTheFile) {
+TEST_P(TextTest, FontErrorsNameTheFont) {
+  // The font comes from memory (the scene package): empty bytes and bytes that are no font are
+  // refused naming it, as is a size outside 4..256.
   try {
-    mp::TextRenderer r(*backend_, "/nonexistent/Font.ttf", 20);
+    mp::TextRenderer r(*backend_, mp::FontData{"Empty.ttf", {}}, 20);
     FAIL() << "expected TextError";
   } catch (const mp::TextError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/Font.ttf"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("fonts-dejavu-core"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Empty.ttf"), std::string::npos) << e.what();
   }
-  // One file per test process: the egl and osmesa instances run at once under ctest -j, and
-  // rewriting a file the other process's FreeType has mapped ends that process with SIGBUS.
-  const auto not_font = std::filesystem::path(METER_BINARY_DIR) / "test-tmp" /
-                        ("platform-" + std::to_string(::getpid())) / "not-a-font.ttf";
-  std::filesystem::create_directories(not_font.parent_path());
-  std::ofstream(not_font) << "definitely not a TrueType font";
+  const std::string junk = "definitely not a TrueType font";
+  const mp::FontData not_font{"not-a-font.ttf", {reinterpret_cast<const std::uint8_t*>(junk.data()), junk.size()}};
   try {
     mp::TextRenderer r(*backend_, not_font, 20);
     FAIL() << "expected TextError";
   } catch (const mp::TextError& e) {
     EXPECT_NE(std::string(e.what()).find("not-a-font.ttf"), std::string::npos) << e.what();
   }
-  std::filesystem::remove_all(not_font.parent_path());
-  EXPECT_THROW(mp::TextRenderer(*backend_, METER_FONT_FILE, 2), mp::TextError);
+  EXPECT_THROW(mp::check_font(not_font), mp::TextError);
+  EXPECT_NO_THROW(mp::check_font(dejavu()));
+  EXPECT_THROW(mp::TextRenderer(*backend_, dejavu(), 2), mp::TextError);
 }
 
 TEST_P(TextTest, GlyphPixelsEqualFreeTypeBitmapOneToOne) {
   constexpr int kSize = 32;
-  mp::TextRenderer text(*backend_, METER_FONT_FILE, kSize);
+  mp::TextRenderer text(*backend_, dejavu(), kSize);
   // Non-sRGB target: white over black then stores coverage itself, so the comparison is exact.
   mp::RenderTarget target(*backend_, {.width = 64, .height = 48, .samples = 1, .srgb = false});
   backend_->gl().ClearColor(0, 0, 0, 1);
@@ -122,7 +131,7 @@ TEST_P(TextTest, GlyphPixelsEqualFreeTypeBitmapOneToOne) {
 }
 
 TEST_P(TextTest, InkStaysInsideTheMeasuredBox) {
-  mp::TextRenderer text(*backend_, METER_FONT_FILE, 28);
+  mp::TextRenderer text(*backend_, dejavu(), 28);
   const int w = 400, h = 160;
   struct Case {
     const char* s;
@@ -162,7 +171,7 @@ TEST_P(TextTest, InkStaysInsideTheMeasuredBox) {
 }
 
 TEST_P(TextTest, AlignmentShiftsByTheAdvance) {
-  mp::TextRenderer text(*backend_, METER_FONT_FILE, 24);
+  mp::TextRenderer text(*backend_, dejavu(), 24);
   const int adv = text.advance("88.8");
   EXPECT_GT(adv, 30);
   const mp::Rect left = text.measure("88.8", 100, 50, mp::Align::Left);
@@ -174,14 +183,14 @@ TEST_P(TextTest, AlignmentShiftsByTheAdvance) {
 }
 
 TEST_P(TextTest, MissingCodePointsDrawTheMissingGlyphBox) {
-  mp::TextRenderer text(*backend_, METER_FONT_FILE, 20);
+  mp::TextRenderer text(*backend_, dejavu(), 20);
   EXPECT_FALSE(text.atlas().has_glyph(U'\U0001F697'));
   EXPECT_FALSE(text.measure("\xF0\x9F\x9A\x97").empty());  // .notdef box has ink
   EXPECT_TRUE(text.atlas().has_glyph(U'\u00B0'));
 }
 
 TEST_P(TextTest, FillRectCoversExactlyTheRect) {
-  mp::TextRenderer text(*backend_, METER_FONT_FILE, 16);
+  mp::TextRenderer text(*backend_, dejavu(), 16);
   mp::RenderTarget target(*backend_, {.width = 48, .height = 24, .samples = 4});
   backend_->gl().ClearColor(0, 0, 0, 1);
   backend_->gl().Clear(GL_COLOR_BUFFER_BIT);

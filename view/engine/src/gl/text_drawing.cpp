@@ -3,10 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#ifndef METER_FONT_FILE
-#define METER_FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
-#endif
-
 namespace meter::engine {
 
 namespace {
@@ -15,8 +11,8 @@ platform::Align to_platform(TextAlign a) {
 }
 }  // namespace
 
-TextDrawing::TextDrawing(platform::GpuBackend& backend, std::string font_file, int design_height, int target_height)
-    : backend_(backend), font_file_(font_file.empty() ? std::string(METER_FONT_FILE) : std::move(font_file)),
+TextDrawing::TextDrawing(platform::GpuBackend& backend, const Scene& scene, int design_height, int target_height)
+    : backend_(backend), scene_(scene),
       design_height_(design_height > 0 ? design_height : target_height), target_height_(target_height) {}
 
 platform::TextRenderer& TextDrawing::renderer(int size_px) {
@@ -26,7 +22,15 @@ platform::TextRenderer& TextDrawing::renderer(int size_px) {
   const double scaled = double(size_px) * double(target_height_) / double(design_height_);
   const int size = std::clamp(static_cast<int>(std::lround(scaled)), 4, 256);
   auto it = sizes_.find(size);
-  if (it == sizes_.end()) it = sizes_.emplace(size, std::make_unique<platform::TextRenderer>(backend_, font_file_, size)).first;
+  if (it == sizes_.end()) {
+    // The package's font only (its FONT chunk): the view opens no font file.
+    const SceneFont& font = scene_.font;
+    if (!font.present())
+      throw platform::TextError("scene '" + scene_.source_name + "' draws text but carries no font (the package's FONT "
+                                "chunk, embedded by meter-convert)");
+    const platform::FontData data{font.name + " (embedded in the scene package)", font.data};
+    it = sizes_.emplace(size, std::make_unique<platform::TextRenderer>(backend_, data, size)).first;
+  }
   return *it->second;
 }
 

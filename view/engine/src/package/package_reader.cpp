@@ -9,6 +9,7 @@
 #include <map>
 
 #include "meter/bridge/package_schema.hpp"
+#include "meter/platform/text.hpp"
 #include "record_decoder.hpp"
 #include "scene_references.hpp"
 #include "meter/protocol/log/logger.hpp"
@@ -133,6 +134,18 @@ Scene deserialize_scene(std::span<const std::uint8_t> bytes, const std::string& 
   }
   check_references(s, origin);
   load_config(s, origin);
+  // The texts are drawn from the package's font only: a package written before the font travelled
+  // with the scene (or with its FONT chunk removed) is refused here, not at the first text drawn.
+  if (!s.font.present() && bridge::config_draws_text(s.config))
+    throw SceneError(origin + ": the scene draws text but the package has no chunk FONT (font), the font its texts are "
+                     "drawn with; " + reconvert(s.source_name.empty() ? "SCENE.glb" : s.source_name, origin));
+  if (s.font.present()) {
+    try {
+      platform::check_font({s.font.name, s.font.data});
+    } catch (const platform::TextError& e) {
+      throw SceneError(origin + ": chunk FONT (font): " + e.what());
+    }
+  }
   return s;
 }
 

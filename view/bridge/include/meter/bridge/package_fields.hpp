@@ -95,6 +95,10 @@ METER_PACKAGE_RECORD(SafetyRegion, name, kind, signal, bindings, node, materials
 
 METER_PACKAGE_RECORD(IntegrityTable, width, height, regions)
 
+// --- text -----------------------------------------------------------------------------------------
+
+METER_PACKAGE_RECORD(SceneFont, name, data)
+
 // --- the scene: its stored members, each a section of the package ---------------------------------
 
 // One top-level section: its four-character chunk tag, its name, and whether a package must have it.
@@ -124,6 +128,7 @@ void fields(S& s, V&& v) {
   v(SceneSection{"CONF", "config", true}, s.config.source_json);
   v(SceneSection{"INTG", "integrity", false}, s.integrity);
   v(SceneSection{"LEVL", "draw_levels", false}, s.draw_levels);
+  v(SceneSection{"FONT", "font", false}, s.font);
 }
 
 inline const char* field_name(const SceneSection& s) { return s.name; }

@@ -222,6 +222,15 @@ struct Environment {
   bool present() const { return probe.levels > 0; }
 };
 
+// The font the scene's texts are drawn with, carried in the package (chunk FONT) so that the view
+// opens no font file: the TrueType / OpenType file the converter found (the config's "font", else
+// DejaVu Sans), byte for byte, read by FreeType from memory. Empty for a scene that draws no text.
+struct SceneFont {
+  std::string name;                // the file's name, for messages ("DejaVuSans.ttf")
+  std::vector<std::uint8_t> data;  // the whole font file
+  bool present() const { return !data.empty(); }
+};
+
 struct Scene {
   std::vector<Node> nodes;
   std::vector<int> roots;
@@ -241,6 +250,7 @@ struct Scene {
   Environment environment;       // from the glTF scene extras; absent for most scenes
   IntegrityTable integrity;      // safety regions measured by the converter (integrity.hpp); empty without telltale / needle / readout bindings
   std::vector<DrawLevels> draw_levels;  // per draw, or empty: every draw at level 0 (draw_levels.hpp)
+  SceneFont font;                // the texts' font (config_draws_text), embedded by the converter
 
   int find_node(std::string_view name) const;       // -1 when absent
   int find_material(std::string_view name) const;

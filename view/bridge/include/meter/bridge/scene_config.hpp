@@ -126,11 +126,18 @@ struct SceneConfig {
   SceneFeaturesConfig features;  // pages, theme, units, sweep (scene_features.hpp)
   ResolveConfig resolve = {};    // "resolve"
   SampleShading sample_shading;  // "sample_shading"
+  // "font": the TrueType / OpenType file the texts are drawn with, relative to the config file;
+  // empty: DejaVu Sans (fonts-dejavu-core). The converter embeds it in the package (SceneFont).
+  std::string font;
   std::string source_json;  // the original text, stored in the package
   std::string origin;       // the file (or name) it was parsed from, for later messages
 };
 
 const char* to_string(BindingKind kind);
+
+// Whether the scene draws any text: a text binding, a script's text output or the link-loss text.
+// Such a scene needs its font in the package (Scene::font).
+bool config_draws_text(const SceneConfig& config);
 
 // Checks a printf format for exactly one floating conversion (%f %e %g %F %E %G, with flags,
 // width, precision) and only %% otherwise, so formatting a double can never be UB.

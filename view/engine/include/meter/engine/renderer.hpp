@@ -47,7 +47,6 @@ class ProgramBinaryCache;  // meter/engine/gl/program_binary_cache.hpp
 struct RendererOptions {
   int width = 0, height = 0;  // 0 = the scene config's size
   int msaa = 4;
-  std::string font_file;      // empty = METER_FONT_FILE
   // Draw the package's merged groups as one draw each (mesh concatenation). Off: every member is drawn on
   // its own, exactly as without groups (the reference for equivalence tests and benchmarks).
   bool concatenate = true;

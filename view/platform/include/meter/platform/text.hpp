@@ -1,14 +1,15 @@
 // FreeType text for the 2D overlay (digital speed, odometer, gear, temperature, "NO SIGNAL").
 //
-// A GlyphAtlas rasterises a TTF at one pixel size into a single-channel texture; TextRenderer draws
+// The font comes as bytes in memory (the scene package's FONT chunk; FreeType reads it with
+// FT_New_Memory_Face): the view opens no font file. A GlyphAtlas rasterises it at one pixel size into a single-channel texture; TextRenderer draws
 // UTF-8 strings as textured quads at integer pixel positions with 1:1 texel-to-pixel mapping and
 // nearest sampling, so glyphs are exactly as crisp as FreeType rendered them (no scaling).
 // Coordinates are target pixels, origin top-left, y down (same as Image rows).
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -37,6 +38,17 @@ struct Color {
 
 enum class Align { Left, Center, Right };
 
+// A TrueType / OpenType font file's bytes, held by the caller while a GlyphAtlas or TextRenderer is
+// being built from them (not after), and a name for messages ("DejaVuSans.ttf in cluster.msp").
+struct FontData {
+  std::string name;
+  std::span<const std::uint8_t> bytes;
+};
+
+// Checks that FreeType opens the font as a scalable face with an outline for the digit zero;
+// throws TextError naming it otherwise. The converter runs it before embedding a font.
+void check_font(const FontData& font);
+
 // Pixel box, origin top-left; empty when width or height is 0.
 struct Rect {
   int x = 0, y = 0, width = 0, height = 0;
@@ -57,8 +69,8 @@ struct Glyph {
 // missing-glyph box, used for any other code point.
 class GlyphAtlas {
  public:
-  // Throws TextError naming the font file (missing, not a font) or the size (must be 4..256).
-  GlyphAtlas(const GpuBackend& backend, const std::filesystem::path& font_file, int pixel_size);
+  // Throws TextError naming the font (empty, not a font) or the size (must be 4..256).
+  GlyphAtlas(const GpuBackend& backend, const FontData& font, int pixel_size);
   ~GlyphAtlas();
   GlyphAtlas(const GlyphAtlas&) = delete;
   GlyphAtlas& operator=(const GlyphAtlas&) = delete;
@@ -90,7 +102,7 @@ std::u32string decode_utf8(std::string_view text);
 class TextRenderer {
  public:
   // Builds the atlas and the renderer's own small program (GLSL ES 3.00).
-  TextRenderer(const GpuBackend& backend, const std::filesystem::path& font_file, int pixel_size);
+  TextRenderer(const GpuBackend& backend, const FontData& font, int pixel_size);
   ~TextRenderer();
   TextRenderer(const TextRenderer&) = delete;
   TextRenderer& operator=(const TextRenderer&) = delete;
