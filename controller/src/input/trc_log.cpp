@@ -28,6 +28,7 @@ std::string_view trc_default_columns(int version) {
 
 class TrcReader {
  public:
+  explicit TrcReader(ParsedLog& window) : log(window) {}
   void line(std::string_view t) {
     ++log.lines;
     if (t.empty()) return;
@@ -35,7 +36,7 @@ class TrcReader {
     split_log_fields(t, f_);
     message();
   }
-  ParsedLog log;
+  ParsedLog& log;
 
  private:
   std::vector<std::string_view> f_;
@@ -144,7 +145,9 @@ class TrcReader {
 
 }  // namespace
 
-ParsedLog read_trc_log(std::istream& in) { return read_log_lines<TrcReader>(in, 60); }
+std::unique_ptr<LogSource> open_trc_log(std::istream& in) { return std::make_unique<TextLogSource<TrcReader>>(in); }
+
+ParsedLog read_trc_log(std::istream& in) { return read_whole_log(*open_trc_log(in)); }
 
 bool sniff_trc_log(std::string_view head) {
   if (head.find(";$FILEVERSION=") != std::string_view::npos) return true;
@@ -163,7 +166,7 @@ bool sniff_trc_log(std::string_view head) {
 
 const LogFormat& trc_log_format() {
   static constexpr std::string_view kExtensions[] = {".trc"};
-  static const LogFormat format{"trc", ";$FILEVERSION=1.1", kExtensions, sniff_trc_log, read_trc_log, nullptr};
+  static const LogFormat format{"trc", ";$FILEVERSION=1.1", kExtensions, sniff_trc_log, open_trc_log, nullptr};
   return format;
 }
 

@@ -1,6 +1,7 @@
 #include "command_output.hpp"
 
 #include <cstdio>
+#include <memory>
 
 namespace meter::controller {
 
@@ -20,17 +21,20 @@ std::string fmt_double(double v) {
   return buf;
 }
 
-void report_bad_lines(const ParsedLog& log, const std::string& path, std::ostream& err) {
-  if (log.bad_lines.empty()) return;
-  err << path << ": skipped " << log.bad_lines.size() << " bad line(s)\n";
-  std::size_t shown = 0;
-  for (const auto& b : log.bad_lines) {
-    if (++shown > 10) {
-      err << "  ... and " << log.bad_lines.size() - 10 << " more\n";
-      break;
-    }
-    err << "  " << path << ":" << b.line << ": " << b.why << "\n";
-  }
+void report_bad_lines(LogSource& log, const std::string& path, std::ostream& err) {
+  constexpr std::size_t kShown = 10;
+  auto shown = std::make_shared<std::size_t>(0);
+  auto report = [shown, path, &err](const BadLine& b) {
+    if (*shown == 0) err << path << ": bad line(s) skipped:\n";
+    if (*shown < kShown) err << "  " << path << ":" << b.line << ": " << b.why << "\n";
+    if (++*shown == kShown + 1) err << "  " << path << ": more bad lines: counted, not shown\n";
+  };
+  for (const BadLine& b : log.records().bad_lines) report(b);
+  log.on_bad_record(report);
+}
+
+void report_bad_line_count(const LogSource& log, const std::string& path, std::ostream& err) {
+  if (log.bad_records()) err << path << ": skipped " << log.bad_records() << " bad line(s)\n";
 }
 
 void report_dbc_warnings(const Database& db, std::ostream& err) {
