@@ -235,7 +235,7 @@ TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
   members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1});
   members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 3)), ReplayOptions{}), "b", 1});
   InputSet set(std::move(members));
-  EXPECT_EQ(set.describe().rfind("a: candump log (streamed: 0 frames replayed, 0 bad lines so far", 0), 0u) << set.describe();
+  EXPECT_EQ(set.describe().rfind("a: candump log (streamed, replay realtime) + b: candump log (streamed", 0), 0u) << set.describe();
   // Each poll's wall time and how many frames had arrived when it returned: the second input's
   // clock is read a moment after the first's, so its frames can be off by the time spent inside the
   // poll that started both replays and the poll that delivered them, and by nothing else, however

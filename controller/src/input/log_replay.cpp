@@ -114,8 +114,8 @@ BusHealth LogReplay::health() const {
 
 std::string LogReplay::describe() const {
   std::string mode = opt_.mode == ReplayMode::Fast ? "fast" : opt_.mode == ReplayMode::Realtime ? "realtime" : "scale:" + std::to_string(opt_.scale);
-  return std::string(log_->records().format) + " log (streamed: " + std::to_string(delivered_) + " frames replayed, " +
-         std::to_string(log_->bad_records()) + " bad lines so far, replay " + mode + ")";
+  // Streamed: how many frames the log holds is known only once it has been replayed.
+  return std::string(log_->records().format) + " log (streamed, replay " + mode + ")";
 }
 
 }  // namespace meter::controller
