@@ -3,6 +3,7 @@
 #include "meter/controller/input/trc_log.hpp"
 
 #include <algorithm>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,7 @@ std::string_view trc_default_columns(int version) {
 
 class TrcReader {
  public:
-  explicit TrcReader(ParsedLog& window) : log(window) {}
+  explicit TrcReader(ParsedLog& window) : log(window) { set_columns(trc_default_columns(10)); }
   void line(std::string_view t) {
     ++log.lines;
     if (t.empty()) return;
@@ -41,7 +42,17 @@ class TrcReader {
  private:
   std::vector<std::string_view> f_;
   int version_ = 10;
-  std::string columns_ = "NOILD";
+  std::string columns_;
+  std::array<int, 128> at_{};  // each column letter's field index (its first), -1: not a column of this file
+  bool has_dlc_ = true;                // an L column (else l, the data length)
+
+  void set_columns(std::string_view columns) {
+    columns_ = columns;
+    at_.fill(-1);
+    for (std::size_t i = columns_.size(); i-- > 0;)  // from the end: a letter given twice is its first
+      if (static_cast<unsigned char>(columns_[i]) < 128) at_[static_cast<unsigned char>(columns_[i])] = static_cast<int>(i);
+    has_dlc_ = at_['L'] >= 0;
+  }
 
   void bad(std::string why) { log.bad_lines.push_back({log.lines, std::move(why)}); }
 
@@ -53,7 +64,7 @@ class TrcReader {
       const auto* it = std::find_if(std::begin(kVersions), std::end(kVersions), [&](const auto& k) { return k.first == v; });
       if (it == std::end(kVersions)) return bad("file version: expected 1.0, 1.1, 1.2, 1.3, 2.0 or 2.1, got '" + std::string(v.substr(0, 12)) + "'");
       version_ = it->second;
-      columns_ = trc_default_columns(version_);
+      set_columns(trc_default_columns(version_));
     } else if (t.substr(0, kColumns.size()) == kColumns) {
       std::string cols;
       for (char c : t.substr(kColumns.size()))
@@ -61,14 +72,14 @@ class TrcReader {
       const auto has = [&](char c) { return cols.find(c) != std::string::npos; };
       if (cols.empty() || cols.find('D') != cols.size() - 1 || !has('O') || !has('I') || (!has('L') && !has('l')))
         return bad("columns: expected letters such as N,O,T,B,I,d,R,L,D with O, I and L (or l), and D last");
-      columns_ = cols;
+      set_columns(cols);
     }  // any other ';' line is a comment
   }
 
   std::optional<std::string_view> field(char column) const {
-    const std::size_t i = columns_.find(column);
-    if (i == std::string::npos || i >= f_.size()) return std::nullopt;
-    return f_[i];
+    const int i = at_[static_cast<unsigned char>(column) & 127];
+    if (i < 0 || static_cast<std::size_t>(i) >= f_.size()) return std::nullopt;
+    return f_[static_cast<std::size_t>(i)];
   }
 
   void message() {
@@ -117,7 +128,7 @@ class TrcReader {
   }
 
   void length(std::size_t fixed, CanFrame& fr) {
-    const bool has_dlc = columns_.find('L') != std::string::npos;
+    const bool has_dlc = has_dlc_;
     const auto n = parse_log_number(*field(has_dlc ? 'L' : 'l'), 10, has_dlc ? 15 : 64);
     if (!n) return bad(has_dlc ? "DLC: expected 0..15" : "data length: expected 0..64");
     std::uint32_t len = has_dlc ? (fr.fd ? can_fd_dlc_to_len(static_cast<std::uint8_t>(*n)) : std::min<std::uint32_t>(*n, 8)) : *n;
