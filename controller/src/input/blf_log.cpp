@@ -2,10 +2,11 @@
 // feed one stream of inner objects; an object may continue from one container into the next.
 #include "meter/controller/input/blf_log.hpp"
 
-#include <zlib.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "meter/controller/input/blf_log_writer.hpp"
@@ -38,7 +39,7 @@ std::string blf_type_name(std::uint32_t type) {
 
 class BlfReader : public LogSource {
  public:
-  explicit BlfReader(std::istream& in) : in_(in), log_(window()) {}
+  explicit BlfReader(std::istream& in) : in_(in), log_(window()), inflater_(libdeflate_alloc_decompressor()) {}
 
  private:
   std::istream& in_;
@@ -49,6 +50,13 @@ class BlfReader : public LogSource {
   std::string body_, inner_;  // a top-level object's bytes; the inner objects not yet read
   std::size_t pos_ = 0;       // in inner_
   bool started_ = false, ok_ = true;
+  // zlib containers are inflated by libdeflate: a container is inflated whole (its size is in its
+  // header), which libdeflate does several times faster than zlib's streaming inflate, Adler-32
+  // checked alike.
+  struct FreeInflater {
+    void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+  };
+  std::unique_ptr<libdeflate_decompressor, FreeInflater> inflater_;
 
   // One inner object, else the next top-level object (a container is inflated whole, its objects
   // then read one per call): the window holds one object's frame at most.
@@ -141,19 +149,13 @@ class BlfReader : public LogSource {
     }
     if (method != 2) return fail(where(at, kBlfLogContainer) + ": compression method " + std::to_string(method) + ", expected 0 (none) or 2 (zlib)"), false;
     inner_.resize(have + size);
-    z_stream z{};
-    if (inflateInit(&z) != Z_OK) return fail(where(at, kBlfLogContainer) + ": zlib cannot start"), false;
-    z.next_in = reinterpret_cast<Bytef*>(body_.data() + 16);
-    z.avail_in = static_cast<uInt>(body_.size() - 16);
-    z.next_out = reinterpret_cast<Bytef*>(inner_.data() + have);
-    z.avail_out = size;
-    const int r = inflate(&z, Z_FINISH);
-    const std::string msg = z.msg ? z.msg : "";
-    const std::size_t out = size - z.avail_out;
-    inflateEnd(&z);
+    if (!inflater_) return fail(where(at, kBlfLogContainer) + ": the zlib decompressor cannot start (out of memory)"), false;
+    std::size_t out = 0;
+    const libdeflate_result r = libdeflate_zlib_decompress(inflater_.get(), body_.data() + 16, body_.size() - 16, inner_.data() + have, size, &out);
+    if (r != LIBDEFLATE_SUCCESS) inner_.resize(have);
+    if (r == LIBDEFLATE_INSUFFICIENT_SPACE) return fail(where(at, kBlfLogContainer) + ": corrupt zlib data (holds more than " + std::to_string(size) + " bytes)"), false;
+    if (r != LIBDEFLATE_SUCCESS) return fail(where(at, kBlfLogContainer) + ": corrupt zlib data (a bad block, checksum or end)"), false;
     inner_.resize(have + out);
-    if (r != Z_STREAM_END)
-      return fail(where(at, kBlfLogContainer) + ": corrupt zlib data" + (msg.empty() ? std::string(" (ends early or holds more than ") + std::to_string(size) + " bytes)" : ": " + msg)), false;
     if (out != size) return fail(where(at, kBlfLogContainer) + ": inflates to " + std::to_string(out) + " bytes, its header says " + std::to_string(size)), false;
     return true;
   }
