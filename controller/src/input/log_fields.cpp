@@ -54,25 +54,29 @@ void split_log_fields(std::string_view line, std::vector<std::string_view>& out)
 }
 
 std::optional<std::int64_t> parse_log_time(std::string_view text, std::int64_t unit_ns) {
-  const std::size_t dot = text.find('.');
+  std::size_t dot = 0;  // the fields are short: a loop, not a call to memchr
+  while (dot < text.size() && text[dot] != '.') ++dot;
   const std::string_view whole = text.substr(0, dot);
-  const std::string_view fraction = dot == std::string_view::npos ? std::string_view() : text.substr(dot + 1);
-  if (whole.empty() || whole.size() > 12 || fraction.size() > 9 || (dot != std::string_view::npos && fraction.empty()))
+  const std::string_view fraction = dot == text.size() ? std::string_view() : text.substr(dot + 1);
+  if (whole.empty() || whole.size() > 12 || fraction.size() > 9 || (dot != text.size() && fraction.empty()))
     return std::nullopt;
   std::int64_t value = 0;
   for (char c : whole) {
     if (c < '0' || c > '9') return std::nullopt;
     value = value * 10 + (c - '0');
   }
-  // The fraction's digits as one number, scaled once: digits below a nanosecond add nothing (the
-  // units are powers of ten, so the one truncating division equals truncating each digit's share).
+  // The fraction's digits as one number, scaled once; digits below a nanosecond add nothing (the
+  // units are powers of ten, so one truncating division equals truncating each digit's share).
   static constexpr std::int64_t kPow10[] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000, 1000000000};
   std::int64_t digits = 0;
   for (char c : fraction) {
     if (c < '0' || c > '9') return std::nullopt;
     digits = digits * 10 + (c - '0');
   }
-  const std::int64_t part = digits * unit_ns / kPow10[fraction.size()];
+  std::size_t unit_digits = 0;  // unit_ns = 10^unit_digits
+  while (unit_digits < 9 && kPow10[unit_digits] < unit_ns) ++unit_digits;
+  const std::int64_t part = fraction.size() <= unit_digits ? digits * kPow10[unit_digits - fraction.size()]  // no division
+                                                           : digits * unit_ns / kPow10[fraction.size()];
   std::int64_t ns = 0;
   if (__builtin_mul_overflow(value, unit_ns, &ns) || ns > 9000000000LL * 1000000000LL) return std::nullopt;  // beyond the nanosecond clock
   return ns + part;

@@ -114,7 +114,7 @@ class TrcReader {
   // The type column: data, remote, CAN FD with its bits, error; false (and counted or reported)
   // for the rest.
   bool kind(std::string_view type, CanFrame& fr) {
-    if (type == "Rx" || type == "Tx" || type == "DT") return true;
+    if (type.size() == 2 && ((type[0] == 'D' && type[1] == 'T') || (type[1] == 'x' && (type[0] == 'R' || type[0] == 'T')))) return true;
     if (type == "RR") return fr.rtr = true;
     if (type == "FD" || type == "FB" || type == "FE" || type == "BI") {
       fr.fd = true;
@@ -146,9 +146,11 @@ class TrcReader {
       return bad("expected " + std::to_string(fixed + len) + " columns (" + columns_ + " with " + std::to_string(len) +
                  " data bytes), got " + std::to_string(f_.size()));
     for (std::size_t i = 0; i < len; ++i) {
-      const auto b = parse_log_number(f_[fixed + i], 16, 255);
-      if (!b || f_[fixed + i].size() != 2) return bad("data byte " + std::to_string(i) + ": expected two hex digits");
-      fr.data[i] = static_cast<std::uint8_t>(*b);
+      const std::string_view b = f_[fixed + i];
+      const unsigned hi = b.size() == 2 ? kLogDigitValue[static_cast<unsigned char>(b[0])] : 16;
+      const unsigned lo = b.size() == 2 ? kLogDigitValue[static_cast<unsigned char>(b[1])] : 16;
+      if ((hi | lo) >= 16) return bad("data byte " + std::to_string(i) + ": expected two hex digits");
+      fr.data[i] = static_cast<std::uint8_t>(hi << 4 | lo);
     }
     log.frames.push_back(fr);
   }
