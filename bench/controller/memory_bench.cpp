@@ -141,7 +141,7 @@ void live_can(const std::string& bin, const std::filesystem::path& dir) {
                         << "timeout 3 cangen vcan0 -g 0.2 -I 140 -L 8 -D r >/dev/null 2>&1 || true\n"
                         << "echo \"live-can VmHWM $(sed -n 's/^VmHWM: *\\([0-9]*\\) kB/\\1/p' /proc/$pid/status) kB, mode $METER_VCAN_MODE\"\n"
                         << "kill $pid; cat /tmp/m.out | tail -3\n";
-  const std::string cmd = std::string(METER_SOURCE_DIR) + "/vcan/with-vcan -q --timeout 180 -- sh " + script + " 2>&1";
+  const std::string cmd = std::string(METER_SOURCE_DIR) + "/vcan/with-vcan -q --timeout 300 --boot-timeout 200 -- sh " + script + " 2>&1";
   FILE* p = ::popen(cmd.c_str(), "r");
   char line[512];
   double kb = 0;

@@ -10,6 +10,22 @@ namespace meter::controller {
 
 namespace {
 
+void split_fields(std::string_view line, std::vector<std::string_view>& out);
+
+bool is_separator(char c) { return c == ' ' || c == '\t'; }
+
+// Where the line's trailing run of two-character fields one separator apart starts (a log line's
+// data bytes, "00 1F FF"): those fields are taken by their stride, without scanning each byte.
+std::size_t pair_run_start(std::string_view line) {
+  std::size_t run = line.size(), end = line.size();  // end: of the next two characters asked
+  while (end >= 2 && !is_separator(line[end - 1]) && !is_separator(line[end - 2]) && (end == 2 || is_separator(line[end - 3]))) {
+    run = end - 2;
+    if (end < 3) break;
+    end -= 3;
+  }
+  return run;
+}
+
 // 0x80 in each byte of `x` that is zero, nothing elsewhere (exact: no byte borrows from another).
 constexpr std::uint64_t zero_bytes(std::uint64_t x) {
   constexpr std::uint64_t k7f = 0x7F7F7F7F7F7F7F7FULL;
@@ -18,13 +34,22 @@ constexpr std::uint64_t zero_bytes(std::uint64_t x) {
 
 }  // namespace
 
+// The fields before the data bytes by split_fields(), the data bytes by their stride.
+void split_log_fields(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
+  const std::size_t run = pair_run_start(line);
+  split_fields(line.substr(0, run), out);
+  for (std::size_t at = run; at + 2 <= line.size(); at += 3) out.emplace_back(line.data() + at, 2);
+}
+
+namespace {
+
 // Eight bytes at a time: the separators (spaces and tabs) of a word as a mask, the fields' starts and
 // ends as that mask's edges. Fields and separators alternate, so the n-th end closes the n-th field
 // still open: starts and ends are taken in two loops without a branch on which edge comes next.
 // The text logs' lines are mostly short fields between runs of padding, where a byte-by-byte scan
 // mispredicts at every edge.
-void split_log_fields(std::string_view line, std::vector<std::string_view>& out) {
-  out.clear();
+void split_fields(std::string_view line, std::vector<std::string_view>& out) {
   const char* const base = line.data();
   const std::size_t n = line.size();
   std::size_t open = 0, i = 0;  // out[open] is the first field whose end is not known yet
@@ -52,6 +77,8 @@ void split_log_fields(std::string_view line, std::vector<std::string_view>& out)
   }
   if (out.size() > open) close(base + n);
 }
+
+}  // namespace
 
 std::optional<std::int64_t> parse_log_time(std::string_view text, std::int64_t unit_ns) {
   std::size_t dot = 0;  // the fields are short: a loop, not a call to memchr
