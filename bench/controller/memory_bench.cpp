@@ -15,6 +15,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -139,13 +140,13 @@ void live_can(const std::string& bin, const std::filesystem::path& dir) {
                         << "pid=$!\nsleep 1\n"
                         << "timeout 10 cangen vcan0 -g 1 -I 0D2 -L 8 -D i >/dev/null 2>&1 || true\n"
                         << "timeout 3 cangen vcan0 -g 0.2 -I 140 -L 8 -D r >/dev/null 2>&1 || true\n"
-                        << "echo \"live-can VmHWM $(sed -n 's/^VmHWM: *\\([0-9]*\\) kB/\\1/p' /proc/$pid/status) kB, mode $METER_VCAN_MODE\"\n"
+                        << "echo \"live-can VmHWM $(sed -n 's/^VmHWM:[[:space:]]*\\([0-9]*\\) kB/\\1/p' /proc/$pid/status) kB, mode $METER_VCAN_MODE\"\n"
                         << "kill $pid; cat /tmp/m.out | tail -3\n";
   const std::string cmd = std::string(METER_SOURCE_DIR) + "/vcan/with-vcan -q --timeout 300 --boot-timeout 200 -- sh " + script + " 2>&1";
   FILE* p = ::popen(cmd.c_str(), "r");
   char line[512];
   double kb = 0;
-  std::string mode = "?", said;
+  std::string mode = "?", said, frames_line;
   bool seen = false;
   while (p && std::fgets(line, sizeof line, p)) {
     char m[32] = "";
@@ -154,6 +155,7 @@ void live_can(const std::string& bin, const std::filesystem::path& dir) {
       mode = m;
     } else {
       said += line;
+      if (std::strncmp(line, "meter-controller: ", 18) == 0 && std::strstr(line, " frames (")) frames_line = line + 18;
     }
   }
   if (p) ::pclose(p);
@@ -163,6 +165,7 @@ void live_can(const std::string& bin, const std::filesystem::path& dir) {
     return;
   }
   std::printf("  peak RSS %.1f MiB (VmHWM, vcan path: %s)%s\n", kb / 1024.0, mode.c_str(), kb / 1024.0 <= kGoalMiB ? "" : "  over the goal");
+  if (!frames_line.empty()) std::printf("  the controller's stats: %.*s\n", static_cast<int>(frames_line.find(" (")), frames_line.c_str());
 }
 
 }  // namespace
