@@ -159,7 +159,7 @@ void live_can(const std::string& bin, const std::filesystem::path& dir) {
     }
   }
   if (p) ::pclose(p);
-  std::printf("(a) live CAN input (can:vcan0, cangen at 1 kHz for 10 s then 5 kHz for 3 s):\n");
+  std::printf("(a) live CAN input (can:vcan0; cangen asked for 1 kHz for 10 s, then 5 kHz for 3 s):\n");
   if (!seen) {
     std::printf("  not measured: vcan/with-vcan could not run it:\n%s", said.c_str());
     return;
