@@ -186,3 +186,30 @@ TEST(LogSource, BadRecordsBeyondTheKeptOnesAreCountedOnly) {
   EXPECT_EQ(source->records().bad_lines.size(), LogSource::kKeptBadRecords);
   EXPECT_EQ(source->records().bad_lines.back().line, LogSource::kKeptBadRecords + 1);
 }
+
+// A read error in the middle of a log (a disk that fails after the first 256 KiB block): the frames
+// of the blocks read are replayed, then one bad record says the log could not be read on; it is not
+// taken for the log's end.
+TEST(LogSource, AReadErrorEndsTheLogWithABadRecord) {
+  struct Failing : std::streambuf {
+    std::string text = [] {
+      std::string t;
+      for (int i = 0; i < 8192; ++i) t += "(1.0000000) can0 100#0102030405\n";  // 32 bytes: one block
+      return t;
+    }();
+    bool served = false;
+    int_type underflow() override {
+      if (served) throw std::ios_base::failure("EIO");
+      served = true;
+      setg(text.data(), text.data(), text.data() + text.size());
+      return traits_type::to_int_type(text[0]);
+    }
+  } buffer;
+  std::istream in(&buffer);
+  const std::unique_ptr<LogSource> source = candump_log_format().open(in);
+  std::size_t n = 0;
+  while (source->next()) ++n;
+  EXPECT_EQ(n, 8192u);
+  ASSERT_EQ(source->bad_records(), 1u);
+  EXPECT_EQ(source->records().bad_lines[0].why, "read error: the log could not be read on from here");
+}

@@ -39,7 +39,7 @@ std::string blf_type_name(std::uint32_t type) {
 
 class BlfReader : public LogSource {
  public:
-  explicit BlfReader(std::istream& in) : in_(in), log_(window()), inflater_(libdeflate_alloc_decompressor()) {}
+  explicit BlfReader(std::istream& in) : in_(in), log_(window()), inflater_(libdeflate_alloc_decompressor()) { watch(in); }
 
  private:
   std::istream& in_;

@@ -9,7 +9,10 @@ void LogSource::refill() {
   window_.frames.clear();
   pos_ = 0;
   const std::size_t bad_before = window_.bad_lines.size();
-  if (!read_more()) ended_ = true;
+  if (!read_more()) {
+    ended_ = true;
+    if (watched_ && watched_->bad()) window_.bad_lines.push_back({window_.lines, "read error: the log could not be read on from here"});
+  }
   if (window_.bad_lines.size() > kKeptBadRecords && window_.bad_lines.size() > bad_before) {
     const std::size_t keep = std::max(bad_before, kKeptBadRecords);
     bad_dropped_ += window_.bad_lines.size() - keep;

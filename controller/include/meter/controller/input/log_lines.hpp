@@ -36,7 +36,7 @@ void for_each_log_line(std::string_view text, const std::function<void(std::stri
 template <class LineReader>
 class TextLogSource : public LogSource {
  public:
-  explicit TextLogSource(std::istream& in) : lines_(in), reader_(window()) {}
+  explicit TextLogSource(std::istream& in) : lines_(in), reader_(window()) { watch(in); }
 
  private:
   LogLineCursor lines_;

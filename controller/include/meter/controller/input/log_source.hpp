@@ -48,6 +48,9 @@ class LogSource {
   // Reads on (one record, or as few as it can) into window(); false once the log has no more
   // (the frames it appended on that last call are still handed over).
   virtual bool read_more() = 0;
+  // The stream the reader reads: when it fails (a read error, not its end), the reading ends with
+  // a bad record saying so, the frames before it kept.
+  void watch(std::istream& in) { watched_ = &in; }
   // The file the source reads, when it owns it (opened by open_log_source()).
   std::unique_ptr<std::istream> file_;
   friend std::unique_ptr<LogSource> open_log_source(const std::string& path, int channel);
@@ -60,6 +63,7 @@ class LogSource {
   int channel_ = 0;
   bool ended_ = false;
   std::function<void(const BadLine&)> report_;
+  const std::istream* watched_ = nullptr;
   void refill();
 };
 
