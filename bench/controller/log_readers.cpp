@@ -1,4 +1,4 @@
-// Each log format read by meter (load_log_file, as run and decode read it) and by python-can, the
+// Each log format read by meter (open_log_source, streamed a frame at a time as run and decode read it) and by python-can, the
 // same file, one after the other in this process's run.
 #include "log_readers.hpp"
 
@@ -25,13 +25,15 @@ double cpu_seconds() {
   return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
 }
 
-// meter's frames/s on `path`: whole loads repeated for at least half a CPU second.
+// meter's frames/s on `path`: whole reads repeated for at least half a CPU second.
 double meter_frames_per_second(const std::string& path, std::size_t& frames) {
   int rounds = 0;
   const double t0 = cpu_seconds();
   double s = 0;
   do {
-    frames = load_log_file(path).frames.size();
+    const auto source = open_log_source(path);
+    frames = 0;
+    while (source->next()) ++frames;
     ++rounds;
     s = cpu_seconds() - t0;
   } while (s < 0.5);
@@ -56,7 +58,7 @@ int bench_log_readers(const std::string& candump_log) {
     std::fprintf(stderr, "python3-can could not write the logs\n");
     return 1;
   }
-  std::printf("log readers on the ft86 drive (python-can's ASC, BLF and TRC writers; CPU time, whole loads):\n");
+  std::printf("log readers on the ft86 drive (python-can's ASC, BLF and TRC writers; CPU time, whole files streamed):\n");
   std::printf("  %-8s %10s %14s %14s %8s\n", "format", "frames", "meter/s", "python-can/s", "ratio");
   double candump_fps = 0, blf_fps = 0;
   int status = 0;

@@ -12,9 +12,10 @@ namespace meter::controller::fuzz {
 
 inline void expect_written_log_reads_back(const ParsedLog& log, const LogFormat& format) {
   std::stringstream out;
-  format.write(log, out, [](std::size_t) {});
+  ParsedLogSource frames(log);
+  format.write(frames, out, [](std::size_t) {});
   std::istringstream in(out.str());
-  const ParsedLog back = format.read(in);
+  const ParsedLog back = read_whole_log(*format.open(in));
   if (!back.bad_lines.empty() || back.frames.size() != log.frames.size()) std::abort();
   for (std::size_t i = 0; i < log.frames.size(); ++i) {
     CanFrame want = log.frames[i];

@@ -109,7 +109,8 @@ TEST(AscLog, TheWriterWritesWhatTheReaderReadsBack) {
   e.channel = 1;
   log.frames.push_back(e);
   std::ostringstream out;
-  write_asc_log(log, out, [](std::size_t) {});
+  ParsedLogSource frames(log);
+  write_asc_log(frames, out, [](std::size_t) {});
   const ParsedLog back = parse_asc_log(out.str());
   ASSERT_TRUE(back.bad_lines.empty()) << back.bad_lines.front().why << "\n" << out.str();
   ASSERT_EQ(back.frames.size(), 4u) << out.str();

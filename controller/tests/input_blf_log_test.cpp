@@ -102,7 +102,8 @@ TEST(BlfLog, UnknownObjectsAreCountedAndAnObjectMayContinueInTheNextContainer) {
 TEST(BlfLog, TheWriterWritesWhatTheReaderReadsBack) {
   const ParsedLog log = sample();
   std::stringstream out;
-  write_blf_log(log, out, [](std::size_t) {});
+  ParsedLogSource frames(log);
+  write_blf_log(frames, out, [](std::size_t) {});
   const ParsedLog back = read(out.str());
   ASSERT_TRUE(back.bad_lines.empty()) << back.bad_lines.front().why;
   ASSERT_EQ(back.frames.size(), log.frames.size());
@@ -120,7 +121,8 @@ TEST(BlfLog, TheWriterWritesWhatTheReaderReadsBack) {
 TEST(BlfLog, ATruncatedFileOrACorruptContainerKeepsTheFramesBeforeTheDamage) {
   const ParsedLog log = sample();
   std::stringstream out;
-  write_blf_log(log, out, [](std::size_t) {});
+  ParsedLogSource frames(log);
+  write_blf_log(frames, out, [](std::size_t) {});
   const std::string bytes = out.str();
   std::vector<std::size_t> ends;  // where a cut leaves whole containers only: no damage to report
   for (std::size_t pos = kBlfFileHeaderSize; pos + 12 <= bytes.size();) {

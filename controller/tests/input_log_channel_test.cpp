@@ -1,6 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
+#include <string>
 
 #include "meter/controller/input/candump_log.hpp"
 #include "meter/controller/input/log_channel.hpp"
@@ -16,16 +21,18 @@ TEST(LogChannel, FileHashNSelectsOneChannelOfTheLog) {
   EXPECT_THROW(parse_log_address("drive.blf#256"), std::invalid_argument);
 
   // candump: can0 is channel 1 and vcan7 channel 2, in the order they first appear.
-  const ParsedLog log = parse_candump_log("(1.0) can0 100#01\n(1.1) vcan7 200#02\n(1.2) can0 100#03\n");
-  const ParsedLog two = select_log_channel(log, 2, "d.log");
+  const std::string path = std::filesystem::temp_directory_path() / ("meter-channel-" + std::to_string(::getpid()) + ".log");
+  std::ofstream(path) << "(1.0) can0 100#01\n(1.1) vcan7 200#02\n(1.2) can0 100#03\n";
+  const ParsedLog two = read_whole_log(*open_log_input(path + "#2"));
   ASSERT_EQ(two.frames.size(), 1u);
   EXPECT_EQ(two.frames[0].id, 0x200u);
   EXPECT_EQ(two.frames[0].timestamp_ns, 1100000000);  // on the log's own clock
-  EXPECT_EQ(select_log_channel(log, 0, "d.log").frames.size(), 3u);
+  EXPECT_EQ(read_whole_log(*open_log_input(path)).frames.size(), 3u);
   try {
-    select_log_channel(log, 3, "d.log");
+    open_log_input(path + "#3");
     FAIL() << "no frame on channel 3";
   } catch (const std::runtime_error& e) {
-    EXPECT_STREQ(e.what(), "d.log#3: no frame on channel 3 (the log's channels: 1, 2)");
+    EXPECT_EQ(std::string(e.what()), path + "#3: no frame on channel 3 (the log's channels: 1, 2)");
   }
+  std::filesystem::remove(path);
 }

@@ -191,13 +191,19 @@ TEST(RunInputs, ModbusInputsPairWithTheirRegisterTables) {
   EXPECT_EQ(error({"log:x.log"}, two), "");  // no Modbus input: the tables are not read
 }
 
+// Two logs merged as the replay pulls them (inputs 0 and 1), read whole.
+ParsedLog merged_in_memory(ParsedLog first, ParsedLog second) {
+  std::vector<std::pair<int, std::unique_ptr<LogSource>>> logs;
+  logs.emplace_back(0, std::make_unique<ParsedLogSource>(std::move(first)));
+  logs.emplace_back(1, std::make_unique<ParsedLogSource>(std::move(second)));
+  MergedLogSource merged(std::move(logs));
+  return read_whole_log(merged);
+}
+
 TEST(RunInputs, MergedLogsKeepTheirRelativeTimingAndEachFilesOrder) {
   // Body frames every 20 ms from t = 100.000 s, chassis every 30 ms from t = 100.010 s, recorded on
   // one clock: merged, they interleave by timestamp.
-  std::vector<std::pair<int, ParsedLog>> logs;
-  logs.emplace_back(0, parse_candump_log(make_log(0x100, 100.000, 20, 5)));
-  logs.emplace_back(1, parse_candump_log(make_log(0x300, 100.010, 30, 4)));
-  const ParsedLog merged = merge_logs(std::move(logs));
+  const ParsedLog merged = merged_in_memory(parse_candump_log(make_log(0x100, 100.000, 20, 5)), parse_candump_log(make_log(0x300, 100.010, 30, 4)));
   ASSERT_EQ(merged.frames.size(), 9u);
   std::vector<std::pair<int, std::int64_t>> got;
   for (const CanFrame& f : merged.frames) got.emplace_back(f.input, (f.timestamp_ns - 100000 * ms) / ms);
@@ -214,10 +220,7 @@ TEST(RunInputs, MergedLogsKeepTheirRelativeTimingAndEachFilesOrder) {
   for (std::size_t i = 0; i < 9; ++i) EXPECT_EQ(rx.frames[i].input, want[i].first) << i;
 
   // A file whose timestamps step back keeps its own order.
-  std::vector<std::pair<int, ParsedLog>> odd;
-  odd.emplace_back(0, parse_candump_log("(5.000) can0 100#01\n(4.000) can0 100#02\n"));
-  odd.emplace_back(1, parse_candump_log("(4.500) can0 300#03\n"));
-  const ParsedLog m2 = merge_logs(std::move(odd));
+  const ParsedLog m2 = merged_in_memory(parse_candump_log("(5.000) can0 100#01\n(4.000) can0 100#02\n"), parse_candump_log("(4.500) can0 300#03\n"));
   ASSERT_EQ(m2.frames.size(), 3u);
   EXPECT_EQ(m2.frames[0].data[0], 3);  // 4.5 < 5.0
   EXPECT_EQ(m2.frames[1].data[0], 1);
@@ -232,7 +235,7 @@ TEST(RunInputs, InputSetPutsEveryInputOnTheFirstOnesClock) {
   members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x100, 1000.0, 20, 4)), ReplayOptions{}), "a", -1});
   members.push_back({std::make_unique<LogReplay>(parse_candump_log(make_log(0x300, 5000.0, 20, 3)), ReplayOptions{}), "b", 1});
   InputSet set(std::move(members));
-  EXPECT_EQ(set.describe().rfind("a: candump log (4 frames", 0), 0u) << set.describe();
+  EXPECT_EQ(set.describe().rfind("a: candump log (streamed, replay realtime) + b: candump log (streamed", 0), 0u) << set.describe();
   // Each poll's wall time and how many frames had arrived when it returned: the second input's
   // clock is read a moment after the first's, so its frames can be off by the time spent inside the
   // poll that started both replays and the poll that delivered them, and by nothing else, however
@@ -301,7 +304,8 @@ std::string two_channel_blf(const TempDir& dir, const std::string& body, std::st
   for (const std::string& l : sorted) text += l;
   const std::string path = (dir.path / "drive.blf").string();
   std::ofstream file(path, std::ios::binary);
-  write_blf_log(parse_candump_log(text), file, [](std::size_t) {});
+  ParsedLogSource frames(parse_candump_log(text));
+  write_blf_log(frames, file, [](std::size_t) {});
   return path;
 }
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,7 @@ std::optional<std::int64_t> asc_date(std::span<const std::string_view> f) {
 
 class AscReader {
  public:
+  explicit AscReader(ParsedLog& window) : log(window) {}
   void line(std::string_view t) {
     ++log.lines;
     if (t.empty()) return;
@@ -81,7 +83,7 @@ class AscReader {
     bad("unknown keyword '" + std::string(w.substr(0, 40)) +
         "': expected date, base, internal events logged, Begin/End TriggerBlock, a // comment or an event '<seconds> ...'");
   }
-  ParsedLog log;
+  ParsedLog& log;
 
  private:
   std::vector<std::string_view> f_;
@@ -227,10 +229,14 @@ class AscReader {
 
 }  // namespace
 
-ParsedLog parse_asc_log(std::string_view text) { return read_log_lines<AscReader>(text); }
+std::unique_ptr<LogSource> open_asc_log(std::istream& in) { return std::make_unique<TextLogSource<AscReader>>(in); }
 
-// Room for a frame every 50 bytes: the shortest lines its usual writers write.
-ParsedLog read_asc_log(std::istream& in) { return read_log_lines<AscReader>(in, 50); }
+ParsedLog read_asc_log(std::istream& in) { return read_whole_log(*open_asc_log(in)); }
+
+ParsedLog parse_asc_log(std::string_view text) {
+  std::istringstream in{std::string(text)};
+  return read_asc_log(in);
+}
 
 bool sniff_asc_log(std::string_view head) {
   std::vector<std::string_view> f;
@@ -248,7 +254,7 @@ bool sniff_asc_log(std::string_view head) {
 
 const LogFormat& asc_log_format() {
   static constexpr std::string_view kExtensions[] = {".asc"};
-  static const LogFormat format{"asc", "date Sun Sep 12 03:15:14.717 am 2021", kExtensions, sniff_asc_log, read_asc_log,
+  static const LogFormat format{"asc", "date Sun Sep 12 03:15:14.717 am 2021", kExtensions, sniff_asc_log, open_asc_log,
                                 write_asc_log};
   return format;
 }

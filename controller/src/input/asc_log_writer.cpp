@@ -62,22 +62,25 @@ void asc_frame_line(const CanFrame& f, std::int64_t offset_ns, std::string& out)
 
 }  // namespace
 
-void write_asc_log(const ParsedLog& log, std::ostream& out, const LogProgress& progress) {
-  const std::int64_t first = log.frames.empty() ? 0 : log.frames.front().timestamp_ns;
+std::size_t write_asc_log(LogSource& frames, std::ostream& out, const LogProgress& progress) {
+  const CanFrame* head = frames.peek();
+  const std::int64_t first = head ? head->timestamp_ns : 0;
   const std::int64_t start = first - ((first % 1000000) + 1000000) % 1000000;  // the first frame's millisecond
   std::string text = "date " + asc_date_text(start) + "\nbase hex  timestamps absolute\ninternal events logged\n" +
                      "// version 9.0.0\nBegin Triggerblock " + asc_date_text(start) + "\n   0.000000 Start of measurement\n";
-  for (std::size_t i = 0; i < log.frames.size(); ++i) {
-    const CanFrame& f = log.frames[i];
-    asc_frame_line(f, f.timestamp_ns >= start ? f.timestamp_ns - start : 0, text);
+  std::size_t written = 0;
+  while (const CanFrame* f = frames.next()) {
+    asc_frame_line(*f, f->timestamp_ns >= start ? f->timestamp_ns - start : 0, text);
+    ++written;
     if (text.size() > (1u << 20)) {
       out.write(text.data(), static_cast<std::streamsize>(text.size()));
       text.clear();
-      progress(i + 1);
+      progress(written);
     }
   }
   text += "End TriggerBlock\n";
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  return written;
 }
 
 }  // namespace meter::controller

@@ -2,10 +2,11 @@
 // feed one stream of inner objects; an object may continue from one container into the next.
 #include "meter/controller/input/blf_log.hpp"
 
-#include <zlib.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "meter/controller/input/blf_log_writer.hpp"
@@ -36,28 +37,42 @@ std::string blf_type_name(std::uint32_t type) {
   }
 }
 
-class BlfReader {
+class BlfReader : public LogSource {
  public:
-  explicit BlfReader(std::istream& in) : in_(in) {}
-
-  ParsedLog read() {
-    if (header()) {
-      while (top_object()) {
-      }
-    }
-    if (ok_ && inner_.size() - pos_ >= kBlfObjectHeader)
-      fail("byte offset " + std::to_string(offset_) + ": the file ends inside an object of its last container");
-    return std::move(log_);
-  }
+  explicit BlfReader(std::istream& in) : in_(in), log_(window()), inflater_(libdeflate_alloc_decompressor()) { watch(in); }
 
  private:
   std::istream& in_;
-  ParsedLog log_;
+  ParsedLog& log_;
   std::uint64_t offset_ = 0;  // of the next top-level object
+  std::uint64_t at_ = 0;      // of the top-level object whose inner objects are being read
   std::int64_t start_ns_ = 0;
   std::string body_, inner_;  // a top-level object's bytes; the inner objects not yet read
   std::size_t pos_ = 0;       // in inner_
-  bool ok_ = true;
+  bool started_ = false, ok_ = true;
+  // zlib containers are inflated by libdeflate: a container is inflated whole (its size is in its
+  // header), which libdeflate does several times faster than zlib's streaming inflate, Adler-32
+  // checked alike.
+  struct FreeInflater {
+    void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+  };
+  std::unique_ptr<libdeflate_decompressor, FreeInflater> inflater_;
+
+  // One inner object, else the next top-level object (a container is inflated whole, its objects
+  // then read one per call): the window holds one object's frame at most.
+  bool read_more() override {
+    if (!started_) return started_ = true, header();
+    if (!ok_) return false;
+    for (;;) {
+      const int got = inner_object();
+      if (got > 0) return true;
+      if (got < 0 || !top_object()) break;
+    }
+    if (ok_ && inner_.size() - pos_ >= kBlfObjectHeader)
+      fail("byte offset " + std::to_string(offset_) + ": the file ends inside an object of its last container");
+    ok_ = false;
+    return false;
+  }
 
   void fail(std::string why) {  // a header error is record 0, an object's its number
     log_.bad_lines.push_back({log_.lines, std::move(why)});
@@ -83,20 +98,8 @@ class BlfReader {
                                      static_cast<int>(blf_u16(st + 8)), static_cast<int>(blf_u16(st + 10)), static_cast<int>(blf_u16(st + 12)),
                                      static_cast<std::int64_t>(blf_u16(st + 14) % 1000) * 1000000);
     start_ns_ = start.value_or(0);  // no start date: the objects' own times from 0
-    reserve(blf_u64(rest.data() + 16));
     offset_ = size;
     return true;
-  }
-
-  // Room for the frames of `objects_bytes` of objects (the header's uncompressed size; at least 48
-  // bytes an object), believed up to ten times the file's own size (a damaged header claims more).
-  void reserve(std::uint64_t objects_bytes) {
-    const auto here = in_.tellg();
-    if (here < 0 || !in_.seekg(0, std::ios::end)) return in_.clear();
-    const auto end = in_.tellg();
-    in_.seekg(here);
-    const std::uint64_t file_bytes = end > here ? static_cast<std::uint64_t>(end - here) : 0;
-    log_.frames.reserve(static_cast<std::size_t>(std::min(objects_bytes, file_bytes * 10) / 48));
   }
 
   std::string where(std::uint64_t at, std::uint32_t type) const {
@@ -118,15 +121,15 @@ class BlfReader {
                   std::to_string(kBlfObjectHeader + body_.size())), false;
     std::string padding;
     read_bytes(padding, size % 4);  // Vector's writers pad each object by its size modulo 4
-    const std::uint64_t at = offset_;
+    at_ = offset_;
     offset_ += size + size % 4;
     if (type != kBlfLogContainer) {  // an object outside any container: read as it stands
       compact();
       inner_ += base;
       inner_ += body_;
-      return inner_objects(at);
+      return true;
     }
-    return container(at) && inner_objects(at);
+    return container(at_);
   }
 
   void compact() {
@@ -146,44 +149,38 @@ class BlfReader {
     }
     if (method != 2) return fail(where(at, kBlfLogContainer) + ": compression method " + std::to_string(method) + ", expected 0 (none) or 2 (zlib)"), false;
     inner_.resize(have + size);
-    z_stream z{};
-    if (inflateInit(&z) != Z_OK) return fail(where(at, kBlfLogContainer) + ": zlib cannot start"), false;
-    z.next_in = reinterpret_cast<Bytef*>(body_.data() + 16);
-    z.avail_in = static_cast<uInt>(body_.size() - 16);
-    z.next_out = reinterpret_cast<Bytef*>(inner_.data() + have);
-    z.avail_out = size;
-    const int r = inflate(&z, Z_FINISH);
-    const std::string msg = z.msg ? z.msg : "";
-    const std::size_t out = size - z.avail_out;
-    inflateEnd(&z);
+    if (!inflater_) return fail(where(at, kBlfLogContainer) + ": the zlib decompressor cannot start (out of memory)"), false;
+    std::size_t out = 0;
+    const libdeflate_result r = libdeflate_zlib_decompress(inflater_.get(), body_.data() + 16, body_.size() - 16, inner_.data() + have, size, &out);
+    if (r != LIBDEFLATE_SUCCESS) inner_.resize(have);
+    if (r == LIBDEFLATE_INSUFFICIENT_SPACE) return fail(where(at, kBlfLogContainer) + ": corrupt zlib data (holds more than " + std::to_string(size) + " bytes)"), false;
+    if (r != LIBDEFLATE_SUCCESS) return fail(where(at, kBlfLogContainer) + ": corrupt zlib data (a bad block, checksum or end)"), false;
     inner_.resize(have + out);
-    if (r != Z_STREAM_END)
-      return fail(where(at, kBlfLogContainer) + ": corrupt zlib data" + (msg.empty() ? std::string(" (ends early or holds more than ") + std::to_string(size) + " bytes)" : ": " + msg)), false;
     if (out != size) return fail(where(at, kBlfLogContainer) + ": inflates to " + std::to_string(out) + " bytes, its header says " + std::to_string(size)), false;
     return true;
   }
 
-  // Every complete inner object; one cut by the container's end waits for the next container.
-  bool inner_objects(std::uint64_t at) {
-    for (;;) {
-      std::size_t skip = 0;  // padding between objects
-      while (skip < 8 && pos_ + skip + 4 <= inner_.size() && inner_.compare(pos_ + skip, 4, "LOBJ") != 0) ++skip;
-      if (pos_ + skip + kBlfObjectHeader > inner_.size()) return true;
-      ++log_.lines;
-      const char* h = inner_.data() + pos_ + skip;
-      const std::uint32_t type = blf_u32(h + 12), size = blf_u32(h + 8);
-      if (skip == 8) return fail(where(at, kBlfLogContainer) + ", inner offset " + std::to_string(pos_) + ": expected an object signature 'LOBJ'"), false;
-      if (size < kBlfObjectHeader || size > kBlfLargestObject)
-        return fail(where(at, type) + ", inner offset " + std::to_string(pos_ + skip) + ": object size " + std::to_string(size)), false;
-      if (pos_ + skip + size > inner_.size()) {  // continues in the next container
-        --log_.lines;
-        pos_ += skip;
-        return true;
-      }
-      pos_ += skip;
-      object(std::string_view(h, size), at);
-      pos_ += size;
+  // The next complete inner object read: 1; none complete (one cut by the container's end waits
+  // for the next container): 0; a broken one: -1.
+  int inner_object() {
+    const std::uint64_t at = at_;
+    std::size_t skip = 0;  // padding between objects
+    while (skip < 8 && pos_ + skip + 4 <= inner_.size() && inner_.compare(pos_ + skip, 4, "LOBJ") != 0) ++skip;
+    if (pos_ + skip + kBlfObjectHeader > inner_.size()) return 0;
+    const char* h = inner_.data() + pos_ + skip;
+    const std::uint32_t type = blf_u32(h + 12), size = blf_u32(h + 8);
+    ++log_.lines;
+    if (skip == 8) return fail(where(at, kBlfLogContainer) + ", inner offset " + std::to_string(pos_) + ": expected an object signature 'LOBJ'"), -1;
+    if (size < kBlfObjectHeader || size > kBlfLargestObject)
+      return fail(where(at, type) + ", inner offset " + std::to_string(pos_ + skip) + ": object size " + std::to_string(size)), -1;
+    pos_ += skip;
+    if (pos_ + size > inner_.size()) {  // continues in the next container
+      --log_.lines;
+      return 0;
     }
+    object(std::string_view(h, size), at);
+    pos_ += size;
+    return 1;
   }
 
   void object(std::string_view o, std::uint64_t at) {
@@ -269,13 +266,15 @@ class BlfReader {
 
 }  // namespace
 
-ParsedLog read_blf_log(std::istream& in) { return BlfReader(in).read(); }
+std::unique_ptr<LogSource> open_blf_log(std::istream& in) { return std::make_unique<BlfReader>(in); }
+
+ParsedLog read_blf_log(std::istream& in) { return read_whole_log(*open_blf_log(in)); }
 
 bool sniff_blf_log(std::string_view head) { return head.substr(0, 4) == "LOGG"; }
 
 const LogFormat& blf_log_format() {
   static constexpr std::string_view kExtensions[] = {".blf"};
-  static const LogFormat format{"blf", "LOGG (binary)", kExtensions, sniff_blf_log, read_blf_log, write_blf_log};
+  static const LogFormat format{"blf", "LOGG (binary)", kExtensions, sniff_blf_log, open_blf_log, write_blf_log};
   return format;
 }
 

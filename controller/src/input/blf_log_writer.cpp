@@ -75,9 +75,10 @@ void put_blf_frame(std::string& out, const CanFrame& f, std::uint64_t time_ns) {
 
 }  // namespace
 
-void write_blf_log(const ParsedLog& log, std::ostream& out, const LogProgress& progress) {
+std::size_t write_blf_log(LogSource& frames, std::ostream& out, const LogProgress& progress) {
   constexpr std::size_t kContainer = 128 * 1024;
-  const std::int64_t first = log.frames.empty() ? 0 : log.frames.front().timestamp_ns;
+  const CanFrame* head = frames.peek();
+  const std::int64_t first = head ? head->timestamp_ns : 0;
   const std::int64_t start = first - ((first % 1000000) + 1000000) % 1000000;  // the first frame's millisecond
   std::int64_t last = start;
   std::uint64_t file_size = kBlfFileHeaderSize, uncompressed = kBlfFileHeaderSize;
@@ -107,13 +108,14 @@ void write_blf_log(const ParsedLog& log, std::ostream& out, const LogProgress& p
     uncompressed += 32 + objects.size();
     objects.clear();
   };
-  for (std::size_t i = 0; i < log.frames.size(); ++i) {
-    const CanFrame& f = log.frames[i];
-    put_blf_frame(objects, f, static_cast<std::uint64_t>(f.timestamp_ns > start ? f.timestamp_ns - start : 0));
-    last = std::max(last, f.timestamp_ns);
+  std::size_t written = 0;
+  while (const CanFrame* f = frames.next()) {
+    put_blf_frame(objects, *f, static_cast<std::uint64_t>(f->timestamp_ns > start ? f->timestamp_ns - start : 0));
+    last = std::max(last, f->timestamp_ns);
+    ++written;
     if (objects.size() >= kContainer) {
       flush();
-      progress(i + 1);
+      progress(written);
     }
   }
   flush();
@@ -122,13 +124,14 @@ void write_blf_log(const ParsedLog& log, std::ostream& out, const LogProgress& p
   h.append(8, '\0');  // application id and version, binary log version
   blf_put_le(h, file_size, 8);
   blf_put_le(h, uncompressed, 8);
-  blf_put_le(h, log.frames.size(), 4);
+  blf_put_le(h, written, 4);
   blf_put_le(h, 0, 4);
   put_systemtime(h, start);
   put_systemtime(h, last);
   out.seekp(0);
   out.write(h.data(), static_cast<std::streamsize>(h.size()));
   out.seekp(0, std::ios::end);
+  return written;
 }
 
 }  // namespace meter::controller

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fstream>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -18,6 +19,7 @@ namespace {
 // One candump log being read: its interfaces become channels 1, 2, ... in order of appearance.
 class CandumpReader {
  public:
+  explicit CandumpReader(ParsedLog& window) : log(window) {}
   void line(std::string_view t) {
     ++log.lines;
     if (t.empty()) return;  // blank lines are not errors
@@ -29,7 +31,7 @@ class CandumpReader {
     r->frame.channel = channel_of(r->interface);
     log.frames.push_back(r->frame);
   }
-  ParsedLog log;
+  ParsedLog& log;
 
  private:
   std::string why_;
@@ -47,10 +49,14 @@ class CandumpReader {
 
 }  // namespace
 
-ParsedLog parse_candump_log(std::string_view text) { return read_log_lines<CandumpReader>(text); }
+std::unique_ptr<LogSource> open_candump_log(std::istream& in) { return std::make_unique<TextLogSource<CandumpReader>>(in); }
 
-// Room for a frame every 40 bytes: the shortest lines its usual writers write.
-ParsedLog read_candump_log(std::istream& in) { return read_log_lines<CandumpReader>(in, 40); }
+ParsedLog read_candump_log(std::istream& in) { return read_whole_log(*open_candump_log(in)); }
+
+ParsedLog parse_candump_log(std::string_view text) {
+  std::istringstream in{std::string(text)};
+  return read_candump_log(in);
+}
 
 ParsedLog load_candump_log(const std::string& path) {
   std::ifstream in(path, std::ios::binary);  // read a block at a time, as run and decode read it
@@ -83,25 +89,27 @@ std::string candump_interface(const CanFrame& frame) {
   return "can" + std::to_string(frame.channel > 0 ? frame.channel - 1 : 0);
 }
 
-void write_candump_log(const ParsedLog& log, std::ostream& out, const LogProgress& progress) {
+std::size_t write_candump_log(LogSource& frames, std::ostream& out, const LogProgress& progress) {
   std::string text;
-  for (std::size_t i = 0; i < log.frames.size(); ++i) {
-    const CanFrame& f = log.frames[i];
-    text += format_candump_line(f, candump_interface(f));
+  std::size_t written = 0;
+  while (const CanFrame* f = frames.next()) {
+    text += format_candump_line(*f, candump_interface(*f));
     text += '\n';
+    ++written;
     if (text.size() > (1u << 20)) {
       out.write(text.data(), static_cast<std::streamsize>(text.size()));
       text.clear();
-      progress(i + 1);
+      progress(written);
     }
   }
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  return written;
 }
 
 const LogFormat& candump_log_format() {
   static constexpr std::string_view kExtensions[] = {".log"};
   static const LogFormat format{"candump", "(1631416514.717133) can0 0D2#0000FFFF10000000", kExtensions,
-                                sniff_candump_log, read_candump_log, write_candump_log};
+                                sniff_candump_log, open_candump_log, write_candump_log};
   return format;
 }
 

@@ -2,7 +2,6 @@
 #include "meter/controller/input/log_channel.hpp"
 
 #include <algorithm>
-#include <bitset>
 #include <filesystem>
 #include <stdexcept>
 
@@ -23,24 +22,9 @@ LogAddress parse_log_address(const std::string& address) {
   return {address.substr(0, hash), channel};
 }
 
-ParsedLog select_log_channel(ParsedLog log, int channel, const std::string& path) {
-  if (channel == 0) return log;
-  std::bitset<256> present;
-  for (const CanFrame& f : log.frames) present.set(f.channel);
-  std::erase_if(log.frames, [&](const CanFrame& f) { return f.channel != channel; });
-  if (log.frames.empty()) {
-    std::string channels;
-    for (int c = 0; c < 256; ++c)
-      if (present[static_cast<std::size_t>(c)]) channels += (channels.empty() ? "" : ", ") + (c == 0 ? std::string("none") : std::to_string(c));
-    throw std::runtime_error(path + "#" + std::to_string(channel) + ": no frame on channel " + std::to_string(channel) +
-                             " (the log's channels: " + channels + ")");
-  }
-  return log;
-}
-
-ParsedLog load_log_input(const std::string& address) {
+std::unique_ptr<LogSource> open_log_input(const std::string& address) {
   const LogAddress a = parse_log_address(address);
-  return select_log_channel(load_log_file(a.path), a.channel, a.path);
+  return open_log_source(a.path, a.channel);
 }
 
 }  // namespace meter::controller

@@ -2,6 +2,7 @@
 #include "meter/controller/input/log_format.hpp"
 
 #include <array>
+#include <bitset>
 #include <fstream>
 #include <stdexcept>
 
@@ -93,22 +94,36 @@ std::string_view trim_line_end(std::string_view line) {
   return line;
 }
 
-ParsedLog load_log_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the log for reading");
+// "FILE#N: no frame on channel N (the log's channels: 1, 2)"
+std::string no_channel_message(const std::string& path, int channel, const std::bitset<256>& present) {
+  std::string channels;
+  for (int c = 0; c < 256; ++c)
+    if (present[static_cast<std::size_t>(c)]) channels += (channels.empty() ? "" : ", ") + (c == 0 ? std::string("none") : std::to_string(c));
+  return path + "#" + std::to_string(channel) + ": no frame on channel " + std::to_string(channel) + " (the log's channels: " + channels + ")";
+}
+
+std::unique_ptr<LogSource> open_log_source(const std::string& path, int channel) {
+  auto in = std::make_unique<std::ifstream>(path, std::ios::binary);
+  if (!*in) throw std::runtime_error(path + ": cannot open the log for reading");
   std::string head(kLogSniffBytes, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
+  in->read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in->gcount()));
   const LogFormat* format = find_log_format(path, head);
   if (!format) throw std::runtime_error(no_format_message(path, head));
-  in.clear();
-  if (!in.seekg(0)) throw std::runtime_error(path + ": cannot read the log from its start again after recognising it (a pipe?); give a file");
-  ParsedLog log = format->read(in);
-  log.format = format->name;
-  if (in.bad()) throw std::runtime_error(path + ": read error in the log");
-  if (log.frames.empty()) throw std::runtime_error(no_frame_message(path, *format, log));
-  return log;
+  in->clear();
+  if (!in->seekg(0)) throw std::runtime_error(path + ": cannot read the log from its start again after recognising it (a pipe?); give a file");
+  std::unique_ptr<LogSource> source = format->open(*in);
+  source->file_ = std::move(in);
+  source->window().format = format->name;
+  source->only_channel(channel);
+  const bool any = source->peek() != nullptr;
+  if (source->file_->bad()) throw std::runtime_error(path + ": read error in the log");
+  if (!any && channel != 0 && source->channels_seen().any()) throw std::runtime_error(no_channel_message(path, channel, source->channels_seen()));
+  if (!any) throw std::runtime_error(no_frame_message(path, *format, source->records()));
+  return source;
 }
+
+ParsedLog load_log_file(const std::string& path) { return read_whole_log(*open_log_source(path)); }
 
 std::string log_format_names() {
   std::string names;

@@ -29,13 +29,16 @@ ReplayOptions parse_replay(std::string_view text) {
   return o;
 }
 
-LogReplay::LogReplay(ParsedLog log, ReplayOptions options) : log_(std::move(log)), opt_(options) {
+LogReplay::LogReplay(std::unique_ptr<LogSource> log, ReplayOptions options) : log_(std::move(log)), opt_(options) {
   if (opt_.mode == ReplayMode::Realtime) opt_.scale = 1.0;
-  if (!log_.frames.empty()) {
-    log_start_ = log_.frames.front().timestamp_ns;
+  next_ = log_->next();
+  if (next_) {
+    log_start_ = next_->timestamp_ns;
     sim_now_ = log_start_;
   }
 }
+
+LogReplay::LogReplay(ParsedLog log, ReplayOptions options) : LogReplay(std::make_unique<ParsedLogSource>(std::move(log)), options) {}
 
 std::int64_t LogReplay::now_ns() const {
   if (opt_.mode == ReplayMode::Fast || !begun_) return sim_now_;
@@ -43,7 +46,6 @@ std::int64_t LogReplay::now_ns() const {
 }
 
 bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
-  const auto& frames = log_.frames;
   if (!begun_) {
     begun_ = true;
     wall_start_ = monotonic_ns();
@@ -60,7 +62,7 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   if (opt_.mode == ReplayMode::Fast) {
     // Simulated clock: advance one step and hand over everything due by then. No sleeping.
     sim_now_ += std::chrono::duration_cast<std::chrono::nanoseconds>(opt_.fast_step).count();
-    while (next_ < frames.size() && frames[next_].timestamp_ns <= sim_now_) deliver(sink);
+    while (next_ && next_->timestamp_ns <= sim_now_) deliver(sink);
     return !mark_end();
   }
   // Realtime / scaled: frames are handed over in batches at the caller's poll cadence (the model
@@ -68,8 +70,8 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   const std::int64_t timeout_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
   const std::int64_t deadline = monotonic_ns() + timeout_ns;
   std::int64_t now = now_ns();
-  if (next_ < frames.size() && frames[next_].timestamp_ns > now) {
-    const auto due_wall = static_cast<std::int64_t>(static_cast<double>(frames[next_].timestamp_ns - now) / opt_.scale);
+  if (next_ && next_->timestamp_ns > now) {
+    const auto due_wall = static_cast<std::int64_t>(static_cast<double>(next_->timestamp_ns - now) / opt_.scale);
     const std::int64_t wait = std::min(deadline - monotonic_ns(), due_wall);
     if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
     if (monotonic_ns() < deadline) {
@@ -81,26 +83,27 @@ bool LogReplay::poll(InputSink& sink, std::chrono::milliseconds timeout) {
   // Fell behind by more than one batch (descheduled, a slow disk): let the replay clock slip
   // instead of handing over a burst of stale frames, as canplayer does. Gaps stay as recorded.
   const std::int64_t allowed = kMaxLagNs + static_cast<std::int64_t>(static_cast<double>(timeout_ns) * opt_.scale);
-  if (next_ < frames.size() && now - frames[next_].timestamp_ns > allowed) {
-    const std::int64_t behind = now - frames[next_].timestamp_ns;
+  if (next_ && now - next_->timestamp_ns > allowed) {
+    const std::int64_t behind = now - next_->timestamp_ns;
     wall_start_ += static_cast<std::int64_t>(static_cast<double>(behind) / opt_.scale);
     now -= behind;
     ++slips_;
   }
-  while (next_ < frames.size() && frames[next_].timestamp_ns <= now) deliver(sink);
+  while (next_ && next_->timestamp_ns <= now) deliver(sink);
   return !mark_end();
 }
 
 bool LogReplay::mark_end() {
-  if (next_ < log_.frames.size()) return false;
+  if (next_) return false;
   ended_ = true;
   return true;
 }
 
 void LogReplay::deliver(InputSink& sink) {
-  const CanFrame& f = log_.frames[next_++];
-  note_frame(bus_, f);
-  sink.on_frame(f);
+  note_frame(bus_, *next_);
+  sink.on_frame(*next_);  // held by the source until the next frame is asked for
+  ++delivered_;
+  next_ = log_->next();
 }
 
 BusHealth LogReplay::health() const {
@@ -111,8 +114,8 @@ BusHealth LogReplay::health() const {
 
 std::string LogReplay::describe() const {
   std::string mode = opt_.mode == ReplayMode::Fast ? "fast" : opt_.mode == ReplayMode::Realtime ? "realtime" : "scale:" + std::to_string(opt_.scale);
-  return std::string(log_.format) + " log (" + std::to_string(log_.frames.size()) + " frames, " + std::to_string(log_.bad_lines.size()) +
-         " bad lines, replay " + mode + ")";
+  // Streamed: how many frames the log holds is known only once it has been replayed.
+  return std::string(log_->records().format) + " log (streamed, replay " + mode + ")";
 }
 
 }  // namespace meter::controller

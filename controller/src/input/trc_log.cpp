@@ -3,6 +3,7 @@
 #include "meter/controller/input/trc_log.hpp"
 
 #include <algorithm>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ std::string_view trc_default_columns(int version) {
 
 class TrcReader {
  public:
+  explicit TrcReader(ParsedLog& window) : log(window) { set_columns(trc_default_columns(10)); }
   void line(std::string_view t) {
     ++log.lines;
     if (t.empty()) return;
@@ -35,12 +37,22 @@ class TrcReader {
     split_log_fields(t, f_);
     message();
   }
-  ParsedLog log;
+  ParsedLog& log;
 
  private:
   std::vector<std::string_view> f_;
   int version_ = 10;
-  std::string columns_ = "NOILD";
+  std::string columns_;
+  std::array<int, 128> at_{};  // each column letter's field index (its first), -1: not a column of this file
+  bool has_dlc_ = true;                // an L column (else l, the data length)
+
+  void set_columns(std::string_view columns) {
+    columns_ = columns;
+    at_.fill(-1);
+    for (std::size_t i = columns_.size(); i-- > 0;)  // from the end: a letter given twice is its first
+      if (static_cast<unsigned char>(columns_[i]) < 128) at_[static_cast<unsigned char>(columns_[i])] = static_cast<int>(i);
+    has_dlc_ = at_['L'] >= 0;
+  }
 
   void bad(std::string why) { log.bad_lines.push_back({log.lines, std::move(why)}); }
 
@@ -52,7 +64,7 @@ class TrcReader {
       const auto* it = std::find_if(std::begin(kVersions), std::end(kVersions), [&](const auto& k) { return k.first == v; });
       if (it == std::end(kVersions)) return bad("file version: expected 1.0, 1.1, 1.2, 1.3, 2.0 or 2.1, got '" + std::string(v.substr(0, 12)) + "'");
       version_ = it->second;
-      columns_ = trc_default_columns(version_);
+      set_columns(trc_default_columns(version_));
     } else if (t.substr(0, kColumns.size()) == kColumns) {
       std::string cols;
       for (char c : t.substr(kColumns.size()))
@@ -60,14 +72,14 @@ class TrcReader {
       const auto has = [&](char c) { return cols.find(c) != std::string::npos; };
       if (cols.empty() || cols.find('D') != cols.size() - 1 || !has('O') || !has('I') || (!has('L') && !has('l')))
         return bad("columns: expected letters such as N,O,T,B,I,d,R,L,D with O, I and L (or l), and D last");
-      columns_ = cols;
+      set_columns(cols);
     }  // any other ';' line is a comment
   }
 
   std::optional<std::string_view> field(char column) const {
-    const std::size_t i = columns_.find(column);
-    if (i == std::string::npos || i >= f_.size()) return std::nullopt;
-    return f_[i];
+    const int i = at_[static_cast<unsigned char>(column) & 127];
+    if (i < 0 || static_cast<std::size_t>(i) >= f_.size()) return std::nullopt;
+    return f_[static_cast<std::size_t>(i)];
   }
 
   void message() {
@@ -102,7 +114,7 @@ class TrcReader {
   // The type column: data, remote, CAN FD with its bits, error; false (and counted or reported)
   // for the rest.
   bool kind(std::string_view type, CanFrame& fr) {
-    if (type == "Rx" || type == "Tx" || type == "DT") return true;
+    if (type.size() == 2 && ((type[0] == 'D' && type[1] == 'T') || (type[1] == 'x' && (type[0] == 'R' || type[0] == 'T')))) return true;
     if (type == "RR") return fr.rtr = true;
     if (type == "FD" || type == "FB" || type == "FE" || type == "BI") {
       fr.fd = true;
@@ -116,7 +128,7 @@ class TrcReader {
   }
 
   void length(std::size_t fixed, CanFrame& fr) {
-    const bool has_dlc = columns_.find('L') != std::string::npos;
+    const bool has_dlc = has_dlc_;
     const auto n = parse_log_number(*field(has_dlc ? 'L' : 'l'), 10, has_dlc ? 15 : 64);
     if (!n) return bad(has_dlc ? "DLC: expected 0..15" : "data length: expected 0..64");
     std::uint32_t len = has_dlc ? (fr.fd ? can_fd_dlc_to_len(static_cast<std::uint8_t>(*n)) : std::min<std::uint32_t>(*n, 8)) : *n;
@@ -134,9 +146,11 @@ class TrcReader {
       return bad("expected " + std::to_string(fixed + len) + " columns (" + columns_ + " with " + std::to_string(len) +
                  " data bytes), got " + std::to_string(f_.size()));
     for (std::size_t i = 0; i < len; ++i) {
-      const auto b = parse_log_number(f_[fixed + i], 16, 255);
-      if (!b || f_[fixed + i].size() != 2) return bad("data byte " + std::to_string(i) + ": expected two hex digits");
-      fr.data[i] = static_cast<std::uint8_t>(*b);
+      const std::string_view b = f_[fixed + i];
+      const unsigned hi = b.size() == 2 ? kLogDigitValue[static_cast<unsigned char>(b[0])] : 16;
+      const unsigned lo = b.size() == 2 ? kLogDigitValue[static_cast<unsigned char>(b[1])] : 16;
+      if ((hi | lo) >= 16) return bad("data byte " + std::to_string(i) + ": expected two hex digits");
+      fr.data[i] = static_cast<std::uint8_t>(hi << 4 | lo);
     }
     log.frames.push_back(fr);
   }
@@ -144,7 +158,9 @@ class TrcReader {
 
 }  // namespace
 
-ParsedLog read_trc_log(std::istream& in) { return read_log_lines<TrcReader>(in, 60); }
+std::unique_ptr<LogSource> open_trc_log(std::istream& in) { return std::make_unique<TextLogSource<TrcReader>>(in); }
+
+ParsedLog read_trc_log(std::istream& in) { return read_whole_log(*open_trc_log(in)); }
 
 bool sniff_trc_log(std::string_view head) {
   if (head.find(";$FILEVERSION=") != std::string_view::npos) return true;
@@ -163,7 +179,7 @@ bool sniff_trc_log(std::string_view head) {
 
 const LogFormat& trc_log_format() {
   static constexpr std::string_view kExtensions[] = {".trc"};
-  static const LogFormat format{"trc", ";$FILEVERSION=1.1", kExtensions, sniff_trc_log, read_trc_log, nullptr};
+  static const LogFormat format{"trc", ";$FILEVERSION=1.1", kExtensions, sniff_trc_log, open_trc_log, nullptr};
   return format;
 }
 

@@ -1,6 +1,7 @@
 #include "command_output.hpp"
 
 #include <cstdio>
+#include <memory>
 
 #include "meter/protocol/log/logger.hpp"
 
@@ -22,17 +23,30 @@ std::string fmt_double(double v) {
   return buf;
 }
 
-void report_bad_lines(const ParsedLog& log, const std::string& path, std::ostream& err) {
-  if (log.bad_lines.empty()) return;
-  protocol::LogLine(err, protocol::LogLevel::Warning, "input", {protocol::log_field("file", path)}) << path << ": skipped " << log.bad_lines.size() << " bad line(s)\n";
-  std::size_t shown = 0;
-  for (const auto& b : log.bad_lines) {
-    if (++shown > 10) {
-      protocol::LogLine(err, protocol::LogLevel::Warning, "input", {protocol::log_field("file", path)}) << "  ... and " << log.bad_lines.size() - 10 << " more\n";
-      break;
-    }
-    protocol::LogLine(err, protocol::LogLevel::Warning, "input", {protocol::log_field("file", path), protocol::log_field("line", static_cast<std::int64_t>(b.line))}) << "  " << path << ":" << b.line << ": " << b.why << "\n";
-  }
+void report_bad_lines(LogSource& log, const std::string& path, std::ostream& err) {
+  constexpr std::size_t kShown = 10;
+  auto shown = std::make_shared<std::size_t>(0);
+  auto report = [shown, path, &err](const BadLine& b) {
+    const auto file = protocol::log_field("file", path);
+    if (*shown == 0) protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file}) << path << ": bad line(s) skipped:
+";
+    if (*shown < kShown)
+      protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file, protocol::log_field("line", static_cast<std::int64_t>(b.line))})
+          << "  " << path << ":" << b.line << ": " << b.why << "
+";
+    if (++*shown == kShown + 1)
+      protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file}) << "  " << path << ": more bad lines: counted, not shown
+";
+  };
+  for (const BadLine& b : log.records().bad_lines) report(b);
+  log.on_bad_record(report);
+}
+
+void report_bad_line_count(const LogSource& log, const std::string& path, std::ostream& err) {
+  if (log.bad_records())
+    protocol::LogLine(err, protocol::LogLevel::Warning, "input", {protocol::log_field("file", path)})
+        << path << ": skipped " << log.bad_records() << " bad line(s)
+";
 }
 
 void report_dbc_warnings(const Database& db, std::ostream& err) {

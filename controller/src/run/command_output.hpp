@@ -6,14 +6,19 @@
 #include <string_view>
 
 #include "meter/controller/dbc/database.hpp"
-#include "meter/controller/input/parsed_log.hpp"
+#include "meter/controller/input/log_source.hpp"
 
 namespace meter::controller {
 
 std::string fmt_double(double v);  // %.15g
 std::string csv_field(std::string_view s);  // quoted when it holds ',', '"' or a newline
-// "<path>: skipped N bad line(s)" and the first ten with their line number and reason.
-void report_bad_lines(const ParsedLog& log, const std::string& path, std::ostream& err);
+// A log's bad lines on err as the reading meets them (a streamed log's are not all known before it
+// is replayed): "<path>: bad line(s) skipped:" once, then the first ten with their line number and
+// reason ("  <path>:L: why"), those read before its first frame at once; the rest are counted.
+// `err` must outlive the source.
+void report_bad_lines(LogSource& log, const std::string& path, std::ostream& err);
+// "<path>: skipped N bad line(s)" for a log read to its end, if it had any.
+void report_bad_line_count(const LogSource& log, const std::string& path, std::ostream& err);
 // One line on err when the lenient DBC parse gave warnings: how many, the first, and the command
 // that lists them all (check-dbc). Nothing for a clean file.
 void report_dbc_warnings(const Database& db, std::ostream& err);

@@ -34,19 +34,20 @@ int convert_log_command(const ConvertLogOptions& o, std::ostream& out_text, std:
     const LogAddress in = parse_log_address(o.in);
     std::error_code ec;
     if (std::filesystem::equivalent(in.path, o.out, ec)) throw std::invalid_argument(o.out + ": is the input itself; write to another file");
-    const ParsedLog log = select_log_channel(load_log_file(in.path), in.channel, in.path);
-    report_bad_lines(log, in.path, err);
+    // Streamed: each frame is written as it is read, so a log of any length converts in the same memory.
+    const std::unique_ptr<LogSource> log = open_log_source(in.path, in.channel);
+    report_bad_lines(*log, in.path, err);
     std::ofstream file(o.out, std::ios::binary | std::ios::trunc);
     if (!file) throw std::runtime_error(o.out + ": cannot open for writing");
-    const std::size_t total = log.frames.size();
-    format.write(log, file, [&](std::size_t written) {
-      if (o.progress) err << "\rconvert-log: " << written << " of " << total << " frames written" << std::flush;
+    const std::size_t total = format.write(*log, file, [&](std::size_t written) {
+      if (o.progress) err << "\rconvert-log: " << written << " frames written" << std::flush;
     });
     file.close();
-    if (o.progress) err << "\rconvert-log: " << total << " of " << total << " frames written\n";
+    if (o.progress) err << "\rconvert-log: " << total << " frames written\n";
     if (!file) throw std::runtime_error(o.out + ": write error");
-    out_text << o.in << ": " << total << " frames (" << log.format << ", " << log.bad_lines.size() << " bad records, " << log.skipped
-             << " records of other kinds skipped) -> " << o.out << " (" << format.name << ")\n";
+    report_bad_line_count(*log, in.path, err);
+    out_text << o.in << ": " << total << " frames (" << log->records().format << ", " << log->bad_records() << " bad records, "
+             << log->records().skipped << " records of other kinds skipped) -> " << o.out << " (" << format.name << ")\n";
     return 0;
   } catch (const std::exception& e) {
     err << "meter-controller convert-log: " << e.what() << "\n";

@@ -30,13 +30,14 @@ int decode_command(const std::string& dbc_path, const std::string& log_path, con
           wanted.emplace(src.message, src.signal);
         }
     }
-    ParsedLog log = load_log_file(log_path);
-    report_bad_lines(log, log_path, err);
+    const std::unique_ptr<LogSource> log = open_log_source(log_path);  // streamed, a frame at a time
+    report_bad_lines(*log, log_path, err);
     out << "timestamp,message,signal,raw,physical,unit,status\n";
     std::vector<DecodedSignal> decoded;
     std::uint64_t unknown = 0;
     std::string row;
-    for (const auto& f : log.frames) {
+    while (const CanFrame* frame = log->next()) {
+      const CanFrame& f = *frame;
       if (f.error || f.rtr) continue;
       const DbcMessage* m = db.find(f.id, f.extended);
       if (!m) {
@@ -69,6 +70,7 @@ int decode_command(const std::string& dbc_path, const std::string& log_path, con
         out << row;
       }
     }
+    report_bad_line_count(*log, log_path, err);
     if (unknown) err << log_path << ": " << unknown << " frame(s) with ids the DBC does not define\n";
     return 0;
   } catch (const std::exception& e) {

@@ -110,11 +110,12 @@ int decode_e2e_command(const std::string& dbc_path, const std::string& log_path,
     Database db = load_dbc(dbc_path, DbcOptions{strict});
     report_dbc_warnings(db, err);
     E2eGuard guard = configured_guard(db, map_path, err);
-    ParsedLog log = load_log_file(log_path);
-    report_bad_lines(log, log_path, err);
+    const std::unique_ptr<LogSource> log = open_log_source(log_path);  // streamed, a frame at a time
+    report_bad_lines(*log, log_path, err);
     out << "timestamp,message,checksum,received,expected,counter,counter_status,used\n";
     std::string row;
-    for (const auto& f : log.frames) {
+    while (const CanFrame* frame = log->next()) {
+      const CanFrame& f = *frame;
       if (f.error || f.rtr) continue;
       const DbcMessage* m = db.find(f.id, f.extended);
       const int i = m ? guard.find(m) : -1;
@@ -123,6 +124,7 @@ int decode_e2e_command(const std::string& dbc_path, const std::string& log_path,
       write_row(row, f, *m, r);
       out << row;
     }
+    report_bad_line_count(*log, log_path, err);
     return summarise(guard, err) ? 2 : 0;
   } catch (const std::exception& e) {
     err << "meter-controller decode --e2e: " << e.what() << "\n";

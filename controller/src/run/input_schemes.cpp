@@ -36,7 +36,7 @@ std::unique_ptr<Input> open_modbus_rtu(const LiveInputContext& c) { return open_
 std::span<const InputScheme> input_schemes() {
   // The registration: one entry per scheme.
   static const std::array schemes{
-      InputScheme{"log", "log:FILE", "a recorded CAN log, FILE#N for its channel N alone", InputKind::Log, load_log_input, nullptr},
+      InputScheme{"log", "log:FILE", "a recorded CAN log, FILE#N for its channel N alone", InputKind::Log, open_log_input, nullptr},
       InputScheme{"can", "can:IFACE", "SocketCAN, e.g. can:vcan0", InputKind::CanBus, nullptr, open_socketcan},
       InputScheme{"modbus-tcp", "modbus-tcp:HOST:PORT", "Modbus TCP", InputKind::Modbus, nullptr, open_modbus_tcp},
       InputScheme{"modbus-rtu", "modbus-rtu:DEV:BAUD[:8N1]", "Modbus RTU", InputKind::Modbus, nullptr, open_modbus_rtu},

@@ -22,10 +22,11 @@ std::vector<CanIdFilter> can_filters(const std::vector<std::pair<std::uint32_t, 
 
 namespace {
 
-ParsedLog load_log(const InputSpec& s, std::ostream& err) {
-  ParsedLog log = s.scheme->load(s.address);
-  report_bad_lines(log, s.address, err);
-  if (log.frames.empty()) throw std::runtime_error(s.address + ": no frames in the log");
+// The log opened up to its first frame (a log without one is refused there), its bad lines
+// reported on err as the replay meets them.
+std::unique_ptr<LogSource> open_log(const InputSpec& s, std::ostream& err) {
+  std::unique_ptr<LogSource> log = s.scheme->load(s.address);
+  report_bad_lines(*log, s.address, err);
   return log;
 }
 
@@ -41,25 +42,25 @@ std::unique_ptr<Input> open_inputs(const std::vector<InputSpec>& specs, const st
   auto db_of = [&](std::size_t i) { return dbs[i] ? &*dbs[i] : nullptr; };
   check_modbus_tables(specs, map);
   if (specs.size() == 1) {
-    if (specs[0].kind() == InputKind::Log) return std::make_unique<LogReplay>(load_log(specs[0], err), parse_replay(replay));
+    if (specs[0].kind() == InputKind::Log) return std::make_unique<LogReplay>(open_log(specs[0], err), parse_replay(replay));
     return open_live(specs[0], 0, db_of(0), map, model);
   }
-  std::vector<std::pair<int, ParsedLog>> logs;
+  std::vector<std::pair<int, std::unique_ptr<LogSource>>> logs;
   std::string log_names;
   for (std::size_t i = 0; i < specs.size(); ++i)
     if (specs[i].kind() == InputKind::Log) {
-      logs.emplace_back(static_cast<int>(i), load_log(specs[i], err));
+      logs.emplace_back(static_cast<int>(i), open_log(specs[i], err));
       log_names += (log_names.empty() ? "" : "+") + specs[i].name;
     }
   const ReplayOptions replay_options = parse_replay(replay);
-  if (logs.size() == specs.size()) return std::make_unique<LogReplay>(merge_logs(std::move(logs)), replay_options);
+  if (logs.size() == specs.size()) return std::make_unique<LogReplay>(std::make_unique<MergedLogSource>(std::move(logs)), replay_options);
 
   std::vector<InputSet::Member> members;
   if (!logs.empty()) {
     if (replay_options.mode != ReplayMode::Realtime)
       throw std::invalid_argument("--replay " + replay + ": with a live input (can:, modbus-) the logs replay in realtime only, "
                                   "so that all inputs share one clock");
-    members.push_back({std::make_unique<LogReplay>(merge_logs(std::move(logs)), replay_options), log_names, -1});
+    members.push_back({std::make_unique<LogReplay>(std::make_unique<MergedLogSource>(std::move(logs)), replay_options), log_names, -1});
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
     if (specs[i].kind() == InputKind::Log) continue;

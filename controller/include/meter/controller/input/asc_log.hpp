@@ -7,15 +7,20 @@
 #pragma once
 
 #include <istream>
+#include <memory>
 #include <string_view>
 
 #include "meter/controller/input/log_format.hpp"
+#include "meter/controller/input/log_source.hpp"
 #include "meter/controller/input/parsed_log.hpp"
 
 namespace meter::controller {
 
+// The log a frame at a time, as run, decode and convert-log read it.
+std::unique_ptr<LogSource> open_asc_log(std::istream& in);
+// The whole log in memory (tests, fuzzers, benches).
 ParsedLog parse_asc_log(std::string_view text);
-ParsedLog read_asc_log(std::istream& in);  // the same, a block at a time
+ParsedLog read_asc_log(std::istream& in);
 
 // True when one of the first lines of `head` is an ASC header line ("date ...", "base hex ...").
 bool sniff_asc_log(std::string_view head);

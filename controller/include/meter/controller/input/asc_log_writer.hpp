@@ -13,6 +13,7 @@ namespace meter::controller {
 // classic frames as "<ch> <id>[x] Rx d <dlc> <bytes>", remote "r <dlc>", CAN FD as CANFD lines with
 // their BRS/ESI bits and flags, error frames as "<ch> ErrorFrame". A frame without a channel goes
 // on channel 1.
-void write_asc_log(const ParsedLog& log, std::ostream& out, const LogProgress& progress);
+// Returns the frames written.
+std::size_t write_asc_log(LogSource& frames, std::ostream& out, const LogProgress& progress);
 
 }  // namespace meter::controller

@@ -9,9 +9,11 @@
 
 #include <cstdint>
 #include <istream>
+#include <memory>
 #include <string_view>
 
 #include "meter/controller/input/log_format.hpp"
+#include "meter/controller/input/log_source.hpp"
 #include "meter/controller/input/parsed_log.hpp"
 
 namespace meter::controller {
@@ -21,8 +23,11 @@ inline constexpr std::uint32_t kBlfCanMessage = 1, kBlfLogContainer = 10, kBlfCa
                                kBlfCanFdMessage = 100, kBlfCanFdMessage64 = 101;
 inline constexpr std::size_t kBlfFileHeaderSize = 144;
 
-// Reads a whole BLF file from `in`; the bad records' numbers are object numbers (1-based, in file
-// order, a container's objects after the container).
+// A BLF file a frame at a time, as run, decode and convert-log read it: one container inflated at a
+// time, its objects read one per frame asked. The bad records' numbers are object numbers (1-based,
+// in file order, a container's objects after the container).
+std::unique_ptr<LogSource> open_blf_log(std::istream& in);
+// The whole file in memory (tests, fuzzers, benches).
 ParsedLog read_blf_log(std::istream& in);
 
 // True when the head starts with the BLF signature "LOGG".

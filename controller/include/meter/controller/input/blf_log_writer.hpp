@@ -13,6 +13,7 @@ namespace meter::controller {
 // objects each: CAN_MESSAGE for classic data and remote frames, CAN_FD_MESSAGE for CAN FD,
 // CAN_ERROR_EXT for error frames; object times in nanoseconds from the first frame's millisecond.
 // A frame without a channel goes on channel 1.
-void write_blf_log(const ParsedLog& log, std::ostream& out, const LogProgress& progress);
+// Returns the frames written.
+std::size_t write_blf_log(LogSource& frames, std::ostream& out, const LogProgress& progress);
 
 }  // namespace meter::controller

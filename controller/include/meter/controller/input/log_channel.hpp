@@ -3,9 +3,10 @@
 // each frame keeping the log's own timestamp.
 #pragma once
 
+#include <memory>
 #include <string>
 
-#include "meter/controller/input/parsed_log.hpp"
+#include "meter/controller/input/log_source.hpp"
 
 namespace meter::controller {
 
@@ -19,11 +20,9 @@ struct LogAddress {
 // a channel beyond 255.
 LogAddress parse_log_address(const std::string& address);
 
-// The frames of one channel (all of them for channel 0). Throws std::runtime_error naming the file
-// and the channels it holds when none is on that channel.
-ParsedLog select_log_channel(ParsedLog log, int channel, const std::string& path);
-
-// A log:ADDRESS input's frames: load_log_file() of the path, then its channel.
-ParsedLog load_log_input(const std::string& address);
+// A log:ADDRESS input: open_log_source() of the path, the frames of its channel (all of them for
+// no channel). Throws std::runtime_error naming the file and the channels it holds when none is on
+// the channel asked.
+std::unique_ptr<LogSource> open_log_input(const std::string& address);
 
 }  // namespace meter::controller

@@ -14,7 +14,7 @@ namespace meter::controller {
 // The fields of a line (split at spaces and tabs) into `out`.
 void split_log_fields(std::string_view line, std::vector<std::string_view>& out);
 
-// "12.345678" in units of unit_ns nanoseconds (1e9: seconds, 1e6: milliseconds) -> nanoseconds,
+// "12.345678" in units of unit_ns nanoseconds (a power of ten: 1e9 seconds, 1e6 milliseconds) -> nanoseconds,
 // digits only, at most 9 fraction digits and 12 integer digits; nullopt otherwise.
 std::optional<std::int64_t> parse_log_time(std::string_view text, std::int64_t unit_ns);
 

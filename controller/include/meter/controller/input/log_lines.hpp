@@ -1,41 +1,56 @@
 // The lines of a text log, read from a stream a block at a time (a long log is never held whole
-// in memory), each handed over without its line end.
+// in memory), and a text format's log source: its line reader fed one line at a time, when the
+// replay asks for the next frame.
 #pragma once
 
 #include <functional>
 #include <istream>
+#include <string>
 #include <string_view>
-#include <vector>
 
-#include "meter/controller/input/can_frame.hpp"
+#include "meter/controller/input/log_source.hpp"
 #include "meter/controller/input/parsed_log.hpp"
 
 namespace meter::controller {
 
-// Calls each_line(line) for every line of `in` in order, the line without '\n' and without the
-// spaces, tabs and carriage return at its end (trim_line_end); blank lines are handed over too.
-void for_each_log_line(std::istream& in, const std::function<void(std::string_view)>& each_line);
-// Room in `frames` for the frames a stream of that many bytes per frame holds (its size told by
-// seeking to its end and back): the frames are not moved as they grow.
-void reserve_log_frames(std::istream& in, std::size_t bytes_per_frame, std::vector<CanFrame>& frames);
+// The lines of `in` in order, each without '\n' and without the spaces, tabs and carriage return
+// at its end (trim_line_end); blank lines are handed over too.
+class LogLineCursor {
+ public:
+  explicit LogLineCursor(std::istream& in) : in_(in) {}
+  // The next line; false at the end of the stream. The line stays valid until the next call.
+  bool next(std::string_view& line);
 
-// The same over text already in memory.
+ private:
+  std::istream& in_;
+  std::string buffer_;
+  std::size_t pos_ = 0;  // the start of the next line in buffer_
+  bool eof_ = false;
+};
+
+// Calls each_line(line) for every line of text already in memory (a file's head), trimmed alike.
 void for_each_log_line(std::string_view text, const std::function<void(std::string_view)>& each_line);
 
-// A whole text log through a line reader (a class with `void line(std::string_view)` and a
-// `ParsedLog log`): from a stream, room reserved for a frame every `bytes_per_frame` bytes.
+// A text log through a line reader (a class built on the window it fills, a `ParsedLog&`, with
+// `void line(std::string_view)`), a line at a time.
 template <class LineReader>
-ParsedLog read_log_lines(std::istream& in, std::size_t bytes_per_frame) {
-  LineReader reader;
-  reserve_log_frames(in, bytes_per_frame, reader.log.frames);
-  for_each_log_line(in, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
-template <class LineReader>
-ParsedLog read_log_lines(std::string_view text) {
-  LineReader reader;
-  for_each_log_line(text, [&](std::string_view line) { reader.line(line); });
-  return std::move(reader.log);
-}
+class TextLogSource : public LogSource {
+ public:
+  explicit TextLogSource(std::istream& in) : lines_(in), reader_(window()) { watch(in); }
+
+ private:
+  LogLineCursor lines_;
+  LineReader reader_;
+  // Lines up to the next frame or bad line (blank lines, comments and headers give neither).
+  bool read_more() override {
+    const std::size_t frames = window().frames.size(), bad = window().bad_lines.size();
+    std::string_view line;
+    while (window().frames.size() == frames && window().bad_lines.size() == bad) {
+      if (!lines_.next(line)) return false;
+      reader_.line(line);
+    }
+    return true;
+  }
+};
 
 }  // namespace meter::controller

@@ -1,4 +1,5 @@
-// Replays a candump -L log as an input: in recorded time, scaled, or on a simulated clock (fast).
+// Replays a recorded log as an input: in recorded time, scaled, or on a simulated clock (fast). The
+// frames are pulled from a LogSource as they fall due, so only the source's window is held.
 // When the log has ended the input is a silent bus: its clock runs on (in wall time, scaled as
 // before; a fast replay's simulated clock continues at wall rate) and poll() waits its timeout and
 // reports the end, so a controller that stays up sees its values time out.
@@ -6,10 +7,11 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 
-#include "meter/controller/input/candump_log.hpp"
+#include "meter/controller/input/log_source.hpp"
 #include "meter/controller/input/input.hpp"
 
 namespace meter::controller {
@@ -26,21 +28,23 @@ ReplayOptions parse_replay(std::string_view text);  // throws std::invalid_argum
 
 class LogReplay : public Input {
  public:
-  LogReplay(ParsedLog log, ReplayOptions options);
+  LogReplay(std::unique_ptr<LogSource> log, ReplayOptions options);
+  LogReplay(ParsedLog log, ReplayOptions options);  // frames already in memory
   bool poll(InputSink& sink, std::chrono::milliseconds timeout) override;
   std::int64_t now_ns() const override;
   std::string describe() const override;
   double rate() const override { return opt_.mode == ReplayMode::Scaled ? opt_.scale : 1.0; }
-  const ParsedLog& log() const { return log_; }
-  std::size_t delivered() const { return next_; }
+  const LogSource& source() const { return *log_; }
+  std::size_t delivered() const { return delivered_; }
   std::size_t slips() const { return slips_; }  // times the replay clock slipped (we fell behind)
   BusHealth health() const override;  // error frames in the log, and the slips
   static constexpr std::int64_t kMaxLagNs = 20000000;  // 20 ms of log time
 
  private:
-  ParsedLog log_;
+  std::unique_ptr<LogSource> log_;
+  const CanFrame* next_ = nullptr;  // the next frame to deliver (held by the source); nullptr: the log's end
   ReplayOptions opt_;
-  std::size_t next_ = 0;
+  std::size_t delivered_ = 0;
   std::int64_t sim_now_ = 0;        // fast mode clock
   std::int64_t log_start_ = 0;      // first frame's timestamp
   std::int64_t wall_start_ = 0;     // CLOCK_MONOTONIC at the first poll (realtime / scaled)

@@ -7,14 +7,18 @@
 #pragma once
 
 #include <istream>
+#include <memory>
 #include <string_view>
 
 #include "meter/controller/input/log_format.hpp"
+#include "meter/controller/input/log_source.hpp"
 #include "meter/controller/input/parsed_log.hpp"
 
 namespace meter::controller {
 
-// The whole trace, a block at a time.
+// The trace a frame at a time, as run, decode and convert-log read it.
+std::unique_ptr<LogSource> open_trc_log(std::istream& in);
+// The whole trace in memory (tests, fuzzers, benches).
 ParsedLog read_trc_log(std::istream& in);
 
 // True when the head has a ";$FILEVERSION=" line, or one of its first lines is a 1.0 / 1.1

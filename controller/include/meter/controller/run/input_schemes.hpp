@@ -11,7 +11,7 @@
 
 #include "meter/controller/dbc/database.hpp"
 #include "meter/controller/input/input.hpp"
-#include "meter/controller/input/parsed_log.hpp"
+#include "meter/controller/input/log_source.hpp"
 #include "meter/controller/mapping/mapping.hpp"
 #include "meter/controller/model/model.hpp"
 
@@ -40,8 +40,9 @@ struct InputScheme {
   std::string_view form;    // "can:IFACE": the help text and the errors list these
   std::string_view what;    // "SocketCAN, e.g. can:vcan0": the help text
   InputKind kind;
-  // Log: the file's frames, in the format log_format.hpp finds for it. Other kinds: nullptr.
-  ParsedLog (*load)(const std::string& address) = nullptr;
+  // Log: the file as a source of its frames, in the format log_format.hpp finds for it, read as
+  // the replay asks. Other kinds: nullptr.
+  std::unique_ptr<LogSource> (*load)(const std::string& address) = nullptr;
   // Live kinds: the opened input; throws when it cannot be opened. Log: nullptr (the logs are
   // merged and replayed as one input).
   std::unique_ptr<Input> (*open)(const LiveInputContext& context) = nullptr;
