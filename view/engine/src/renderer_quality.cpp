@@ -2,8 +2,10 @@
 // see renderer.hpp and docs/engine.md, "Quality levels".
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -33,8 +35,13 @@ void Renderer::make_targets() {
     target_ = std::move(r.target), layer_ = std::move(r.layer), output_ = std::move(r.output);
     drawn_ = std::move(r.drawn), layer_drawn_ = std::move(r.layer_drawn), unresolved_ = std::move(r.unresolved);
     rung_targets_.erase(kept);
-    return;
   }
+  // Only the rungs left last keep theirs; older ones release them (memory: at most two rungs'
+  // targets). A return to a released rung makes them anew and draws its frame and static layer in
+  // full: the image a kept rung would show.
+  if (rung_targets_.size() > kKeptRungs)
+    rung_targets_.erase(rung_targets_.begin(), rung_targets_.end() - std::ptrdiff_t(kKeptRungs));
+  if (target_) return;
   platform::RenderTargetOptions rt;
   rt.width = draw_width_;
   rt.height = draw_height_;
@@ -89,16 +96,22 @@ int Renderer::warm_up(std::span<const governor::QualityChoice> choices) {
   // Each frame unforced, as the governor's frames are: the first at each rung makes its targets (or
   // forgets what they hold) and builds its static layer; the others redraw what the levels damage.
   forget_drawn(true);
+  // The held rung's choices last (each rung's in their order): its targets are then the current
+  // ones, not among the rungs released on the way.
+  std::vector<governor::QualityChoice> order(choices.begin(), choices.end());
+  std::stable_partition(order.begin(), order.end(), [&](const auto& c) { return !(c.global == quality.global); });
   int frames = 0;
-  for (const governor::QualityChoice& c : choices) {
+  for (const governor::QualityChoice& c : order) {
     set_quality(c);
     dirty_ = true;
     if (render(false, true).drawn) ++frames;
   }
   set_quality(quality);
-  // Every rung's targets are kept (made once, here) with what they hold, as after any frame: each
-  // rung's last warm-up frame drew the current outputs at full quality, so a frame at a rung
-  // redraws only what differs from that (nothing, at full quality with unchanged outputs).
+  // The held rung's targets and the rung's drawn before it are kept with what they hold, as after
+  // any frame: each rung's last warm-up frame drew the current outputs at full quality, so a frame
+  // at a kept rung redraws only what differs from that (nothing, at full quality with unchanged
+  // outputs); the other rungs' targets were made once and released (the programs and the driver's
+  // shader variants for their MSAA stay made).
   global_changed_ = true;
   dirty_ = true;
   redraw_all_ = redraw_all;

@@ -329,6 +329,50 @@ TEST_P(LevelsRender, WarmUpDrawsEveryLevelAndLeavesNoTrace) {
   EXPECT_EQ(a.warm_up({}), 0);
 }
 
+// The governor visits many rungs (the warm-up every one); only the current rung and the one left
+// last hold targets. A rung whose targets were released is drawn in full on return, the image a
+// fresh renderer draws there; the held rung, drawn last by the warm-up, redraws nothing after it.
+TEST_P(LevelsRender, OnlyTheCurrentAndLastRungKeepTheirTargets) {
+  const Scene& scene = cluster();
+  const BindingOutputs outputs = driving(scene);
+  const auto at = [](const governor::GlobalLevel& g) {
+    governor::QualityChoice c;
+    c.global = g;
+    return c;
+  };
+  const auto fresh_image = [&](const governor::QualityChoice& c) {
+    Renderer fresh(*backend_, scene, options());
+    fresh.set_quality(c);
+    fresh.apply(outputs);
+    fresh.render(false, true);
+    return fresh.last_image();
+  };
+  Renderer a(*backend_, scene, options());
+  a.apply(outputs);
+  a.render(false, true);
+  EXPECT_EQ(a.rungs_with_targets(), 1u);
+  const governor::GlobalLevel full{4, 1.0f}, two{2, 1.0f}, half{1, 0.5f};
+  const std::vector<governor::QualityChoice> choices{at(full), at(two), at(half)};
+  EXPECT_EQ(a.warm_up(choices), 3);
+  EXPECT_EQ(a.rungs_with_targets(), 2u) << "three rungs visited, more than two hold targets";
+  EXPECT_FALSE(a.render(false, true).drawn) << "the held rung was not the warm-up's last";
+  EXPECT_EQ(differing_pixels(a.last_image(), fresh_image(at(full))), 0u);
+  // Kept now: full (current) and half (left last); two's targets were released.
+  const auto visit = [&](const governor::GlobalLevel& g, bool kept) {
+    a.set_quality(at(g));
+    const FrameTiming t = a.render(false, true);
+    EXPECT_EQ(t.drawn, !kept) << "MSAA " << g.msaa << " scale " << g.scale;
+    if (!kept) {
+      EXPECT_EQ(t.redrawn_fraction, 1.0) << "a released rung was not drawn in full";
+    }
+    EXPECT_EQ(a.rungs_with_targets(), 2u);
+    EXPECT_EQ(differing_pixels(a.last_image(), fresh_image(at(g))), 0u) << "MSAA " << g.msaa << " scale " << g.scale;
+  };
+  visit(two, false);
+  visit(full, true);
+  visit(half, false);
+}
+
 TEST_P(LevelsRender, BadChoicesAreRefusedNamingTheUnitAndLevel) {
   Renderer a(*backend_, cluster(), options());
   const auto units = a.draw_units();

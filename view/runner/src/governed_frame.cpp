@@ -127,8 +127,9 @@ void GovernedFrames::rendered(const engine::FrameTiming& timing, std::int64_t be
 }
 
 // Every level the governor may take drawn once now, with the outputs the display shows, so none
-// costs its first-use work (program compiles, the driver's shader variants, a rung's targets and
-// static layer) on a governed frame.
+// costs its first-use work (program compiles, the driver's shader variants, text sizes) on a
+// governed frame. The held rung and the one drawn before it keep their targets and static layer;
+// the renderer releases the other rungs' (memory), which a later visit makes again.
 void GovernedFrames::warm_up(double start_up_ms) {
   const auto w0 = Clock::now();
   const int frames = renderer_.warm_up(gov::warm_up_choices(governor_->model()));

@@ -222,7 +222,8 @@ class Renderer {
   // draw_units().size() entries, msaa is not 1, 2 or 4, or scale is not in (0, 1]. Damages exactly
   // what changes: the boxes of the units whose level changed (a static-layer member's change
   // rebuilds the layer); a GlobalLevel change moves to that rung's targets (made and drawn in full
-  // the first time; kept with their frame and layer after, so a return redraws what differs). The
+  // the first time; the rung left keeps them with its frame and layer, so a return to it redraws
+  // what differs; a rung left before that releases them and is drawn in full again). The
   // output (last_image(), read(), read_regions()) keeps width() x height(): a frame drawn at a
   // scale < 1 is upscaled with a linear blit when it is resolved.
   void set_quality(const governor::QualityChoice& choice);
@@ -230,10 +231,12 @@ class Renderer {
   // Draws and reads back one frame at each of `choices` (checked as set_quality checks them; the
   // first at each rung in full, its static layer built) and then puts back what was: the quality,
   // stats(), last_image(), the pending integrity boxes and the injected fault (off while warming
-  // up). Each rung's targets are kept with the frame last drawn there, so the next frame redraws
-  // what differs from that and looks as it would have without the call. What a level needs the first time it is drawn (its programs compiled, the driver's
-  // shader variants for each MSAA rung, a rung's targets and text sizes) is so made before any
-  // frame is timed, not on the first frame that uses it. Returns the frames drawn.
+  // up). The held rung is drawn last, so its targets are kept with the frame last drawn there and
+  // the next frame redraws what differs from that and looks as it would have without the call (the
+  // rung drawn before it keeps its targets too; the others release theirs). What a level needs the
+  // first time it is drawn (its programs compiled, the driver's shader variants for each MSAA rung,
+  // text sizes) is so made before any frame is timed, not on the first frame that uses it. Returns
+  // the frames drawn.
   int warm_up(std::span<const governor::QualityChoice> choices);
   // Moves the drawn image by `pixels` (x right, y up, in the drawn target's pixels) from the next
   // render() on, by translating the projection after it: the whole scene is sampled that far from
@@ -244,6 +247,9 @@ class Renderer {
   // The planned load of the last frame render() evaluated (drawn or skipped; per unit in output
   // pixels, at scale 1: a caller predicting a scaled frame multiplies by scale^2).
   const governor::FrameLoad& last_load() const { return last_load_; }
+  // The global rungs holding render targets now: the current one and at most the one left last
+  // (memory: one set of targets and a static layer each, about 30 MiB at 1280x480 MSAA 4).
+  std::size_t rungs_with_targets() const { return (target_ ? 1u : 0u) + rung_targets_.size(); }
 
 
  private:
@@ -322,15 +328,17 @@ class Renderer {
   bool global_changed_ = false;                 // targets to recreate at the next render()
   int draw_width_ = 0, draw_height_ = 0;        // target_'s size: the output size times the scale
   std::unique_ptr<platform::RenderTarget> output_;  // scale < 1: the frame upscaled to the output size
-  // The targets of the rungs visited before, with what they hold: a rung change back redraws what
+  // The targets of the rung left last, with what they hold: a rung change back redraws what
   // differs from the frame drawn there last (the static layer too) instead of making new targets
-  // and building the layer again. Memory: one set of targets per rung visited.
+  // and building the layer again (a governor stepping down and back up). Older rungs release
+  // theirs: memory is two sets of targets, however many rungs the governor visits.
   struct RungTargets {
     std::unique_ptr<platform::RenderTarget> target, layer, output;
     DrawnFrame drawn, layer_drawn;
     std::vector<platform::PixelRegion> unresolved;
   };
   std::vector<std::pair<governor::GlobalLevel, RungTargets>> rung_targets_;
+  static constexpr std::size_t kKeptRungs = 1;  // rungs left that keep their targets
   governor::GlobalLevel targets_level_;          // the rung target_ was made for
   std::uint64_t draws_ = 0;                      // counts what was drawn into the target
   std::vector<platform::PixelRegion> watched_;  // see resolve_with_frame()
