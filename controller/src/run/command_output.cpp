@@ -28,15 +28,12 @@ void report_bad_lines(LogSource& log, const std::string& path, std::ostream& err
   auto shown = std::make_shared<std::size_t>(0);
   auto report = [shown, path, &err](const BadLine& b) {
     const auto file = protocol::log_field("file", path);
-    if (*shown == 0) protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file}) << path << ": bad line(s) skipped:
-";
+    if (*shown == 0) protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file}) << path << ": bad line(s) skipped:\n";
     if (*shown < kShown)
       protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file, protocol::log_field("line", static_cast<std::int64_t>(b.line))})
-          << "  " << path << ":" << b.line << ": " << b.why << "
-";
+          << "  " << path << ":" << b.line << ": " << b.why << "\n";
     if (++*shown == kShown + 1)
-      protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file}) << "  " << path << ": more bad lines: counted, not shown
-";
+      protocol::LogLine(err, protocol::LogLevel::Warning, "input", {file}) << "  " << path << ": more bad lines: counted, not shown\n";
   };
   for (const BadLine& b : log.records().bad_lines) report(b);
   log.on_bad_record(report);
@@ -45,8 +42,7 @@ void report_bad_lines(LogSource& log, const std::string& path, std::ostream& err
 void report_bad_line_count(const LogSource& log, const std::string& path, std::ostream& err) {
   if (log.bad_records())
     protocol::LogLine(err, protocol::LogLevel::Warning, "input", {protocol::log_field("file", path)})
-        << path << ": skipped " << log.bad_records() << " bad line(s)
-";
+        << path << ": skipped " << log.bad_records() << " bad line(s)\n";
 }
 
 void report_dbc_warnings(const Database& db, std::ostream& err) {
