@@ -1,5 +1,11 @@
 # Warnings, sanitizers, and the numerics guard (no -ffast-math anywhere: the numerics tests
 # depend on IEEE NaN/Inf semantics and on reproducible rounding).
+# Floating-point expressions are evaluated as written, each operation rounded, on every processor: GCC
+# otherwise fuses a * b + c into one multiply-add with a single rounding wherever the instruction set
+# has one (arm64 always; x86-64 from -march=haswell on), and that moved the last bits of decoded
+# values (a DBC's raw * factor + offset, which canmatrix and the x86-64 build round twice) and of the
+# renders (docs/targets.md). On x86-64's baseline it changes no instruction.
+add_compile_options(-ffp-contract=off)
 add_library(meter_build_flags INTERFACE)
 target_compile_options(meter_build_flags INTERFACE -Wall -Wextra -Wpedantic)
 # GCC 12 reports -Wrestrict inside libstdc++'s std::string operator+ at -O2/-O3 for code that is

@@ -46,7 +46,6 @@ target_compile_options(meter_cli INTERFACE $<$<CONFIG:Release,RelWithDebInfo>:-O
 # view/
 meter_config(glm libglm-dev)
 meter_config(nlohmann_json nlohmann-json3-dev)
-meter_config(TinyGLTF libtinygltf-dev)          # TinyGLTF::TinyGLTF (Debian builds it as a .so)
 find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb)
 if(NOT STB_INCLUDE_DIR)
   meter_missing("stb_image.h" libstb-dev)
@@ -75,13 +74,18 @@ find_package(Freetype QUIET)
 if(NOT Freetype_FOUND)
   meter_missing("FreeType" libfreetype-dev)
 endif()
-meter_config(meshoptimizer libmeshoptimizer-dev) # meshoptimizer::meshoptimizer
 meter_pkg(LUA lua5.4 liblua5.4-dev)                # scene scripts (PkgConfig::LUA): scene_config checks, engine runs
 
-# Shader optimizer (converter only, never the runtime): glslang -> spirv-opt -> SPIRV-Cross.
-meter_config(glslang glslang-dev)                 # glslang::glslang, glslang::SPIRV
-meter_pkg(SPIRV_TOOLS SPIRV-Tools spirv-tools)
-meter_pkg(SPIRV_CROSS spirv-cross-c-shared libspirv-cross-c-shared-dev)
+# The offline side only (meter-convert, never the runtime): glTF loading, mesh tools and the shader
+# optimizer, glslang -> spirv-opt -> SPIRV-Cross. A target build (METER_RUNTIME_ONLY) needs none: Debian's
+# glslang and SPIRV packages cannot be installed for arm64 beside the host's (docs/targets.md).
+if(NOT METER_RUNTIME_ONLY)
+  meter_config(TinyGLTF libtinygltf-dev)          # TinyGLTF::TinyGLTF (Debian builds it as a .so)
+  meter_config(meshoptimizer libmeshoptimizer-dev) # meshoptimizer::meshoptimizer
+  meter_config(glslang glslang-dev)                 # glslang::glslang, glslang::SPIRV
+  meter_pkg(SPIRV_TOOLS SPIRV-Tools spirv-tools)
+  meter_pkg(SPIRV_CROSS spirv-cross-c-shared libspirv-cross-c-shared-dev)
+endif()
 
 # The cluster font: DejaVu Sans from fonts-dejavu-core (a Debian font package, not vendored).
 find_file(METER_FONT_FILE DejaVuSans.ttf PATHS /usr/share/fonts/truetype/dejavu NO_DEFAULT_PATH)

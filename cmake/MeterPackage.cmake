@@ -37,10 +37,14 @@ set(_staged ${PROJECT_BINARY_DIR}/deploy)
 # --- programs, by role -------------------------------------------------------------------------
 install(TARGETS meter-controller RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT controller)
 install(TARGETS meter-view RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT view)
-set(METER_TOOL_PROGRAMS meter-convert meter-package meter-verify meter-calibrate meter-linkdump meter-linkplay)
-if(TARGET meter-preview)
-  list(APPEND METER_TOOL_PROGRAMS meter-preview)
-endif()
+# (A target build, METER_RUNTIME_ONLY, has no meter-convert, meter-calibrate or meter-preview: they run
+# on the host, docs/targets.md.)
+set(METER_TOOL_PROGRAMS)
+foreach(_tool meter-convert meter-package meter-verify meter-calibrate meter-linkdump meter-linkplay meter-preview)
+  if(TARGET ${_tool})
+    list(APPEND METER_TOOL_PROGRAMS ${_tool})
+  endif()
+endforeach()
 install(TARGETS ${METER_TOOL_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
 
 # --- the shipped data ----------------------------------------------------------------------------
@@ -54,13 +58,24 @@ install(FILES ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.glb ${PROJECT_SOURCE_
               ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.groups.json
         DESTINATION ${METER_DATA_DIR}/scenes/cluster COMPONENT tools)
 
-# The cluster scene converted by the build's own converter, so the view's package needs no converter.
+# The cluster scene converted by the build's own converter, so the view's package needs no converter;
+# a target build's by the host build's (the package format is the same on every architecture).
 set(METER_SHIPPED_SCENE ${_staged}/scenes/cluster.msp)
+if(TARGET meter-convert)
+  set(_convert meter-convert)
+else()
+  set(METER_HOST_CONVERT "" CACHE FILEPATH "A host build's meter-convert (a target build has none of its own)")
+  if(NOT EXISTS "${METER_HOST_CONVERT}")
+    message(FATAL_ERROR "meter: a target build converts its scenes with a host build's meter-convert: "
+                        "configure with -DMETER_HOST_CONVERT=HOST_BUILD/bin/meter-convert (scripts/cross-build does)")
+  endif()
+  set(_convert ${METER_HOST_CONVERT})
+endif()
 add_custom_command(OUTPUT ${METER_SHIPPED_SCENE}
   COMMAND ${CMAKE_COMMAND} -E make_directory ${_staged}/scenes
-  COMMAND meter-convert ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.glb
+  COMMAND ${_convert} ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.glb
           --config ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.scene.json -o ${METER_SHIPPED_SCENE} -q
-  DEPENDS meter-convert ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.glb
+  DEPENDS ${_convert} ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.glb
           ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.scene.json ${PROJECT_SOURCE_DIR}/scenes/cluster/cluster.groups.json
   COMMENT "Converting the shipped cluster scene for meter-view's package"
   VERBATIM)

@@ -32,6 +32,10 @@ function(meter_add_test_pch)
   target_precompile_headers(meter_test_pch PRIVATE <gtest/gtest.h> <gmock/gmock.h>)
 endfunction()
 
+# The offline side's libraries (the converter and what it links): a test program linking one is not
+# built by a target build.
+set(METER_OFFLINE_LIBRARIES meter::convert meter_engine_test_scenes TinyGLTF::TinyGLTF meshoptimizer::meshoptimizer)
+
 # meter_add_gtest(<target> LABELS <labels...> SOURCES <files...> LIBS <libs...> [TIMEOUT s]
 #                 [RESOURCE_LOCK name] [COST n])
 # Builds a GoogleTest executable and registers each test case with CTest under the given labels
@@ -42,6 +46,15 @@ function(meter_add_gtest target)
   cmake_parse_arguments(T "" "TIMEOUT;RESOURCE_LOCK;COST" "LABELS;SOURCES;LIBS" ${ARGN})
   if(NOT METER_BUILD_TESTS)
     return()
+  endif()
+  # A target build (METER_RUNTIME_ONLY) has no converter: the test programs that convert scenes
+  # in-process are left out there (they run in the host's builds).
+  if(METER_RUNTIME_ONLY)
+    foreach(lib IN LISTS T_LIBS)
+      if(lib IN_LIST METER_OFFLINE_LIBRARIES)
+        return()
+      endif()
+    endforeach()
   endif()
   if(NOT TARGET meter_test_pch)
     meter_add_test_pch()

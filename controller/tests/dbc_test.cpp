@@ -97,6 +97,22 @@ TEST(Dbc, ShortFrameAndRangeFlags) {
   EXPECT_EQ(out[0].status, DecodeStatus::OutOfRange);
 }
 
+// physical = raw * factor + offset as the DBC writes it: the product rounded to a double, then the
+// sum, on every processor. A compiler may fuse the two into one multiply-add with a single rounding
+// (GCC does on arm64 unless told not to), which moves the last bits: the real ft86 drive's BOOST,
+// raw 45 with (1.9885, -98.85), decoded -9.3675 on arm64 and -9.367499999999993 on x86-64 and in
+// canmatrix.
+TEST(Dbc, PhysicalValueRoundsTheProductThenTheSum) {
+  Database db = parse_dbc("BO_ 864 ID_360: 8 X\n SG_ BOOST : 32|8@1+ (1.9885,-98.85) [-99|507] \"kPa\" X\n", "boost.dbc");
+  std::vector<DecodedSignal> out;
+  std::uint8_t p[8] = {0, 0, 0, 0, 45, 0, 0, 0};
+  decode(db.messages[0], p, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].raw, 45u);
+  EXPECT_EQ(out[0].physical, -9.367499999999993);  // (45 * 1.9885 = 89.4825, rounded) - 98.85, rounded
+  EXPECT_EQ(raw_to_physical(db.messages[0].signals[0], 45), -9.367499999999993);
+}
+
 // A signal whose bytes are missing is decoded from zero padding; with a huge factor that product
 // can overflow, and the padded value must not leak out as inf beside its ShortFrame status (found by
 // the dbc fuzz target).
