@@ -18,6 +18,37 @@
 #include "meter/protocol/link_options.hpp"
 #include "meter/runner/run_view.hpp"
 
+namespace {
+
+// The live pipeline's options (docs/pipeline.md): how frames overlap, what a busy writer does, the
+// bottleneck report and the overrun trace.
+void add_pipeline_options(CLI::App& app, meter::runner::ViewOptions& o, CLI::Option* link_opt) {
+  app.add_option("--pipeline", o.pipeline,
+                 "live: overlapped (concurrent, and a frame's GL work executes, fenced, while the next frame "
+                 "is taken in, evaluated and planned), concurrent (PNG check/encode on the writer thread "
+                 "through a bounded buffer, readback through pixel-pack buffers, a frame as soon as a change "
+                 "may be drawn; each frame waited for with glFinish) or sequential (the loop as before: frames "
+                 "on the --fps ticks, synchronous readback); docs/pipeline.md")
+      ->check(CLI::IsMember({"overlapped", "concurrent", "sequential"}))->capture_default_str()->needs(link_opt);
+  app.add_option("--dump-policy", o.dump_policy,
+                 "live: when the PNG writer is behind, drop the --dump-every frame (counted) or block the "
+                 "render loop until it has room (default: drop when concurrent, block when sequential); "
+                 "--dump-at and SIGUSR1 dumps always block")
+      ->check(CLI::IsMember({"drop", "block"}))->needs(link_opt);
+  app.add_flag("--stats", o.stats,
+               "live: print every stage's busy / waiting-for-input / waiting-for-output shares and the "
+               "bottleneck every --stats-interval seconds and at exit")
+      ->needs(link_opt);
+  app.add_option("--stats-interval", o.stats_interval_s, "live: seconds between --stats lines")
+      ->check(CLI::Range(0.1, 3600.0))->capture_default_str();
+  app.add_option("--trace-on-overrun", o.trace_on_overrun_ms,
+                 "live: keep the last 5 s of trace events in memory and write them to <out>/overrun_<frame>.json "
+                 "when a frame takes longer than MS milliseconds (at most one file per 5 s)")
+      ->check(CLI::PositiveNumber)->needs(link_opt);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace meter::runner;
   CLI::App app{"meter-view: instrument-cluster view (graphics MCU). Renders a scene package offscreen with EGL or OSMesa.\n"
@@ -74,28 +105,7 @@ int main(int argc, char** argv) {
   app.add_option("--trace-json", o.trace_json,
                  "live: Chrome trace-event JSON (intake, evaluate, render, readback, encode on CLOCK_MONOTONIC, "
                  "the controller's --trace-json clock; opens in Perfetto UI)");
-  app.add_option("--pipeline", o.pipeline,
-                 "live: overlapped (concurrent, and a frame's GL work executes, fenced, while the next frame "
-                 "is taken in, evaluated and planned), concurrent (PNG check/encode on the writer thread "
-                 "through a bounded buffer, readback through pixel-pack buffers, a frame as soon as a change "
-                 "may be drawn; each frame waited for with glFinish) or sequential (the loop as before: frames "
-                 "on the --fps ticks, synchronous readback); docs/pipeline.md")
-      ->check(CLI::IsMember({"overlapped", "concurrent", "sequential"}))->capture_default_str()->needs(link_opt);
-  app.add_option("--dump-policy", o.dump_policy,
-                 "live: when the PNG writer is behind, drop the --dump-every frame (counted) or block the "
-                 "render loop until it has room (default: drop when concurrent, block when sequential); "
-                 "--dump-at and SIGUSR1 dumps always block")
-      ->check(CLI::IsMember({"drop", "block"}))->needs(link_opt);
-  app.add_flag("--stats", o.stats,
-               "live: print every stage's busy / waiting-for-input / waiting-for-output shares and the "
-               "bottleneck every --stats-interval seconds and at exit")
-      ->needs(link_opt);
-  app.add_option("--stats-interval", o.stats_interval_s, "live: seconds between --stats lines")
-      ->check(CLI::Range(0.1, 3600.0))->capture_default_str();
-  app.add_option("--trace-on-overrun", o.trace_on_overrun_ms,
-                 "live: keep the last 5 s of trace events in memory and write them to <out>/overrun_<frame>.json "
-                 "when a frame takes longer than MS milliseconds (at most one file per 5 s)")
-      ->check(CLI::PositiveNumber)->needs(link_opt);
+  add_pipeline_options(app, o, link_opt);
   app.add_option("--program-cache", o.program_cache,
                  "directory where linked GL programs are kept across runs as the driver's binaries (default "
                  "$XDG_CACHE_HOME/meter, else ~/.cache/meter); off: compile every program at every start")
