@@ -67,17 +67,18 @@ void write_log(LogRecord record) {
 }
 
 LogLine::LogLine(std::ostream& err, LogLevel level, std::string component, std::vector<LogField> fields,
-                 std::source_location where)
-    : LogLine(level, std::move(component), std::move(fields), where) {
+                 const char* code_file, int code_line)
+    : LogLine(level, std::move(component), std::move(fields), code_file, code_line) {
   if (dynamic_cast<LogStream*>(&err) == nullptr) err_ = &err;
 }
 
-LogLine::LogLine(LogLevel level, std::string component, std::vector<LogField> fields, std::source_location where) {
+LogLine::LogLine(LogLevel level, std::string component, std::vector<LogField> fields, const char* code_file,
+                 int code_line) {
   record_.level = level;
   record_.component = std::move(component);
   record_.fields = std::move(fields);
-  record_.code_file = where.file_name();
-  record_.code_line = static_cast<int>(where.line());
+  record_.code_file = code_file;
+  record_.code_line = code_line;
 }
 
 LogLine::~LogLine() {

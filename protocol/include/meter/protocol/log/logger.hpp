@@ -6,7 +6,6 @@
 #include <memory>
 #include <mutex>
 #include <ostream>
-#include <source_location>
 #include <sstream>
 #include <streambuf>
 #include <string>
@@ -37,13 +36,16 @@ void write_log(LogRecord record);
 //   LogLine(err, LogLevel::Warning, "health", {log_field("input", name)}) << "meter-controller: " << ...;
 // To a LogStream (main's stderr) it is a record with its level, component and fields; to any other
 // stream (a test's ostringstream) it is the same text line as before, so the wording stays one.
+// The record's code file and line are the call site's: __builtin_FILE and __builtin_LINE as default
+// arguments take the caller's (GCC and clang alike; std::source_location needs a clang newer than the
+// sanitizer build's 14).
 class LogLine {
  public:
   LogLine(std::ostream& err, LogLevel level, std::string component, std::vector<LogField> fields = {},
-          std::source_location where = std::source_location::current());
+          const char* code_file = __builtin_FILE(), int code_line = __builtin_LINE());
   // Straight to the process's logger (code that has no `err` stream: the link, the package reader).
   LogLine(LogLevel level, std::string component, std::vector<LogField> fields = {},
-          std::source_location where = std::source_location::current());
+          const char* code_file = __builtin_FILE(), int code_line = __builtin_LINE());
   ~LogLine();
   LogLine(const LogLine&) = delete;
   LogLine& operator=(const LogLine&) = delete;
