@@ -2,7 +2,7 @@
 """meter-controller's log records through each sink, from one short replay (docs/logging.md).
 
 The input is the first lines of the demo drive with two broken lines put in: the controller logs a
-warning record for the skipped lines (field file) and one per bad line (fields file, line), an info
+warning record when the replay meets the first skipped line (field file) and one per bad line (fields file, line), an info
 record per connection line with -v, and its stats on stdout. The argument picks the sink:
   json     --log json: every stderr line is one JSON object with time, level, program, component,
            message and the fields; --log-level warning keeps the warnings and drops the info records;
@@ -84,7 +84,9 @@ def test_json(tmp, log):
     bad = [r for r in records if r.get("line") is not None]
     if sorted(r["line"] for r in bad) != [101, 201] or any(r["file"] != log or r["level"] != "warning" for r in bad):
         fail(f"expected two warning records with file {log} and lines 101, 201, got {bad}")
-    if not any(r["message"].endswith("skipped 2 bad line(s)") and r["component"] == "input" for r in records):
+    # A streamed log says so when the replay meets its first bad line ("FILE: bad line(s) skipped:").
+    if not any("bad line(s) skipped" in r["message"] and r["component"] == "input" and r.get("file") == log
+               for r in records):
         fail("no record for the skipped lines")
     if not any(r["level"] == "info" and r["component"] == "run" and "input" in r for r in records):
         fail("no info record naming the input (-v)")
