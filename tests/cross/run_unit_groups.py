@@ -11,6 +11,7 @@ of its program and pass alone: both outcomes are printed). Exit 1 naming every t
 alone, or a group that failed without naming a test."""
 import concurrent.futures
 import json
+import os
 import re
 import subprocess
 import sys
@@ -36,10 +37,8 @@ def groups(build, label, exclude):
 
 def run(key, names):
     base, cwd, env = key[0], key[1], key[2]
-    cmd = list(base)
-    if names:
-        cmd.insert(len(cmd), "--gtest_filter=" + ":".join(names))
-    environ = dict(__import__("os").environ)
+    cmd = list(base) + (["--gtest_filter=" + ":".join(names)] if names else [])
+    environ = dict(os.environ)
     environ.update(e.split("=", 1) for e in env)
     start = time.monotonic()
     p = subprocess.run(cmd, cwd=cwd, env=environ, capture_output=True, text=True)
