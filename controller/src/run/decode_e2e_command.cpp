@@ -15,12 +15,6 @@
 namespace meter::controller {
 namespace {
 
-std::string hex(std::uint32_t v) {
-  char b[16];
-  std::snprintf(b, sizeof b, "0x%X", v);
-  return b;
-}
-
 // The guard and, on err, where its configuration comes from.
 E2eGuard configured_guard(const Database& db, const std::string& map_path, std::ostream& err) {
   const InputDbc inputs[] = {{"", &db}};

@@ -3,18 +3,13 @@
 #include <cstdio>
 #include <sstream>
 
+#include "command_output.hpp"
 #include "meter/protocol/log/logger.hpp"
 
 namespace meter::controller {
 
 namespace {
 constexpr std::int64_t kLossLineEveryNs = 1000000000;  // one loss line a second at most
-
-std::string hex(std::uint32_t v) {
-  char b[16];
-  std::snprintf(b, sizeof b, "0x%X", v);
-  return b;
-}
 }  // namespace
 
 std::uint32_t view_fault_flags(const std::vector<protocol::Publisher::PeerStatus>& views) {
