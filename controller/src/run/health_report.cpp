@@ -19,8 +19,7 @@ std::uint32_t view_fault_flags(const std::vector<protocol::Publisher::PeerStatus
 }
 
 void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64_t t, std::ostream& err, Trace& trace) {
-  const BusHealth old = bus_;
-  bus_ = bus;
+  const BusHealth& old = bus_;  // the last call's, kept until the end (assigned in place: no allocation)
   if (bus.state != old.state || (first_ && bus.state != BusState::ErrorActive)) {
     protocol::LogLine(err, bus.state == BusState::ErrorActive ? protocol::LogLevel::Info : protocol::LogLevel::Warning, "health",
                       {protocol::log_field("input", input_), protocol::log_field("bus_state", std::string(to_string(bus.state)))})
@@ -70,6 +69,7 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
   if (slip_at_ns_ != 0 && t - slip_at_ns_ < hold) cf |= protocol::kControllerFaultReplaySlip;
   controller_faults_ = cf;
   first_ = false;
+  bus_ = bus;
 }
 
 void HealthReport::report_e2e(const BusHealth& bus, std::int64_t t, std::ostream& err, Trace& trace) {

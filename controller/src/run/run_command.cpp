@@ -12,6 +12,7 @@
 #include "health_report.hpp"
 #include "latency_trace.hpp"
 #include "meter/controller/dbc/database.hpp"
+#include "meter/controller/e2e/e2e_guard.hpp"
 #include "meter/controller/input/input.hpp"
 #include "meter/controller/input/socketcan.hpp"
 #include "meter/controller/mapping/mapping.hpp"
@@ -155,10 +156,13 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
 
     ModelSink sink(model, trace, events);
     HealthReport health(input->describe());
+    std::vector<E2eHealth> e2e;  // kept across ticks: named once, its counts rewritten in place
     auto report_health = [&](std::int64_t t) {
       BusHealth bus = input->health();
-      if (!model.e2e().empty()) bus.e2e = e2e_health(model.e2e());
+      update_e2e_health(model.e2e(), e2e);
+      bus.e2e.swap(e2e);
       health.update(bus, view_fault_flags(pub.peer_status()), t, err, trace);
+      bus.e2e.swap(e2e);  // back, for the next tick
       const std::uint64_t lost = health.bus().kernel_drops + health.bus().interface_drops;
       pub.send_status(model.stats().frames + model.stats().values, lost, health.controller_faults());
       recording.status(t, model.stats().frames + model.stats().values, lost, health.controller_faults());
