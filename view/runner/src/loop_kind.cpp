@@ -5,8 +5,15 @@
 namespace meter::runner {
 
 LoopKind live_loop_kind(const ViewOptions& options) {
-  // An injected integrity fault is scheduled against the loop it was written for: concurrent.
-  if (options.pipeline == "overlapped") return options.inject_fault.empty() ? LoopKind::Overlapped : LoopKind::Concurrent;
+  if (options.pipeline == "overlapped") {
+    // An injected integrity fault is scheduled frame by frame against a loop that completes each
+    // frame before the next is taken in; the overlapped loop does not, and running another loop
+    // than the one asked for would measure something else without saying so.
+    if (!options.inject_fault.empty())
+      throw ViewError("--inject-fault " + options.inject_fault +
+                      ": the overlapped pipeline cannot inject an integrity fault; add --pipeline concurrent (or sequential)");
+    return LoopKind::Overlapped;
+  }
   if (options.pipeline == "concurrent") return LoopKind::Concurrent;
   if (options.pipeline == "sequential") return LoopKind::Sequential;
   throw ViewError("--pipeline: expected overlapped, concurrent or sequential, got \"" + options.pipeline + "\"");

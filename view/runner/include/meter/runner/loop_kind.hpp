@@ -11,7 +11,9 @@ namespace meter::runner {
 // concurrent, and a frame's GL work executes, fenced, while the next is taken in.
 enum class LoopKind { Sequential, Concurrent, Overlapped };
 
-// The kind --pipeline names. Throws ViewError for an unknown name.
+// The kind --pipeline names. Throws ViewError for an unknown name, and for overlapped with
+// --inject-fault (its fault schedule needs each frame completed before the next: concurrent or
+// sequential, asked for by name).
 LoopKind live_loop_kind(const ViewOptions& options);
 
 }  // namespace meter::runner
