@@ -14,9 +14,41 @@
 #include "meter/controller/run/input_schemes.hpp"
 #include "meter/controller/run/odometer_reset_command.hpp"
 #include "meter/controller/run/run_command.hpp"
+#include "meter/log_sinks/log_options.hpp"
 #include "meter/log_sinks/open_log_sink.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/protocol/link_options.hpp"
+
+namespace {
+
+// decode and decode --e2e, their stderr through the process's log.
+int decode_main(const std::string& dbc, const std::string& log, const std::string& map, const std::string& catalog, bool e2e,
+                bool strict, const meter::log_sinks::LogOptions& log_options) {
+  using namespace meter::controller;
+  meter::log_sinks::ProcessLog process_log("meter-controller", log_options.sink, log_options.level, "decode");
+  std::ostream& err = process_log.err();
+  try {
+    meter::protocol::use_catalog_option(catalog);
+  } catch (const std::exception& e) {
+    err << "meter-controller decode: " << e.what() << "\n";
+    return 1;
+  }
+  if (e2e) return decode_e2e_command(dbc, log, map, std::cout, err, strict);
+  return decode_command(dbc, log, map, std::cout, err, strict);
+}
+
+// convert-log. Its progress line redraws itself with a carriage return on a terminal: only where
+// stderr is the terminal itself, not records (--log or --log-level given).
+int convert_log_main(meter::controller::ConvertLogOptions& convert, const meter::log_sinks::LogOptions& log_options) {
+  if (!log_options.given()) {
+    convert.progress = ::isatty(2) != 0;
+    return meter::controller::convert_log_command(convert, std::cout, std::cerr);
+  }
+  meter::log_sinks::ProcessLog process_log("meter-controller", log_options.sink, log_options.level, "convert-log");
+  return meter::controller::convert_log_command(convert, std::cout, process_log.err());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace meter::controller;
@@ -63,10 +95,8 @@ int main(int argc, char** argv) {
   r->add_option("--record", run.record,
                 "Write every published change as a link recording stamped with the input's clock (with "
                 "--replay fast: the simulated clock), which meter-view --play renders (docs/fleet.md)");
-  std::string log_sink, log_level;
-  r->add_option("--log", log_sink, meter::log_sinks::kLogHelp)->check(CLI::IsMember({"text", "json", "journal", "dlt"}));
-  r->add_option("--log-level", log_level, meter::log_sinks::kLogLevelHelp)
-      ->check(CLI::IsMember({"error", "warning", "info", "debug"}));
+  meter::log_sinks::LogOptions log_options;  // one per process: only the command given parses
+  meter::log_sinks::add_log_options(*r, log_options);
   r->add_option("--trace-json", run.trace_json,
                 "Write a Chrome trace-event JSON (receive, decode, publish on CLOCK_MONOTONIC; opens in Perfetto UI)");
 
@@ -86,6 +116,7 @@ int main(int argc, char** argv) {
               "Exit 2 when a message looks misconfigured");
   std::string decode_catalog;
   d->add_option("--catalog", decode_catalog, catalog_help)->check(CLI::ExistingFile);
+  meter::log_sinks::add_log_options(*d, log_options);
 
   std::string check;
   bool check_strict = false;
@@ -101,6 +132,7 @@ int main(int argc, char** argv) {
   v->add_option("IN", convert.in, "The log read (FILE#N: only its channel N)")->required();
   v->add_option("OUT", convert.out, "The file written; its format by its extension (.log candump, .asc, .blf) or --format")->required();
   v->add_option("--format", convert.format, "candump, asc or blf, whatever OUT is named");
+  meter::log_sinks::add_log_options(*v, log_options);
 
   std::string dump;
   auto* u = app.add_subcommand("dump-dbc", "Print the parsed DBC as JSON: every message and signal field, value tables, warnings.");
@@ -117,23 +149,11 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   if (*r) {
-    meter::log_sinks::ProcessLog log("meter-controller", log_sink, log_level, "run");  // every err line a record
+    meter::log_sinks::ProcessLog log("meter-controller", log_options.sink, log_options.level, "run");  // every err line a record
     return run_command(run, std::cout, log.err());
   }
-  if (*d) {
-    try {
-      meter::protocol::use_catalog_option(decode_catalog);
-    } catch (const std::exception& e) {
-      std::cerr << "meter-controller decode: " << e.what() << "\n";
-      return 1;
-    }
-    if (decode_e2e) return decode_e2e_command(dbc, log, map, std::cout, std::cerr, decode_strict);
-    return decode_command(dbc, log, map, std::cout, std::cerr, decode_strict);
-  }
-  if (*v) {
-    convert.progress = ::isatty(2) != 0;
-    return convert_log_command(convert, std::cout, std::cerr);
-  }
+  if (*d) return decode_main(dbc, log, map, decode_catalog, decode_e2e, decode_strict, log_options);
+  if (*v) return convert_log_main(convert, log_options);
   if (*u) return dump_dbc_command(dump, std::cout, std::cerr);
   if (*o) return odometer_reset_command(reset_dir, reset_km, std::cout, std::cerr);
   return check_dbc_command(check, std::cout, std::cerr, check_strict);

@@ -217,9 +217,18 @@ TEST(E2eModel, AFailingFrameIsNotUsedAndItsSignalsTimeOut) {
   EXPECT_EQ(s.checksum_failed, 10u);
   EXPECT_EQ(s.repeated, 10u);
   EXPECT_TRUE(model.e2e().likely_mismatch(model.e2e().entries().at(0)) == false);  // 20 of 40 refused
-  const std::vector<E2eHealth> h = e2e_health(model.e2e());
+  std::vector<E2eHealth> h;
+  update_e2e_health(model.e2e(), h);
   ASSERT_EQ(h.size(), 1u);
   EXPECT_EQ(describe(h[0]), "SPEED 20 of 40 refused (10 checksum, 10 repeated, 0 out of sequence; 0 lost)");
+  // The run loop's every tick: the same vector and names, only the counts rewritten.
+  const E2eHealth* kept = h.data();
+  const char* name = h[0].message.data();
+  model.on_frame(speed_frame(t, 50, counter));
+  update_e2e_health(model.e2e(), h);
+  EXPECT_EQ(h.data(), kept);
+  EXPECT_EQ(h[0].message.data(), name);
+  EXPECT_EQ(h[0].checked, 41u);
 }
 
 TEST(E2eModel, DetectionProtectsWhatTheDbcsConventionsIdentifyAndTheMapWins) {

@@ -17,7 +17,7 @@ const std::string kCandump = "(1.000000) can0 100#01\n(1.010000) can0 100#02\n";
 
 std::string message_of(const std::string& path) {
   try {
-    load_log_file(path);
+    read_whole_log(*open_log_source(path));
   } catch (const std::runtime_error& e) {
     return e.what();
   }
@@ -50,9 +50,9 @@ TEST(LogFormat, TheContentChoosesTheFormatAndTheExtensionOnlyWhenTheContentCanno
 
 TEST(LogFormat, LoadingGoesThroughTheFormatAndNamesTheFileAndLineWhenNoneFits) {
   TempDir dir;
-  const ParsedLog log = load_log_file(dir.write("drive.rec", kCandump));
+  const ParsedLog log = read_whole_log(*open_log_source(dir.write("drive.rec", kCandump)));
   EXPECT_EQ(log.frames.size(), 2u);
-  const ParsedLog bad = load_log_file(dir.write("bad.log", "garbage\n" + kCandump));
+  const ParsedLog bad = read_whole_log(*open_log_source(dir.write("bad.log", "garbage\n" + kCandump)));
   EXPECT_EQ(bad.frames.size(), 2u);
   ASSERT_EQ(bad.bad_lines.size(), 1u);
   EXPECT_EQ(bad.bad_lines[0].line, 1u);

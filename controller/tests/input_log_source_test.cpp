@@ -21,6 +21,7 @@
 #include "meter/controller/input/log_replay.hpp"
 #include "meter/controller/input/merge_logs.hpp"
 #include "meter/controller/input/trc_log.hpp"
+#include "meter/controller/input/write_log_chunks.hpp"
 
 using namespace meter::controller;
 
@@ -212,4 +213,22 @@ TEST(LogSource, AReadErrorEndsTheLogWithABadRecord) {
   EXPECT_EQ(n, 8192u);
   ASSERT_EQ(source->bad_records(), 1u);
   EXPECT_EQ(source->records().bad_lines[0].why, "read error: the log could not be read on from here");
+}
+
+// The writers' one loop: a chunk is written once it reaches its size (the rest at the end), and the
+// progress is told the frames in the chunks written so far.
+TEST(LogSource, WritersHandOutChunksOnceFullAndTheRestAtTheEnd) {
+  ParsedLogSource frames(drive(7));
+  std::vector<std::string> chunks;
+  std::vector<std::size_t> told;
+  const std::size_t n = write_log_chunks(
+      frames, 10, [](const CanFrame& f, std::string& chunk) { chunk += "f" + std::to_string(f.data[0]) + "; "; },
+      [&](const std::string& chunk) { chunks.push_back(chunk); }, [&](std::size_t w) { told.push_back(w); });
+  EXPECT_EQ(n, 7u);
+  EXPECT_EQ(chunks, (std::vector<std::string>{"f0; f1; f2; ", "f3; f4; f5; ", "f6; "}));
+  EXPECT_EQ(told, (std::vector<std::size_t>{3, 6}));
+  ParsedLogSource none{ParsedLog{}};
+  EXPECT_EQ(write_log_chunks(none, 10, [](const CanFrame&, std::string& c) { c += "x"; },
+                             [&](const std::string&) { ADD_FAILURE() << "an empty log has no chunk"; }, [](std::size_t) {}),
+            0u);
 }

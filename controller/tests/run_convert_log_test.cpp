@@ -37,6 +37,6 @@ TEST(ConvertLog, EveryWriterRoundTripsAndBadRequestsSayWhy) {
   EXPECT_EQ(convert_log_command({in, in, "asc", false}, out, err), 1);
   EXPECT_NE(err.str().find("is the input itself"), std::string::npos) << err.str();
   EXPECT_EQ(convert_log_command({in + "#2", (dir / "two.log").string(), "", false}, out, err), 0) << err.str();
-  EXPECT_EQ(load_log_file((dir / "two.log").string()).frames.size(), 2u);
+  EXPECT_EQ(read_whole_log(*open_log_source((dir / "two.log").string())).frames.size(), 2u);
   std::filesystem::remove_all(dir);
 }

@@ -218,7 +218,8 @@ def live(view, controller, cluster, root, target, env, work, weston):
         # link would take the STATUS that reports the freeze with it.
         v = View([view, "--scene", cluster, "--link", "unix:" + sock, "--link-timeout", "5000", "--msaa", "1",
                   "--output", target, "--duration",
-                  "60", "--out", d, "--dump-every", "10", "--inject-fault", "display@20-40"], env,
+                  "60", "--out", d, "--dump-every", "10", "--pipeline", "concurrent",
+                  "--inject-fault", "display@20-40"], env,
                  os.path.join(d, "view.log"))
         end = time.monotonic() + 60
         while not any(int(r["frame"]) >= 60 for r in frames_rows(frames_csv)):

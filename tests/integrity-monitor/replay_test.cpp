@@ -109,7 +109,7 @@ class FaultPath : public ::testing::TestWithParam<std::string> {};
 // A stuck output from frame 45 on (the drive's needles move all the time): the view logs the
 // fault, counts it in frames.csv, and the controller reads it from STATUS.
 TEST_P(FaultPath, InjectedStuckFrameIsLoggedCountedAndSentInStatus) {
-  const auto r = replay("stuck-" + GetParam(), demo_drive(), GetParam(), 4, {"--inject-fault", "stuck@45"});
+  const auto r = replay("stuck-" + GetParam(), demo_drive(), GetParam(), 4, {"--pipeline", "concurrent", "--inject-fault", "stuck@45"});
   ASSERT_NE(r.view_log.find("TEST FAULT INJECTION: stuck@45"), std::string::npos) << r.view_log;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(r.view_log, m, std::regex("integrity fault at frame (\\d+): "))) << r.view_log;

@@ -14,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "meter/log_sinks/log_options.hpp"
 #include "meter/log_sinks/open_log_sink.hpp"
 #include "meter/protocol/link_options.hpp"
 #include "meter/runner/run_view.hpp"
@@ -133,10 +134,8 @@ int main(int argc, char** argv) {
   app.add_flag("--full-redraw", o.full_redraw, "redraw every drawn frame in full (partial redraw off; benchmarks)");
   // Test-only (docs/uniform-frame-rate.md): hidden from --help, it makes frames slower on purpose.
   app.add_option("--inject-cost", o.inject_cost, "")->group("");
-  std::string log_sink, log_level;
-  app.add_option("--log", log_sink, meter::log_sinks::kLogHelp)->check(CLI::IsMember({"text", "json", "journal", "dlt"}));
-  app.add_option("--log-level", log_level, meter::log_sinks::kLogLevelHelp)
-      ->check(CLI::IsMember({"error", "warning", "info", "debug"}));
+  meter::log_sinks::LogOptions log_options;  // every mode: offline, play, live
+  meter::log_sinks::add_log_options(app, log_options);
   CLI11_PARSE(app, argc, argv);
   if (!o.dump_at.empty() && o.link.empty() && o.play.empty()) {
     std::cerr << "--dump-at requires --link or --play\n";
@@ -148,6 +147,6 @@ int main(int argc, char** argv) {
     return 2;
   }
   o.integrity_monitor = !no_monitor;
-  meter::log_sinks::ProcessLog log("meter-view", log_sink, log_level, "view");  // every log line a record
+  meter::log_sinks::ProcessLog log("meter-view", log_options.sink, log_options.level, "view");  // every log line a record
   return run_view(o, log.err());
 }

@@ -1,10 +1,10 @@
 #include "meter/controller/e2e/e2e_detect.hpp"
 
-#include <cctype>
 #include <cstdio>
 #include <stdexcept>
 
 #include "meter/controller/e2e/e2e_message.hpp"
+#include "meter/protocol/ascii_case.hpp"
 
 namespace meter::controller {
 namespace {
@@ -32,12 +32,6 @@ constexpr Make kMakes[] = {
     {"tesla_", "Tesla", ChecksumKind::Tesla},
 };
 
-std::string base_name_lower(const std::string& path) {
-  std::string b = path.substr(path.find_last_of('/') + 1);
-  for (char& c : b) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return b;
-}
-
 // opendbc's Tesla DBCs name a message's checksum and counter after it: DAS_controlChecksum,
 // DAS_controlCounter. The first signal whose name ends so; empty when none does.
 std::string named_with_suffix(const DbcMessage& m, std::string_view suffix) {
@@ -56,9 +50,9 @@ std::string hex_id(const DbcMessage& m) {
 
 E2eDetection detect_e2e(const Database& db) {
   E2eDetection d;
-  const std::string file = base_name_lower(db.file);
+  const std::string file = protocol::ascii_lowercase(std::string_view(db.file).substr(db.file.find_last_of('/') + 1));
   for (const Make& mk : kMakes)
-    if (file.rfind(mk.prefix, 0) == 0) {
+    if (file.starts_with(mk.prefix)) {
       d.make = mk.name;
       d.checksum = mk.checksum;
       break;

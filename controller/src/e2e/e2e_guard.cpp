@@ -100,23 +100,31 @@ E2eGuard build_e2e_guard(std::span<const InputDbc> inputs, const E2eSettings& se
     }
   }
   if (!settings.detect) return guard;
-  for (std::size_t i = 0; i < inputs.size(); ++i) {
-    if (!inputs[i].db) continue;
-    for (const E2eSpec& spec : detect_e2e(*inputs[i].db).messages)
-      if (const DbcMessage* m = inputs[i].db->find(spec.message)) guard.add(resolve_e2e(spec, *m, static_cast<int>(i)));
-  }
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    if (inputs[i].db) add_detected_e2e(guard, *inputs[i].db, static_cast<int>(i), detect_e2e(*inputs[i].db));
   return guard;
 }
 
-std::vector<E2eHealth> e2e_health(const E2eGuard& guard) {
-  std::vector<E2eHealth> out;
-  out.reserve(guard.entries().size());
-  for (const auto& e : guard.entries()) {
-    const E2eMessageStats& s = e.stats;
-    out.push_back(E2eHealth{e.message.message->name, s.checked, s.refused(), s.checksum_failed + s.short_frames, s.repeated,
-                            s.wrong_sequence + s.syncing, s.lost, guard.likely_mismatch(e)});
+void add_detected_e2e(E2eGuard& guard, const Database& db, int input, const E2eDetection& detection) {
+  for (const E2eSpec& spec : detection.messages)
+    if (const DbcMessage* m = db.find(spec.message)) guard.add(resolve_e2e(spec, *m, input));
+}
+
+void update_e2e_health(const E2eGuard& guard, std::vector<E2eHealth>& health) {
+  const auto& entries = guard.entries();
+  health.resize(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const E2eMessageStats& s = entries[i].stats;
+    E2eHealth& h = health[i];
+    if (h.message != entries[i].message.message->name) h.message = entries[i].message.message->name;
+    h.checked = s.checked;
+    h.refused = s.refused();
+    h.checksum = s.checksum_failed + s.short_frames;
+    h.repeated = s.repeated;
+    h.out_of_sequence = s.wrong_sequence + s.syncing;
+    h.lost = s.lost;
+    h.mismatch = guard.likely_mismatch(entries[i]);
   }
-  return out;
 }
 
 }  // namespace meter::controller

@@ -14,14 +14,12 @@
 #include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/log_fields.hpp"
 #include "meter/controller/input/log_lines.hpp"
+#include "meter/protocol/ascii_case.hpp"
 
 namespace meter::controller {
 namespace {
 
-bool asc_same(std::string_view a, std::string_view b) {
-  return a.size() == b.size() &&
-         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y)); });
-}
+using protocol::equals_ignoring_case;
 
 // Events that hold no CAN frame, passed over: the measurement's start, statistics, chip status,
 // system and environment variables, J1939 transport, other buses.
@@ -30,7 +28,7 @@ constexpr std::array<std::string_view, 16> kAscOtherEvents = {
     "Trigger", "Log", "Chip"};
 
 bool asc_other_event(std::string_view word) {
-  return std::any_of(kAscOtherEvents.begin(), kAscOtherEvents.end(), [&](std::string_view k) { return asc_same(k, word); });
+  return std::any_of(kAscOtherEvents.begin(), kAscOtherEvents.end(), [&](std::string_view k) { return equals_ignoring_case(k, word); });
 }
 
 // "Sep 12 03:15:14.717 pm 2021", a weekday before it or not, 12- or 24-hour clock, English or
@@ -41,7 +39,7 @@ std::optional<std::int64_t> asc_date(std::span<const std::string_view> f) {
   static constexpr int kMonthNumber[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 3, 5, 10, 12};
   auto month_of = [&](std::string_view w) {
     for (std::size_t i = 0; i < kMonths.size(); ++i)
-      if (w.size() >= 3 && asc_same(w.substr(0, kMonths[i].size()), kMonths[i])) return kMonthNumber[i];
+      if (w.size() >= 3 && protocol::starts_with_ignoring_case(w, kMonths[i])) return kMonthNumber[i];
     return 0;
   };
   if (!f.empty() && month_of(f[0]) == 0) f = f.subspan(1);  // the weekday
@@ -54,8 +52,8 @@ std::optional<std::int64_t> asc_date(std::span<const std::string_view> f) {
   const auto seconds = parse_log_time(clock.substr(6), 1000000000LL);
   if (!hour || !minute || !seconds) return std::nullopt;
   if (f.size() == 5) {  // 12-hour clock
-    const bool pm = asc_same(f[3], "pm");
-    if (!pm && !asc_same(f[3], "am")) return std::nullopt;
+    const bool pm = equals_ignoring_case(f[3], "pm");
+    if (!pm && !equals_ignoring_case(f[3], "am")) return std::nullopt;
     if (*hour == 0 || *hour > 12) return std::nullopt;
     *hour = *hour % 12 + (pm ? 12 : 0);
   }
@@ -73,11 +71,11 @@ class AscReader {
     const std::string_view w = f_[0];
     if (w.substr(0, 2) == "//") return;
     if (w[0] >= '0' && w[0] <= '9') return event();
-    if (asc_same(w, "date")) return date(std::span(f_).subspan(1), false);
-    if (asc_same(w, "base")) return base();
-    if (asc_same(w, "internal") || (asc_same(w, "no") && f_.size() > 1 && asc_same(f_[1], "internal"))) return;
-    if ((asc_same(w, "begin") || asc_same(w, "end")) && f_.size() > 1 && asc_same(f_[1], "triggerblock")) {
-      if (asc_same(w, "begin") && f_.size() > 2) date(std::span(f_).subspan(2), true);
+    if (equals_ignoring_case(w, "date")) return date(std::span(f_).subspan(1), false);
+    if (equals_ignoring_case(w, "base")) return base();
+    if (equals_ignoring_case(w, "internal") || (equals_ignoring_case(w, "no") && f_.size() > 1 && equals_ignoring_case(f_[1], "internal"))) return;
+    if ((equals_ignoring_case(w, "begin") || equals_ignoring_case(w, "end")) && f_.size() > 1 && equals_ignoring_case(f_[1], "triggerblock")) {
+      if (equals_ignoring_case(w, "begin") && f_.size() > 2) date(std::span(f_).subspan(2), true);
       return;
     }
     bad("unknown keyword '" + std::string(w.substr(0, 40)) +
@@ -108,10 +106,10 @@ class AscReader {
   }
 
   void base() {
-    if (f_.size() < 2 || (!asc_same(f_[1], "hex") && !asc_same(f_[1], "dec")))
+    if (f_.size() < 2 || (!equals_ignoring_case(f_[1], "hex") && !equals_ignoring_case(f_[1], "dec")))
       return bad("base: expected 'base hex|dec [timestamps absolute|relative]'");
-    base_ = asc_same(f_[1], "hex") ? 16 : 10;
-    if (f_.size() >= 4 && asc_same(f_[2], "timestamps")) relative_ = asc_same(f_[3], "relative");
+    base_ = equals_ignoring_case(f_[1], "hex") ? 16 : 10;
+    if (f_.size() >= 4 && equals_ignoring_case(f_[2], "timestamps")) relative_ = equals_ignoring_case(f_[3], "relative");
   }
 
   void event() {
@@ -123,20 +121,20 @@ class AscReader {
     if (f_.size() < 2) return bad("event: expected a channel, CANFD or an event name after the time");
     CanFrame fr;
     fr.timestamp_ns = ts;
-    if (asc_same(f_[1], "CANFD")) return fd(fr);
+    if (equals_ignoring_case(f_[1], "CANFD")) return fd(fr);
     if (f_[1][0] < '0' || f_[1][0] > '9') {
       if (asc_other_event(f_[1])) return void(++log.skipped);
       return bad("unknown event '" + std::string(f_[1].substr(0, 40)) + "': expected a channel number, CANFD or a known event");
     }
     if (!channel(f_[1], fr)) return;
-    if (f_.size() > 2 && asc_same(f_[2], "ErrorFrame")) return error(fr);
+    if (f_.size() > 2 && equals_ignoring_case(f_[2], "ErrorFrame")) return error(fr);
     if (f_.size() < 5 || (f_[3] != "Rx" && f_[3] != "Tx")) {
       if (f_.size() > 2 && asc_other_event(f_[2])) return void(++log.skipped);
       return bad("frame: expected '<channel> <id>[x] Rx|Tx d <dlc> <bytes>' or 'r [<dlc>]'");
     }
     if (!id(f_[2], fr)) return;
-    if (asc_same(f_[4], "r")) return remote(fr);
-    if (!asc_same(f_[4], "d")) return bad("frame: expected 'd' (data) or 'r' (remote) after Rx|Tx");
+    if (equals_ignoring_case(f_[4], "r")) return remote(fr);
+    if (!equals_ignoring_case(f_[4], "d")) return bad("frame: expected 'd' (data) or 'r' (remote) after Rx|Tx");
     const auto dlc = f_.size() > 5 ? parse_log_number(f_[5], base_, 15) : std::nullopt;
     if (!dlc) return bad("DLC: expected a number 0..15 after 'd'");
     fr.len = static_cast<std::uint8_t>(std::min<std::uint32_t>(*dlc, 8));
@@ -173,14 +171,14 @@ class AscReader {
 
   // What may follow a classic frame's bytes: Vector's "Length = ... BitCount = ... ID = ..." notes.
   bool tail_ok(std::size_t from) {
-    if (from >= f_.size() || asc_same(f_[from], "Length") || asc_same(f_[from], "BitCount") || asc_same(f_[from], "ID")) return true;
+    if (from >= f_.size() || equals_ignoring_case(f_[from], "Length") || equals_ignoring_case(f_[from], "BitCount") || equals_ignoring_case(f_[from], "ID")) return true;
     return bad("frame: unexpected '" + std::string(f_[from].substr(0, 20)) + "' after the data bytes (more bytes than the DLC?)"), false;
   }
 
   void remote(CanFrame& fr) {
     fr.rtr = true;
     std::size_t next = 5;
-    if (f_.size() > 5 && !asc_same(f_[5], "Length") && !asc_same(f_[5], "BitCount")) {
+    if (f_.size() > 5 && !equals_ignoring_case(f_[5], "Length") && !equals_ignoring_case(f_[5], "BitCount")) {
       const auto dlc = parse_log_number(f_[5], base_, 15);
       if (!dlc) return bad("remote frame: expected its DLC 0..15 after 'r'");
       fr.len = static_cast<std::uint8_t>(std::min<std::uint32_t>(*dlc, 8));
@@ -199,7 +197,7 @@ class AscReader {
   void fd(CanFrame& fr) {
     if (f_.size() < 4) return bad("CANFD: expected '<channel> Rx|Tx <id>' after CANFD");
     if (!channel(f_[2], fr)) return;
-    if (f_.size() > 4 && asc_same(f_[4], "ErrorFrame")) return error(fr);
+    if (f_.size() > 4 && equals_ignoring_case(f_[4], "ErrorFrame")) return error(fr);
     if (f_.size() < 9 || (f_[3] != "Rx" && f_[3] != "Tx"))
       return bad("CANFD: expected '<channel> Rx|Tx <id> [name] <brs> <esi> <dlc> <length> <bytes>'");
     if (!id(f_[4], fr)) return;
@@ -245,9 +243,9 @@ bool sniff_asc_log(std::string_view head) {
   for_each_log_line(head, [&](std::string_view line) {
     split_log_fields(line, f);
     if (f.empty() || found || ++asked > 8) return;
-    found = (asc_same(f[0], "date") && f.size() >= 5) ||
-            (asc_same(f[0], "base") && f.size() >= 2 && (asc_same(f[1], "hex") || asc_same(f[1], "dec"))) ||
-            (asc_same(f[0], "begin") && f.size() >= 2 && asc_same(f[1], "triggerblock"));
+    found = (equals_ignoring_case(f[0], "date") && f.size() >= 5) ||
+            (equals_ignoring_case(f[0], "base") && f.size() >= 2 && (equals_ignoring_case(f[1], "hex") || equals_ignoring_case(f[1], "dec"))) ||
+            (equals_ignoring_case(f[0], "begin") && f.size() >= 2 && equals_ignoring_case(f[1], "triggerblock"));
   });
   return found;
 }

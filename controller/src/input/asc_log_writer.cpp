@@ -6,6 +6,7 @@
 
 #include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/log_fields.hpp"
+#include "meter/controller/input/write_log_chunks.hpp"
 
 namespace meter::controller {
 namespace {
@@ -66,20 +67,14 @@ std::size_t write_asc_log(LogSource& frames, std::ostream& out, const LogProgres
   const CanFrame* head = frames.peek();
   const std::int64_t first = head ? head->timestamp_ns : 0;
   const std::int64_t start = first - ((first % 1000000) + 1000000) % 1000000;  // the first frame's millisecond
-  std::string text = "date " + asc_date_text(start) + "\nbase hex  timestamps absolute\ninternal events logged\n" +
-                     "// version 9.0.0\nBegin Triggerblock " + asc_date_text(start) + "\n   0.000000 Start of measurement\n";
-  std::size_t written = 0;
-  while (const CanFrame* f = frames.next()) {
-    asc_frame_line(*f, f->timestamp_ns >= start ? f->timestamp_ns - start : 0, text);
-    ++written;
-    if (text.size() > (1u << 20)) {
-      out.write(text.data(), static_cast<std::streamsize>(text.size()));
-      text.clear();
-      progress(written);
-    }
-  }
-  text += "End TriggerBlock\n";
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  const std::string header = "date " + asc_date_text(start) + "\nbase hex  timestamps absolute\ninternal events logged\n" +
+                             "// version 9.0.0\nBegin Triggerblock " + asc_date_text(start) + "\n   0.000000 Start of measurement\n";
+  out.write(header.data(), static_cast<std::streamsize>(header.size()));
+  const std::size_t written = write_log_chunks(
+      frames, kLogTextChunk,
+      [start](const CanFrame& f, std::string& text) { asc_frame_line(f, f.timestamp_ns >= start ? f.timestamp_ns - start : 0, text); },
+      write_to(out), progress);
+  out << "End TriggerBlock\n";
   return written;
 }
 

@@ -10,6 +10,7 @@
 #include "meter/controller/input/blf_log.hpp"
 #include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/log_fields.hpp"
+#include "meter/controller/input/write_log_chunks.hpp"
 
 namespace meter::controller {
 namespace {
@@ -83,9 +84,9 @@ std::size_t write_blf_log(LogSource& frames, std::ostream& out, const LogProgres
   std::int64_t last = start;
   std::uint64_t file_size = kBlfFileHeaderSize, uncompressed = kBlfFileHeaderSize;
   out << std::string(kBlfFileHeaderSize, '\0');  // the header, written once the sizes are known
-  std::string objects, packed;
-  auto flush = [&] {
-    if (objects.empty()) return;
+  std::string packed;
+  // Each chunk of objects packed into one zlib log container.
+  auto write_container = [&](const std::string& objects) {
     uLongf packed_size = compressBound(static_cast<uLong>(objects.size()));
     packed.resize(packed_size);
     if (compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size, reinterpret_cast<const Bytef*>(objects.data()),
@@ -106,19 +107,14 @@ std::size_t write_blf_log(LogSource& frames, std::ostream& out, const LogProgres
     out.write(c.data(), static_cast<std::streamsize>(c.size()));
     file_size += c.size();
     uncompressed += 32 + objects.size();
-    objects.clear();
   };
-  std::size_t written = 0;
-  while (const CanFrame* f = frames.next()) {
-    put_blf_frame(objects, *f, static_cast<std::uint64_t>(f->timestamp_ns > start ? f->timestamp_ns - start : 0));
-    last = std::max(last, f->timestamp_ns);
-    ++written;
-    if (objects.size() >= kContainer) {
-      flush();
-      progress(written);
-    }
-  }
-  flush();
+  const std::size_t written = write_log_chunks(
+      frames, kContainer,
+      [&](const CanFrame& f, std::string& objects) {
+        put_blf_frame(objects, f, static_cast<std::uint64_t>(f.timestamp_ns > start ? f.timestamp_ns - start : 0));
+        last = std::max(last, f.timestamp_ns);
+      },
+      write_container, progress);
   std::string h = "LOGG";
   blf_put_le(h, kBlfFileHeaderSize, 4);
   h.append(8, '\0');  // application id and version, binary log version

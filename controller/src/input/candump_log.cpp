@@ -12,6 +12,7 @@
 
 #include "meter/controller/input/candump_line.hpp"
 #include "meter/controller/input/log_lines.hpp"
+#include "meter/controller/input/write_log_chunks.hpp"
 
 namespace meter::controller {
 namespace {
@@ -90,20 +91,13 @@ std::string candump_interface(const CanFrame& frame) {
 }
 
 std::size_t write_candump_log(LogSource& frames, std::ostream& out, const LogProgress& progress) {
-  std::string text;
-  std::size_t written = 0;
-  while (const CanFrame* f = frames.next()) {
-    text += format_candump_line(*f, candump_interface(*f));
-    text += '\n';
-    ++written;
-    if (text.size() > (1u << 20)) {
-      out.write(text.data(), static_cast<std::streamsize>(text.size()));
-      text.clear();
-      progress(written);
-    }
-  }
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  return written;
+  return write_log_chunks(
+      frames, kLogTextChunk,
+      [](const CanFrame& f, std::string& text) {
+        text += format_candump_line(f, candump_interface(f));
+        text += '\n';
+      },
+      write_to(out), progress);
 }
 
 const LogFormat& candump_log_format() {

@@ -123,8 +123,6 @@ std::unique_ptr<LogSource> open_log_source(const std::string& path, int channel)
   return source;
 }
 
-ParsedLog load_log_file(const std::string& path) { return read_whole_log(*open_log_source(path)); }
-
 std::string log_format_names() {
   std::string names;
   for (const LogFormat& f : log_formats()) names += (names.empty() ? "" : ", ") + std::string(f.name);

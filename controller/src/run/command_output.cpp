@@ -23,6 +23,12 @@ std::string fmt_double(double v) {
   return buf;
 }
 
+std::string hex(std::uint32_t v) {
+  char b[16];
+  std::snprintf(b, sizeof b, "0x%X", v);
+  return b;
+}
+
 void report_bad_lines(LogSource& log, const std::string& path, std::ostream& err) {
   constexpr std::size_t kShown = 10;
   auto shown = std::make_shared<std::size_t>(0);

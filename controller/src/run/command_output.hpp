@@ -1,6 +1,7 @@
 // Text the subcommands write: numbers at full precision, CSV fields, the report of skipped log lines.
 #pragma once
 
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -11,6 +12,7 @@
 namespace meter::controller {
 
 std::string fmt_double(double v);  // %.15g
+std::string hex(std::uint32_t v);  // 0x1A4: a CAN id, STATUS flags
 std::string csv_field(std::string_view s);  // quoted when it holds ',', '"' or a newline
 // A log's bad lines on err as the reading meets them (a streamed log's are not all known before it
 // is replayed): "<path>: bad line(s) skipped:" once, then the first ten with their line number and

@@ -15,12 +15,6 @@
 namespace meter::controller {
 namespace {
 
-std::string hex(std::uint32_t v) {
-  char b[16];
-  std::snprintf(b, sizeof b, "0x%X", v);
-  return b;
-}
-
 // The guard and, on err, where its configuration comes from.
 E2eGuard configured_guard(const Database& db, const std::string& map_path, std::ostream& err) {
   const InputDbc inputs[] = {{"", &db}};
@@ -38,17 +32,19 @@ E2eGuard configured_guard(const Database& db, const std::string& map_path, std::
   } else {
     settings.detect = true;
   }
-  if (settings.detect) {
-    const E2eDetection d = detect_e2e(db);
-    if (d.make.empty())
-      err << "e2e: " << db.file << ": the file name names no make known here: checksums are not checked, counters are\n";
-    else
-      err << "e2e: " << db.file << ": make " << d.make << " (from the file name): checksum algorithm " << to_string(d.checksum)
-          << "\n";
-    for (const std::string& note : d.notes) err << "e2e:   " << note << "\n";
-    if (d.messages.empty()) err << "e2e: " << db.file << ": no message has a checksum or counter signal: nothing to check\n";
-  }
-  return build_e2e_guard(inputs, settings, file.empty() ? db.file : file);
+  if (!settings.detect) return build_e2e_guard(inputs, settings, file.empty() ? db.file : file);
+  const E2eDetection d = detect_e2e(db);  // once: reported here, then added to the guard
+  if (d.make.empty())
+    err << "e2e: " << db.file << ": the file name names no make known here: checksums are not checked, counters are\n";
+  else
+    err << "e2e: " << db.file << ": make " << d.make << " (from the file name): checksum algorithm " << to_string(d.checksum)
+        << "\n";
+  for (const std::string& note : d.notes) err << "e2e:   " << note << "\n";
+  if (d.messages.empty()) err << "e2e: " << db.file << ": no message has a checksum or counter signal: nothing to check\n";
+  settings.detect = false;  // the configured sections first (the map file wins), then the detection
+  E2eGuard guard = build_e2e_guard(inputs, settings, file.empty() ? db.file : file);
+  add_detected_e2e(guard, db, 0, d);
+  return guard;
 }
 
 void write_row(std::string& row, const CanFrame& f, const DbcMessage& m, const FrameCheck& r) {

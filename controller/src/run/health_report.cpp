@@ -3,18 +3,13 @@
 #include <cstdio>
 #include <sstream>
 
+#include "command_output.hpp"
 #include "meter/protocol/log/logger.hpp"
 
 namespace meter::controller {
 
 namespace {
 constexpr std::int64_t kLossLineEveryNs = 1000000000;  // one loss line a second at most
-
-std::string hex(std::uint32_t v) {
-  char b[16];
-  std::snprintf(b, sizeof b, "0x%X", v);
-  return b;
-}
 }  // namespace
 
 std::uint32_t view_fault_flags(const std::vector<protocol::Publisher::PeerStatus>& views) {
@@ -24,8 +19,7 @@ std::uint32_t view_fault_flags(const std::vector<protocol::Publisher::PeerStatus
 }
 
 void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64_t t, std::ostream& err, Trace& trace) {
-  const BusHealth old = bus_;
-  bus_ = bus;
+  const BusHealth& old = bus_;  // the last call's, kept until the end (assigned in place: no allocation)
   if (bus.state != old.state || (first_ && bus.state != BusState::ErrorActive)) {
     protocol::LogLine(err, bus.state == BusState::ErrorActive ? protocol::LogLevel::Info : protocol::LogLevel::Warning, "health",
                       {protocol::log_field("input", input_), protocol::log_field("bus_state", std::string(to_string(bus.state)))})
@@ -75,6 +69,7 @@ void HealthReport::update(const BusHealth& bus, std::uint32_t faults, std::int64
   if (slip_at_ns_ != 0 && t - slip_at_ns_ < hold) cf |= protocol::kControllerFaultReplaySlip;
   controller_faults_ = cf;
   first_ = false;
+  bus_ = bus;
 }
 
 void HealthReport::report_e2e(const BusHealth& bus, std::int64_t t, std::ostream& err, Trace& trace) {

@@ -12,6 +12,7 @@
 #include "health_report.hpp"
 #include "latency_trace.hpp"
 #include "meter/controller/dbc/database.hpp"
+#include "meter/controller/e2e/e2e_guard.hpp"
 #include "meter/controller/input/input.hpp"
 #include "meter/controller/input/socketcan.hpp"
 #include "meter/controller/mapping/mapping.hpp"
@@ -98,6 +99,17 @@ class ChangePublisher {
   bool recorded_any_ = false;
 };
 
+// The inputs' health with the model's E2E counts to the report: `e2e`, kept by the caller across
+// ticks, is updated in place and lent to the report's BusHealth for the call (no allocation).
+void update_health(HealthReport& health, const Input& input, const Model& model, std::vector<E2eHealth>& e2e,
+                   std::uint32_t view_faults, std::int64_t t, std::ostream& err, Trace& trace) {
+  BusHealth bus = input.health();
+  update_e2e_health(model.e2e(), e2e);
+  bus.e2e.swap(e2e);
+  health.update(bus, view_faults, t, err, trace);
+  bus.e2e.swap(e2e);  // back, for the next tick
+}
+
 // The final stats line: frames, link traffic, the odometer and its store, the bus health.
 void print_stats(std::ostream& out, const Model& model, const protocol::Publisher& pub, const HealthReport& health) {
   const auto& st = model.stats();
@@ -155,10 +167,9 @@ int run_command(const RunOptions& o, std::ostream& out, std::ostream& err) {
 
     ModelSink sink(model, trace, events);
     HealthReport health(input->describe());
+    std::vector<E2eHealth> e2e;  // kept across ticks: named once, its counts rewritten in place
     auto report_health = [&](std::int64_t t) {
-      BusHealth bus = input->health();
-      if (!model.e2e().empty()) bus.e2e = e2e_health(model.e2e());
-      health.update(bus, view_fault_flags(pub.peer_status()), t, err, trace);
+      update_health(health, *input, model, e2e, view_fault_flags(pub.peer_status()), t, err, trace);
       const std::uint64_t lost = health.bus().kernel_drops + health.bus().interface_drops;
       pub.send_status(model.stats().frames + model.stats().values, lost, health.controller_faults());
       recording.status(t, model.stats().frames + model.stats().values, lost, health.controller_faults());

@@ -6,7 +6,7 @@
 #include <ostream>
 #include <string>
 
-#include "meter/protocol/service_watchdog.hpp"
+#include "meter/protocol/service_notifier.hpp"
 
 namespace meter::controller {
 
@@ -14,13 +14,13 @@ class ControllerService {
  public:
   explicit ControllerService(std::ostream& err);
   // READY=1 with the endpoint views connect to as the unit's status line.
-  void listening(const std::string& endpoint);
+  void listening(const std::string& endpoint) { notifier_.ready("publishing on " + endpoint); }
   // A keep-alive when one is due (a turn of the run loop).
-  void alive();
-  void stopping();
+  void alive() { notifier_.alive(); }
+  void stopping() { notifier_.stopping(); }
 
  private:
-  protocol::ServiceWatchdog watchdog_;
+  protocol::ServiceNotifier notifier_;
 };
 
 }  // namespace meter::controller

@@ -1,10 +1,9 @@
 #include "meter/platform/backend.hpp"
 
-#include <algorithm>
-#include <cctype>
 #include <string>
 
 #include "backends.hpp"
+#include "meter/protocol/ascii_case.hpp"
 
 namespace meter::platform {
 
@@ -17,11 +16,8 @@ std::string_view to_string(BackendKind kind) {
 }
 
 std::optional<BackendKind> parse_backend_kind(std::string_view text) {
-  std::string lower(text);
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (lower == "egl") return BackendKind::Egl;
-  if (lower == "osmesa") return BackendKind::OSMesa;
+  if (protocol::equals_ignoring_case(text, "egl")) return BackendKind::Egl;
+  if (protocol::equals_ignoring_case(text, "osmesa")) return BackendKind::OSMesa;
   return std::nullopt;
 }
 

@@ -23,6 +23,7 @@
 #include "meter/runner/integrity_stage.hpp"
 #include "meter/runner/latency_trace.hpp"
 #include "meter/runner/live_stats.hpp"
+#include "meter/runner/loop_kind.hpp"
 #include "meter/runner/png_writer.hpp"
 #include "meter/runner/process_signals.hpp"
 #include "meter/runner/script_log.hpp"
@@ -57,15 +58,6 @@ DumpOverflow dump_overflow(const ViewOptions& options, bool concurrent) {
   if (p == "drop") return DumpOverflow::Drop;
   if (p == "block") return DumpOverflow::Block;
   throw ViewError("--dump-policy: expected drop or block, got \"" + p + "\"");
-}
-
-enum class LoopKind { Sequential, Concurrent, Overlapped };
-
-LoopKind loop_kind(const ViewOptions& options) {
-  if (options.pipeline == "overlapped") return LoopKind::Overlapped;
-  if (options.pipeline == "concurrent") return LoopKind::Concurrent;
-  if (options.pipeline == "sequential") return LoopKind::Sequential;
-  throw ViewError("--pipeline: expected overlapped, concurrent or sequential, got \"" + options.pipeline + "\"");
 }
 
 // The link's endpoint, once SIGINT/SIGTERM end the loop (installed before the link connects).
@@ -133,9 +125,8 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
     : ctx_(ctx),
       options_(options),
       log_(log),
-      concurrent_(loop_kind(options) != LoopKind::Sequential),
-      // An injected integrity fault is scheduled against the loop it was written for: concurrent.
-      overlapped_(loop_kind(options) == LoopKind::Overlapped && options.inject_fault.empty()),
+      concurrent_(live_loop_kind(options) != LoopKind::Sequential),
+      overlapped_(live_loop_kind(options) == LoopKind::Overlapped),
       slow_(parse_slow_stage(options.inject_slow_stage, overlapped_)),
       overflow_(dump_overflow(options, concurrent_)),
       policy_(dump_policy(options)),

@@ -71,11 +71,10 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw ViewError(options.out_dir + ": cannot create output directory: " + ec.message());
-  timing = TimingCsv(options.timing_csv, governed.governing());
+  timing = TimingCsv(options.timing_csv, governed.governing(), display != nullptr);
   if (display) {
     display_sink = std::make_unique<DisplaySink>(*this, log);
     display_sink->add_listener(timing);
-    timing.await_presentation();
     if (options.info) log << "meter-view: display: " << display->display_info() << "\n";
   }
 }

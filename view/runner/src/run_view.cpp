@@ -3,6 +3,7 @@
 #include "meter/platform/display.hpp"
 #include "meter/protocol/catalog.hpp"
 #include "meter/runner/live_loop.hpp"
+#include "meter/runner/loop_kind.hpp"
 #include "meter/runner/offline_render.hpp"
 #include "meter/runner/play_recording.hpp"
 #include "meter/runner/process_signals.hpp"
@@ -22,6 +23,7 @@ int run_view(const ViewOptions& options, std::ostream& log) {
       RenderContext ctx(options, log);
       render_offline(ctx, options, log);
     } else {
+      live_loop_kind(options);  // a --pipeline it cannot run refused before the controller is waited for
       fetch_controller_catalog(options, log);
       RenderContext ctx(options, log);
       run_live(ctx, options, log);

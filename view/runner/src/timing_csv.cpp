@@ -7,12 +7,16 @@
 
 namespace meter::runner {
 
-TimingCsv::TimingCsv(const std::string& path, bool governor) : governor_(governor) {
+TimingCsv::TimingCsv(const std::string& path, bool governor, bool presented) : governor_(governor) {
   if (path.empty()) return;
   out_ = create_output_file(path);
   out_ << "frame,time_s,update_ms,submit_ms,gpu_readback_ms,drawn";
   if (governor_) out_ << "," << kGovernorColumns;
-  out_ << "\n";
+  if (presented) {  // each row waits for its frame's presentation feedback
+    set_holding();
+    out_ << ",presented_ns,refresh_seq,to_presented_ms";
+  }
+  out_ << "\n" << std::flush;  // the columns on disk at once, before any row (rows may wait for the display)
 }
 
 void TimingCsv::row(std::uint64_t frame, double t, const engine::FrameTiming& timing, const GovernorCells* governor) {
@@ -33,14 +37,6 @@ void TimingCsv::on_frame(const engine::FrameRecord& frame) {
   std::ostringstream text;
   cells(text, frame.request.frame, frame.request.t, frame.timing, frame.governor);
   hold(frame.request.frame, text.str(), frame.render_ended_ns);
-}
-
-void TimingCsv::await_presentation() {
-  if (holding() || !out_.is_open()) return;
-  set_holding();
-  // The header is written: it gains the display's columns at its end.
-  out_.seekp(-1, std::ios_base::cur);
-  out_ << ",presented_ns,refresh_seq,to_presented_ms\n";
 }
 
 PresentationRows::Write TimingCsv::writer() {

@@ -23,21 +23,28 @@ bool FramePipeline::evaluate(const protocol::SignalTable& signals, bool link_up,
 }
 
 const FrameRecord& FramePipeline::render(const FrameRequest& request) {
-  record_.request = request;
   for (FrameSink* s : sinks_) s->before_frame(request.frame);
-  record_.render_began_ns = protocol::monotonic_now_ns();
-  const governor::FrameLoad& planned = renderer_.plan(request.force, request.read);
-  std::optional<governor::QualityChoice> choice;
-  if (governor_) choice = governor_->choose(planned);
-  record_.timing = renderer_.draw(choice);
+  plan(request);
+  record_.timing = renderer_.draw(choose_planned());
   if (governor_) governor_->rendered(record_.timing, record_.render_began_ns);
   record_.render_ended_realtime_ns = protocol::realtime_now_ns();
   record_.render_ended_ns = protocol::monotonic_now_ns();
   record_.states = &evaluator_.states();
   record_.governor = governor_ ? governor_->cells() : nullptr;
-  for (FrameSink* s : sinks_) s->on_drawn(record_);
-  for (FrameSink* s : sinks_) s->on_frame(record_);
+  hand_on(record_);
   return record_;
+}
+
+std::optional<governor::QualityChoice> FramePipeline::choose_planned() {
+  std::optional<governor::QualityChoice> choice;
+  if (governor_) choice = governor_->choose(*planned_);
+  planned_ = nullptr;
+  return choice;
+}
+
+void FramePipeline::hand_on(const FrameRecord& r) {
+  for (FrameSink* s : sinks_) s->on_drawn(r);
+  for (FrameSink* s : sinks_) s->on_frame(r);
 }
 
 void FramePipeline::finish() {
@@ -82,8 +89,7 @@ const FrameRecord* FramePipeline::complete() {
     governor_->rendered(r.timing, r.render_ended_ns - own_ns);
     r.governor = governor_->cells();
   }
-  for (FrameSink* s : sinks_) s->on_drawn(r);
-  for (FrameSink* s : sinks_) s->on_frame(r);
+  hand_on(r);
   return &r;
 }
 
@@ -91,9 +97,7 @@ void FramePipeline::draw() {
   if (!planned_) throw std::logic_error("FramePipeline::draw without plan()");
   complete();  // one frame in flight: the one before is handed on before this one is submitted
   for (FrameSink* s : sinks_) s->before_frame(record_.request.frame);  // after the frame before was checked
-  std::optional<governor::QualityChoice> choice;
-  if (governor_) choice = governor_->choose(*planned_);
-  planned_ = nullptr;
+  const std::optional<governor::QualityChoice> choice = choose_planned();
   record_.draw_began_ns = protocol::monotonic_now_ns();
   record_.timing = renderer_.draw(choice);
   record_.submitted_ns = record_.gpu_busy_until_ns = protocol::monotonic_now_ns();

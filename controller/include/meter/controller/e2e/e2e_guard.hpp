@@ -17,6 +17,8 @@
 namespace meter::controller {
 
 struct InputDbc;
+struct E2eDetection;
+class Database;
 
 struct E2eMessageStats {
   std::uint64_t checked = 0, used = 0;
@@ -66,7 +68,13 @@ class E2eGuard {
 // MappingError (file, line) naming what does not resolve.
 E2eGuard build_e2e_guard(std::span<const InputDbc> inputs, const E2eSettings& settings, const std::string& map_file);
 
-// The counts per message, for the bus health and --stats.
-std::vector<E2eHealth> e2e_health(const E2eGuard& guard);
+// Adds what a DBC's conventions identify (`detection`, detect_e2e of input `input`'s `db`) for the
+// messages not configured before.
+void add_detected_e2e(E2eGuard& guard, const Database& db, int input, const E2eDetection& detection);
+
+// The counts per message, for the bus health and --stats, written into `health` in place: sized
+// and named when the guard's messages change, else only the counts rewritten (the run loop's
+// every tick allocates nothing).
+void update_e2e_health(const E2eGuard& guard, std::vector<E2eHealth>& health);
 
 }  // namespace meter::controller

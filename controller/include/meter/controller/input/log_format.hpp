@@ -55,8 +55,6 @@ const LogFormat* find_log_writer(std::string_view path);
 // its records gives a frame (with its first bad records, file:line and what was expected there);
 // and when no frame is on the channel asked (with the channels the log holds).
 std::unique_ptr<LogSource> open_log_source(const std::string& path, int channel = 0);
-// The same log read whole into memory (tests and benches; run, decode and convert-log stream it).
-ParsedLog load_log_file(const std::string& path);
 
 
 // A text log's line without the spaces, tabs and carriage return at its end (blank lines are not

@@ -3,10 +3,9 @@
 // every call does nothing, so the view behaves as it does outside a service.
 #pragma once
 
-#include <cstdint>
 #include <ostream>
 
-#include "meter/protocol/service_watchdog.hpp"
+#include "meter/protocol/service_notifier.hpp"
 
 namespace meter::runner {
 
@@ -15,10 +14,10 @@ class ViewService {
   explicit ViewService(std::ostream& log);
   // After each turn of the live loop: READY=1 after the first, then keep-alives as they fall due.
   void frame_drawn();
-  void stopping();
+  void stopping() { notifier_.stopping(); }
 
  private:
-  protocol::ServiceWatchdog watchdog_;
+  protocol::ServiceNotifier notifier_;
   bool ready_ = false;
 };
 

@@ -24,12 +24,12 @@ namespace meter::runner {
 class TimingCsv : public engine::FrameSink, public PresentationHeldCsv {
  public:
   // An empty path: no file (row() does nothing). Throws ViewError when the file cannot be written.
+  // `presented`: a display shows the frames; its columns are in the header and each row waits for
+  // its frame's presentation feedback.
   TimingCsv() = default;  // no file
-  explicit TimingCsv(const std::string& path, bool governor = false);
+  explicit TimingCsv(const std::string& path, bool governor = false, bool presented = false);
   void row(std::uint64_t frame, double t, const engine::FrameTiming& timing, const GovernorCells* governor = nullptr);
   void on_frame(const engine::FrameRecord& frame) override;
-  // The display's columns: each row waits for its frame's presentation feedback.
-  void await_presentation();
 
  private:
   void cells(std::ostream& out, std::uint64_t frame, double t, const engine::FrameTiming& timing,

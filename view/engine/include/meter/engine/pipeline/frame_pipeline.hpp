@@ -68,6 +68,11 @@ class FramePipeline {
   const FrameGovernor* governor() const { return governor_; }
 
  private:
+  // The governor's choice for the load planned last (none without a governor); the plan is used up.
+  std::optional<governor::QualityChoice> choose_planned();
+  // A drawn frame to every sink: on_drawn, then on_frame, in the order added.
+  void hand_on(const FrameRecord& r);
+
   BindingEvaluator evaluator_;
   Renderer& renderer_;
   FrameGovernor* governor_ = nullptr;
