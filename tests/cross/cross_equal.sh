@@ -75,10 +75,13 @@ renders)
       "${side}_run" meter-view --scene "$msp" --backend egl --msaa 1 --out "$work/$side" --png "$name.png" "${state[@]}" \
         >"$work/$side-$name.log" 2>&1 || failed "$side meter-view $name failed: $(tail -3 "$work/$side-$name.log")"
     done
-    # bump alone samples a normal map (2x anisotropy, its level from derivatives): measured 28 levels
-    # apart on 2.3 % of its pixels, the cause not yet found (docs/targets.md, "Renders").
+    # One level: llvmpipe's x86-64 build runs SSE code (hand-written and generated) where its arm64
+    # build runs generic code, rounding a colour's last bit apart. Two for bump: its normal map's
+    # sharp highlight turns the same roundings of the sampled normal into two levels; its mip chain
+    # is meter's, equal on both (the driver's differs by up to 4 levels a texel and gave 28).
+    # docs/targets.md, "Renders".
     bound=1
-    [[ $name == bump ]] && bound=28
+    [[ $name == bump ]] && bound=2
     "$py" "$here/compare_images.py" --max-level "$bound" "$work/host/$name.png" "$work/target/$name.png" || fail=1
   done
   ;;
