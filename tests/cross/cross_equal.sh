@@ -9,8 +9,8 @@
 #            recording, whose values are written losslessly: the same file, so the same bits
 #   link     the wire across the architectures: one's meter-linkplay serves a recording with a link
 #            key (every frame MAC-tagged) to the other's meter-linkdump, both ways, and the recorded
-#            state equals the served one; the recording made by each side's controller drawn by the
-#            other side's meter-view: the frames equal those its own side draws
+#            state equals the served one; the recordings both controllers made of the same drive
+#            are the same bytes, and each drawn by the other side's meter-view: the same frames
 # EMULATOR runs a target program (qemu-aarch64-static). Exit 0 when every comparison holds; each
 # difference is printed with the file it is in. Scenes converted once are kept in WORK/../converted
 # (made anew when the scene, its config or meter-convert is newer).
@@ -75,10 +75,13 @@ renders)
       "${side}_run" meter-view --scene "$msp" --backend egl --msaa 1 --out "$work/$side" --png "$name.png" "${state[@]}" \
         >"$work/$side-$name.log" 2>&1 || failed "$side meter-view $name failed: $(tail -3 "$work/$side-$name.log")"
     done
-    # bump alone samples a normal map (2x anisotropy, its level from derivatives): measured 28 levels
-    # apart on 2.3 % of its pixels, the cause not yet found (docs/targets.md, "Renders").
+    # One level: llvmpipe's x86-64 build runs SSE code (hand-written and generated) where its arm64
+    # build runs generic code, rounding a colour's last bit apart. Two for bump: its normal map's
+    # sharp highlight turns the same roundings of the sampled normal into two levels; its mip chain
+    # is meter's, equal on both (the driver's differs by up to 4 levels a texel and gave 28).
+    # docs/targets.md, "Renders".
     bound=1
-    [[ $name == bump ]] && bound=28
+    [[ $name == bump ]] && bound=2
     "$py" "$here/compare_images.py" --max-level "$bound" "$work/host/$name.png" "$work/target/$name.png" || fail=1
   done
   ;;
@@ -99,14 +102,17 @@ decode)
   echo "cross_equal decode: demo drive, $(grep -c . "$work/host.rec") recorded link messages, equal"
   ;;
 link)
-  # A recording made by each side's controller (the demo drive's first 25 s of CAN frames).
-  head -n 2500 "$src/vcan/logs/demo-drive.log" >"$work/drive.log"
+  # A recording made by each side's controller: 600 CAN frames (2.8 s) of the demo drive at 107 to
+  # 120 km/h, so the needles and readouts move in every frame drawn below.
+  sed -n '5001,5600p' "$src/vcan/logs/demo-drive.log" >"$work/drive.log"
   for side in host target; do
     "${side}_run" meter-controller run --dbc "$src/controller/vehicles/demo/demo.dbc" \
       --map "$src/controller/vehicles/demo/demo.map" --input "log:$work/drive.log" --replay fast --exit-at-end \
       --record "$work/$side.rec" --link "unix:$work/$side-rec.sock" --state-dir "$work/$side-state" \
       >"$work/$side-record.log" 2>&1 || failed "$side meter-controller run failed: $(tail -3 "$work/$side-record.log")"
   done
+  # Published values are the same bits on both (as in decode): the same recording, byte for byte.
+  cmp "$work/host.rec" "$work/target.rec" || failed "the two controllers' recordings differ (host.rec, target.rec in $work)"
   printf '7 %s\n' "$(od -An -tx1 -N32 /dev/urandom | tr -d ' \n')" >"$work/link.key"
   chmod 600 "$work/link.key"
   # The wire: SERVER's meter-linkplay serves SERVER's recording, CLIENT's meter-linkdump records it.
@@ -121,26 +127,24 @@ link)
     wait "$play" || failed "$server meter-linkplay failed: $(tail -3 "$work/$server-linkplay.log")"
     "$py" "$here/recording_state.py" "$work/$server.rec" "$got" || failed "$server -> $client: the state differs"
   done
-  # Each side's recording drawn by the other's meter-view, against the same recording drawn by its
-  # own side's: the cluster converted by the host, three frames each.
+  # Each side's recording drawn by the other side's meter-view (the cluster converted by the host),
+  # frames at 0, 1 and 2 s, compared with each other. The recordings being the same bytes, each
+  # view's frames are also what it draws of its own side's recording, so one emulated view suffices.
   msp=$(convert cluster "$src/scenes/cluster/cluster.glb" "$src/scenes/cluster/cluster.scene.json") || exit 1
-  for play in host.rec:host host.rec:target target.rec:target target.rec:host; do
+  for play in target.rec:host host.rec:target; do
     rec=${play%%:*} side=${play#*:}
     out="$work/play-${rec%.rec}-by-$side"
     "${side}_run" meter-view --scene "$msp" --backend egl --msaa 1 --play "$work/$rec" --fps 1 \
-      --duration 5 --dump-every 2 --full-redraw --out "$out" >"$out.log" 2>&1 ||
+      --duration 2 --dump-every 1 --out "$out" >"$out.log" 2>&1 ||
       failed "$side meter-view --play $rec failed: $(tail -3 "$out.log")"
   done
   frames=0
-  for pair in host:target target:host; do
-    own=${pair%%:*} other=${pair#*:}
-    for png in "$work/play-$own-by-$own"/*.png; do
-      [[ -e $png ]] || break
-      "$py" "$here/compare_images.py" --max-level 1 "$png" "$work/play-$own-by-$other/$(basename "$png")" || fail=1
-      frames=$((frames + 1))
-    done
+  for png in "$work/play-target-by-host"/*.png; do
+    [[ -e $png ]] || break
+    "$py" "$here/compare_images.py" --max-level 1 "$png" "$work/play-host-by-target/$(basename "$png")" || fail=1
+    frames=$((frames + 1))
   done
-  ((frames >= 6)) || failed "$frames frames of the recordings were dumped, expected 3 or more of each"
+  ((frames >= 3)) || failed "$frames frames of the recordings were dumped, expected 3"
   ;;
 *)
   echo "cross_equal: no check '$check' (renders, decode, link)" >&2
