@@ -256,8 +256,17 @@ def live(view, controller, cluster, root, target, env, work, weston):
     monitor = [line for line in text.splitlines() if "the integrity monitor on the shown buffer" in line]
     if not monitor:
         fail("the monitor did not check the shown buffer:\n" + text)
+    # Late latching (the default --latch): frames started for a predicted latch, and their feedback
+    # said most made it (a frozen compositor and the first frames fall back to the callback).
+    latch = [line for line in text.splitlines() if "display pacing: --latch late:" in line]
+    counts = latch[0].split("--latch late: ")[1].split(" missed")[0].replace("(", "").split() if latch else []
+    started, made, missed = (int(counts[0]), int(counts[7]), int(counts[10])) if len(counts) == 11 else (0, 0, 0)
+    if started < 20 or made < started // 2:
+        fail(f"late latching: {started} frames started for a predicted latch, {made} made it, {missed} missed:\n"
+             + text)
     print(f"live: lost copies caught from frame {first}; {len(shown)} dumped frames with a presentation time; "
-          f"controller: {raised.count('display-frozen')} display-frozen; " + monitor[0].split("; the ")[-1])
+          f"controller: {raised.count('display-frozen')} display-frozen; late latching: {started} frames for a "
+          f"predicted latch, {missed} missed it; " + monitor[0].split("; the ")[-1])
 
 
 def no_compositor(view, msp, env, work):
