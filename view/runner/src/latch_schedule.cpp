@@ -94,19 +94,21 @@ LatchDecision LatchSchedule::decide(std::int64_t now_ns) const {
     d.reason = LatchReason::NoPeriod;
   } else if (last_latch_ns_ == 0) {
     d.reason = LatchReason::NoLatch;
-  } else if (!awaiting_.empty() && awaiting_.begin()->second.target_ns + s_.feedback_timeout_ns < now_ns) {
-    d.reason = LatchReason::NoFeedback;
   } else if (now_ns - last_latch_ns_ > period_ns_ + period_ns_ / 2) {
     d.reason = LatchReason::Idle;
-  } else if (const std::int64_t lead = render_estimate_ns() + margin_limit(); lead >= period_ns_) {
+  } else if (!awaiting_.empty() && awaiting_.begin()->second.target_ns + s_.feedback_timeout_ns < now_ns) {
+    d.reason = LatchReason::NoFeedback;
+  } else if (const std::int64_t render = render_estimate_ns(); render + s_.min_margin_ns >= period_ns_) {
     d.reason = LatchReason::RenderTooLong;
   } else {
-    // The first latch after now that the frame can still make.
+    // The first latch after now that the frame can still make with the least margin; started at
+    // that latch less the render and the margin, or now with what margin is left (a render that
+    // nearly fills the period squeezes it: drawn at the callback, but judged).
     const std::int64_t since = std::max<std::int64_t>(0, now_ns - last_latch_ns_);
     d.target_ns = last_latch_ns_ + (since / period_ns_ + 1) * period_ns_;
-    if (d.target_ns - lead < now_ns) d.target_ns += period_ns_;
-    d.start_ns = d.target_ns - lead;
-    d.margin_ns = margin_limit();
+    if (d.target_ns - render - s_.min_margin_ns < now_ns) d.target_ns += period_ns_;
+    d.start_ns = std::max(now_ns, d.target_ns - render - margin_limit());
+    d.margin_ns = d.target_ns - render - d.start_ns;
   }
   return d;
 }

@@ -155,14 +155,17 @@ TEST(LatchSchedule, WithoutFeedbackItDrawsAtTheCallback) {
   EXPECT_EQ(without.back().target, 0);
 }
 
-TEST(LatchSchedule, ARenderLongerThanThePeriodOrAnIdleCompositorDrawsAtOnce) {
+TEST(LatchSchedule, ALongRenderSqueezesTheMarginAndOneLongerThanThePeriodDrawsAtOnce) {
   LatchSchedule s;
   Sim sim(s);
-  sim.run(100, [](int) { return 15 * kMs; });
+  // A render of 15 ms leaves 1.7 ms of the period: the frame starts at once, for the next latch.
+  const auto squeezed = sim.run(100, [](int) { return 15 * kMs; });
+  EXPECT_EQ(squeezed.back().reason, LatchReason::Late);
+  EXPECT_EQ(squeezed.back().start, squeezed.back().target - kPeriod + 100'000) << "read 0.1 ms after the callback";
   const LatchDecision d = s.decide(10'000 * kMs);
   EXPECT_EQ(d.reason, LatchReason::Idle) << "the last latch is seconds old";
   EXPECT_EQ(d.start_ns, 10'000 * kMs);
-  const auto shown = sim.run(5, [](int) { return 15 * kMs; });
+  const auto shown = sim.run(5, [](int) { return 17 * kMs; });
   EXPECT_EQ(shown.back().reason, LatchReason::RenderTooLong);
   EXPECT_EQ(shown.back().target, 0);
 }

@@ -50,7 +50,7 @@ enum class LatchReason {
   NoLatch,        // the screen has not taken a frame yet
   Idle,           // the last latch is more than 1.5 periods old: the compositor idles, a commit restarts it
   NoFeedback,     // feedback stopped coming for frames drawn for a latch
-  RenderTooLong,  // render estimate + margin do not fit in a period
+  RenderTooLong,  // the render estimate and the least margin do not fit in a period
 };
 const char* latch_reason_name(LatchReason reason);
 
