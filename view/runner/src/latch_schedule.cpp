@@ -52,10 +52,12 @@ void LatchSchedule::presented(std::uint64_t frame, bool discarded, std::int64_t 
   if (discarded) return judge(drawn, true);
   offsets_.push_back(presented_ns - drawn.target_ns);
   if (offsets_.size() > s_.offset_window) offsets_.pop_front();
-  // On time, a frame is presented as long after its latch as the quickest of the recent ones; a
-  // frame that missed its latch comes a refresh later than that.
-  const std::int64_t least = *std::min_element(offsets_.begin(), offsets_.end());
-  judge(drawn, period_ns_ > 0 && offsets_.back() > least + period_ns_ / 2);
+  // On time, a frame is presented as long after its latch as most of the recent ones (the median:
+  // a frame that rendered faster than its estimate may make a latch before its target and come a
+  // refresh earlier); a frame that missed its latch comes a refresh later than that.
+  std::vector<std::int64_t> sorted(offsets_.begin(), offsets_.end());
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
+  judge(drawn, period_ns_ > 0 && offsets_.back() > sorted[sorted.size() / 2] + period_ns_ / 2);
 }
 
 void LatchSchedule::judge(const Awaiting& frame, bool missed) {

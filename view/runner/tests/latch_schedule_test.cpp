@@ -43,6 +43,7 @@ class Sim {
  public:
   explicit Sim(LatchSchedule& s) : s_(s) {}
   Compositor c;
+  std::int64_t read_after = 100'000;  // the loop reads the callback this much after it came
 
   std::vector<Shown> run(int frames, const std::function<std::int64_t(int)>& render) {
     std::vector<Shown> shown;
@@ -59,7 +60,7 @@ class Sim {
       shown.push_back({frame_, start, d.target_ns, latch, d.reason});
       if (c.feedback) feedback_.emplace_back(frame_, latch + c.present_after);
       s_.latched(latch + c.callback_after);
-      now_ = latch + c.callback_after + 100'000;  // the loop reads the callback a little later
+      now_ = latch + c.callback_after + read_after;
     }
     return shown;
   }
@@ -112,6 +113,26 @@ TEST(LatchSchedule, ARenderThatSpikesMissesOnceAndMovesTheStartEarlier) {
   EXPECT_GE(s.margin_ns(), margin + 750'000) << "the start moved earlier";
   EXPECT_LE(s.margin_ns(), margin + kMs);
   EXPECT_EQ(s.render_estimate_ns(), 4 * kMs) << "one spike in 64 renders is above the 95th percentile";
+}
+
+TEST(LatchSchedule, AFrameFasterThanItsEstimateMakesAnEarlierLatchAndCountsAsOnTime) {
+  LatchSettings unsettled;
+  unsettled.settle_run = 1'000'000;  // the margin stays at its safe 8 ms
+  LatchSchedule s(unsettled);
+  Sim sim(s);
+  // Renders of 15.9 ms, the callback read 1 ms late: with the least margin they cannot make the
+  // next latch, frames are started for the one after it (8 ms + 15.9 ms before it).
+  sim.read_after = kMs;
+  sim.run(100, [](int) { return 15'900'000; });
+  const std::uint64_t missed = s.missed();
+  // Then 3 ms: until the estimate learns it, frames make the latch before their target.
+  const auto shown = sim.run(300, [](int) { return 3 * kMs; });
+  int early = 0;
+  for (const auto& f : shown) early += f.target != 0 && f.latch < f.target - kPeriod / 2;
+  EXPECT_GT(early, 30);
+  EXPECT_EQ(s.missed(), missed) << "early frames do not make the frames on time after them look late";
+  EXPECT_EQ(missed_after(shown, 0), 0);
+  EXPECT_LE(shown.back().latch - shown.back().start, 3 * kMs + 8 * kMs) << "the estimate learnt the 3 ms";
 }
 
 TEST(LatchSchedule, FollowsACompositorThatLatchesAtAnotherPhase) {

@@ -37,7 +37,7 @@ struct LatchSettings {
   std::int64_t miss_step_ns = 1'000'000;   // a missed latch: the start this much earlier
   std::size_t render_window = 64;          // the recent renders the estimate is taken from
   double render_percentile = 95.0;         // the estimate: this percentile of them
-  std::size_t offset_window = 256;         // the recent (presented - target) offsets, whose least is "on time"
+  std::size_t offset_window = 256;         // the recent (presented - target) offsets, whose median is "on time"
   // A frame drawn for a latch with no feedback this long after that latch: feedback is missing,
   // the schedule falls back to drawing at the callback.
   std::int64_t feedback_timeout_ns = 250'000'000;
