@@ -218,7 +218,7 @@ def live(view, controller, cluster, root, target, env, work, weston):
         # A link timeout above the freeze: the view's loop waits in the display meanwhile, and a lost
         # link would take the STATUS that reports the freeze with it.
         v = View([view, "--scene", cluster, "--link", "unix:" + sock, "--link-timeout", "5000", "--msaa", "1",
-                  "--output", target, "--duration",
+                  "--output", target, "--latch", "late", "--duration",
                   "60", "--out", d, "--dump-every", "10", "--inject-fault", "display@20-40"], env,
                  os.path.join(d, "view.log"))
         end = time.monotonic() + 60
@@ -257,7 +257,7 @@ def live(view, controller, cluster, root, target, env, work, weston):
     monitor = [line for line in text.splitlines() if "the integrity monitor on the shown buffer" in line]
     if not monitor:
         fail("the monitor did not check the shown buffer:\n" + text)
-    # Late latching (the default --latch): every frame started either for a predicted latch or at
+    # Late latching (--latch late): every frame started either for a predicted latch or at
     # once for a named reason; the stopped compositor is one (its last latch is seconds old: no
     # latch is predicted from it, the frame goes at once).
     latch = [line for line in text.splitlines() if "display pacing: --latch late:" in line]
