@@ -6,10 +6,12 @@
 // callbacks, flip events) and the refresh period of the presentation feedback, and starts the draw
 // at (latch - render estimate - margin): the render estimate is a high percentile of the recent
 // renders (draw start -> commit), the margin adapts: a frame whose feedback says it came a refresh
-// later than the frames before it (it missed its latch) moves the start earlier, a run of frames
-// on time moves it later, within bounds. Without a period, a latch or feedback, or with a render
-// that leaves no room in the period, it says: draw now (at the callback). Plain data: times in
-// (CLOCK_MONOTONIC nanoseconds), a decision out; no clock, socket or GL.
+// later after its target latch than most recent frames (it missed its latch) moves the start
+// earlier, a run of frames on time moves it later, within bounds; a render that leaves less than the
+// margin squeezes it (the frame starts at once, still for the next latch). Without a period, a
+// latch or feedback, with an idle compositor, or with a render that leaves no room in the period,
+// it says: draw now (at the callback). Plain data: times in (CLOCK_MONOTONIC nanoseconds), a
+// decision out; no clock, socket or GL.
 #pragma once
 
 #include <cstdint>
