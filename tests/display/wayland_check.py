@@ -25,6 +25,7 @@ Pixels are read with ImageMagick (`convert ... rgb:`), no Python packages.
 """
 import csv
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -217,7 +218,7 @@ def live(view, controller, cluster, root, target, env, work, weston):
         # A link timeout above the freeze: the view's loop waits in the display meanwhile, and a lost
         # link would take the STATUS that reports the freeze with it.
         v = View([view, "--scene", cluster, "--link", "unix:" + sock, "--link-timeout", "5000", "--msaa", "1",
-                  "--output", target, "--duration",
+                  "--output", target, "--latch", "late", "--duration",
                   "60", "--out", d, "--dump-every", "10", "--pipeline", "concurrent",
                   "--inject-fault", "display@20-40"], env,
                  os.path.join(d, "view.log"))
@@ -257,8 +258,20 @@ def live(view, controller, cluster, root, target, env, work, weston):
     monitor = [line for line in text.splitlines() if "the integrity monitor on the shown buffer" in line]
     if not monitor:
         fail("the monitor did not check the shown buffer:\n" + text)
+    # Late latching (--latch late): every frame started either for a predicted latch or at
+    # once for a named reason; the stopped compositor is one (its last latch is seconds old: no
+    # latch is predicted from it, the frame goes at once).
+    latch = [line for line in text.splitlines() if "display pacing: --latch late:" in line]
+    counts = {m.group(2).strip(): int(m.group(1)) for m in re.finditer(
+        r"(\d+) ([a-z ]+?)(?:[,():]|$)", latch[0].split("--latch late: ")[1].split("; margin")[0])} if latch else {}
+    started, missed = counts.get("frames started for a predicted latch", 0), counts.get("missed it by the feedback", 0)
+    at_once = sum(n for k, n in counts.items() if k not in ("frames started for a predicted latch", "made it",
+                                                            "missed it by the feedback"))
+    if started + at_once < 60 or counts.get("compositor idle", 0) < 1 or counts.get("made it", 0) + missed > started:
+        fail(f"late latching: {counts} (expected 60 frames or more started, the frozen compositor as idle):\n" + text)
     print(f"live: lost copies caught from frame {first}; {len(shown)} dumped frames with a presentation time; "
-          f"controller: {raised.count('display-frozen')} display-frozen; " + monitor[0].split("; the ")[-1])
+          f"controller: {raised.count('display-frozen')} display-frozen; late latching: {started} frames for a "
+          f"predicted latch, {missed} missed it; " + monitor[0].split("; the ")[-1])
 
 
 def no_compositor(view, msp, env, work):

@@ -62,6 +62,11 @@ int main(int argc, char** argv) {
                  "where frames are shown: offscreen (none; the default), wayland (a toplevel on $WAYLAND_DISPLAY's "
                  "compositor, fullscreen) or wayland:SOCKET; the PNG dump keeps working (docs/display.md)")
       ->capture_default_str();
+  app.add_option("--latch", o.latch,
+                 "live with --output: callback (a due frame is drawn as soon as the display took the frame "
+                 "before) or late (at the last safe moment before the display's next latch, predicted from its "
+                 "frame callbacks or page flips and presentation feedback); docs/display.md")
+      ->check(CLI::IsMember({"late", "callback"}))->capture_default_str();
   app.add_option("--size", o.size, "render size WxH (default: the scene config's size)");
   app.add_option("--msaa", o.msaa, "MSAA samples: 1, 2, 4 or 8")->check(CLI::IsMember({1, 2, 4, 8}))->capture_default_str();
   app.add_option("--out", o.out_dir, "output directory for PNGs, frames.csv")->capture_default_str();

@@ -8,12 +8,14 @@
 
 #include <algorithm>
 #include <optional>
+#include <thread>
 
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/protocol/link.hpp"
 #include "meter/protocol/link_stats_text.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "meter/protocol/wire.hpp"
+#include "meter/runner/display_latch.hpp"
 #include "meter/runner/display_sink.hpp"
 #include "meter/runner/dump_policy.hpp"
 #include "meter/runner/frame_dump.hpp"
@@ -115,6 +117,7 @@ class LiveLoop {
   LiveStats stats_;
   FrameDump dump_;
   FrameTrace frame_trace_;
+  std::optional<DisplayLatch> latch_;  // with a display: when a due frame is drawn (--latch)
   std::uint64_t frame_ = 0;
   std::optional<Clock::time_point> changed_since_;
   std::uint64_t dump_failures_seen_ = 0, drops_logged_ = 0;
@@ -171,8 +174,10 @@ LiveLoop::LiveLoop(RenderContext& ctx, const ViewOptions& options, std::ostream&
     ctx_.pipeline.add_sink(*ctx.display_sink);
     if (integrity_.on()) ctx.display_sink->check_with(integrity_);
     ctx.display_sink->report_to(health_);
-    for (PresentationListener* l : std::initializer_list<PresentationListener*>{&trace_, &frame_trace_, &csv_})
+    latch_.emplace(*ctx.display, parse_latch_pacing(options.latch));
+    for (PresentationListener* l : std::initializer_list<PresentationListener*>{&trace_, &frame_trace_, &csv_, &*latch_})
       ctx.display_sink->add_listener(*l);
+    protocol::LogLine(log_, protocol::LogLevel::Info, "display") << "meter-view: display pacing: --latch " << options.latch << "\n";
   }
   ctx_.pipeline.add_sink(dump_);
   ctx_.pipeline.add_sink(frame_trace_);
@@ -262,20 +267,37 @@ FramePacer::FrameTime LiveLoop::intake() {
 
 // With a display, a due frame is drawn once the screen took the frame before (its frame callback
 // came): one frame in flight, drawn from the newest state and shown as soon as it is drawn, rather
-// than drawn early and held in the copy until the callback (a period older by then). The link is
-// drained meanwhile in 1 ms slices, and a frame still on the GPU is completed (shown) first.
+// than drawn early and held in the copy until the callback (a period older by then). With late
+// latching (--latch late) it waits on until the last safe moment before the display's next latch
+// (DisplayLatch). The link is drained meanwhile in 1 ms slices (the last millisecond slept), and a
+// frame still on the GPU is completed (shown) first.
 void LiveLoop::wait_for_display() {
   if (!ctx_.display) return;
-  const std::int64_t began = protocol::monotonic_now_ns();
+  std::int64_t began = protocol::monotonic_now_ns();
+  bool took = false;  // the display took the frame before
   while (!stop_requested()) {
     if (ctx_.pipeline.in_flight()) {
       if (ctx_.pipeline.poll_in_flight(std::chrono::milliseconds(1))) complete(nullptr, false);
-    } else if (ctx_.display->ready_for_frame(1)) {
-      break;
+    } else if (!took) {
+      if ((took = ctx_.display->ready_for_frame(1))) {
+        note_wait(stats_.intake, &events_, false, "wait for the display", began);
+        began = protocol::monotonic_now_ns();
+        continue;
+      }
+    } else {
+      const std::int64_t left = latch_ ? latch_->wait_left_ns(protocol::monotonic_now_ns()) : 0;
+      if (left <= 0) break;
+      if (left < 1'000'000) {
+        std::this_thread::sleep_for(std::chrono::nanoseconds(left));
+        continue;
+      }
+      if (poll(std::chrono::milliseconds(1)) && !changed_since_) changed_since_ = Clock::now();
+      continue;
     }
     if (drain() && !changed_since_) changed_since_ = Clock::now();
   }
-  note_wait(stats_.intake, &events_, false, "wait for the display", began);
+  if (took) note_wait(stats_.intake, &events_, false, "wait for the latch", began);
+  if (latch_) latch_->starting(protocol::monotonic_now_ns());
 }
 
 // The link's state through the bindings, and what the frame is asked for. Sequential: the render
@@ -294,9 +316,17 @@ engine::FrameRequest LiveLoop::evaluate(const FramePacer::FrameTime& ft) {
 }
 
 void LiveLoop::frame(const FramePacer::FrameTime& ft) {
-  if (overlapped_) return frame_overlapped(ft);
-  meter_frame(ctx_.pipeline.render(evaluate(ft)));
-  ++frame_;
+  if (overlapped_) {
+    frame_overlapped(ft);
+  } else {
+    meter_frame(ctx_.pipeline.render(evaluate(ft)));
+    ++frame_;
+  }
+  if (!latch_ || !latch_->late()) return;
+  // Late latching: the frame was started for the next latch, so it is completed and shown at
+  // once (not overlapped with the next frame's intake), and its render time learnt.
+  if (ctx_.pipeline.in_flight()) complete(&stats_.render, true);
+  latch_->drawn(frame_ - 1, ctx_.display_sink->last_presented_frame() == frame_ - 1, protocol::monotonic_now_ns());
 }
 
 // CUBE's double buffer between the CPU stages and the GPU: frame N executes while N+1 is taken in
@@ -420,6 +450,7 @@ void LiveLoop::summary() {
     LiveStats::print(stats_.totals(end), pacer_.seconds_at(end), log_);
   }
   ctx_.governed.summary(log_);
+  if (latch_) latch_->summary(log_);
   integrity_.summary(log_);
   log_script_stats(ctx_.pipeline.evaluator(), log_);
 }

@@ -51,13 +51,18 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
     : started(std::chrono::steady_clock::now()),
       out_dir(options.out_dir),
       scene(engine::read_package(options.scene_path)),
-      backend(backend_for(options, scene)),
+      backend((package_read = std::chrono::steady_clock::now(), backend_for(options, scene))),
       display(dynamic_cast<platform::DisplayBackend*>(backend.get())),
-      program_binaries(program_binaries_for(options, log)),
+      program_binaries((backend_opened = std::chrono::steady_clock::now(), program_binaries_for(options, log))),
       renderer(*backend, scene, renderer_options(options, program_binaries.get())),
       pipeline(scene, renderer),
       governed(renderer, options, log) {
+  renderer_made = std::chrono::steady_clock::now();
   if (options.info) {
+    const auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
+    log << "meter-view: start-up: package read " << ms(started, package_read) << " ms, "
+        << (display ? "display opened (connect, EGL) " : "backend opened (EGL) ") << ms(package_read, backend_opened)
+        << " ms, renderer (targets, programs, uploads, text) " << ms(backend_opened, renderer_made) << " ms\n";
     log << "meter-view: " << renderer.backend_info() << "; " << scene.draws.size() << " draws, "
         << scene.programs.size() << " programs\n";
     log << "meter-view: " << renderer.programs_linked() << " programs linked in " << renderer.program_link_ms() << " ms";

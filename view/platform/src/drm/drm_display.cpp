@@ -98,6 +98,7 @@ class DrmDisplay final : public EglDisplayBackend {
 
   std::vector<PresentedFrame> take_presented(int wait_ms) override { return kms_.take_presented(wait_ms); }
   std::uint64_t stalls() const override { return kms_.stalls(); }
+  std::int64_t last_latch_ns() const override { return kms_.last_flip_ns(); }
   std::string display_info() const override {
     return kms_.info() + "; " + placement() + ", double buffered, " +
            (egl_->has_buffer_age() ? "buffer age" : "no buffer age: full copies");

@@ -228,6 +228,7 @@ void KmsOutput::on_flip(std::uint32_t sequence, std::uint32_t sec, std::uint32_t
   shown.frame = pending_frames_.front();
   pending_frames_.pop_front();
   shown.presented_ns = std::int64_t(sec) * 1'000'000'000 + std::int64_t(usec) * 1000;
+  last_flip_ns_ = shown.presented_ns;
   shown.sequence = sequence;
   shown.refresh_ns = refresh_mhz_ ? std::uint32_t(1e12 / refresh_mhz_) : 0;
   shown.flags = 1;  // vsync: a page flip completes on vblank

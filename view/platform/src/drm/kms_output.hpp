@@ -41,6 +41,8 @@ class KmsOutput {
   bool wait_for_flip();
   std::vector<PresentedFrame> take_presented(int wait_ms);
   std::uint64_t stalls() const { return stalls_; }
+  // The vblank time of the last page flip event (CLOCK_MONOTONIC ns; 0: none yet).
+  std::int64_t last_flip_ns() const { return last_flip_ns_; }
 
   // The page-flip event handler calls this.
   void on_flip(std::uint32_t sequence, std::uint32_t sec, std::uint32_t usec);
@@ -68,6 +70,7 @@ class KmsOutput {
   std::uint32_t p_crtc_id_ = 0, p_mode_id_ = 0, p_active_ = 0;  // connector CRTC_ID, crtc MODE_ID/ACTIVE
   std::uint32_t p_fb_id_ = 0, p_plane_crtc_ = 0, p_src_[4] = {}, p_dst_[4] = {}, p_damage_ = 0;
   bool flip_pending_ = false;
+  std::int64_t last_flip_ns_ = 0;
   std::deque<std::uint64_t> pending_frames_;
   std::vector<PresentedFrame> presented_;
   std::uint64_t stalls_ = 0;

@@ -57,6 +57,7 @@ class WaylandDisplay final : public EglDisplayBackend {
   }
 
   bool ready_for_frame(int wait_ms) override { return window_.frame_ready(wait_ms); }
+  std::int64_t last_latch_ns() const override { return window_.last_frame_done_ns(); }
 
   void show(std::uint64_t frame_number) override {
     window_.before_commit(frame_number);

@@ -165,7 +165,9 @@ void WaylandWindow::on_toplevel_size(std::int32_t width, std::int32_t height) {
 
 void WaylandWindow::on_frame_done(wl_callback* callback) {
   wl_callback_destroy(callback);
-  if (callback == frame_callback_) frame_callback_ = nullptr;
+  if (callback != frame_callback_) return;
+  frame_callback_ = nullptr;
+  frame_done_ns_ = clock_ns(CLOCK_MONOTONIC);
 }
 
 void WaylandWindow::on_presented(struct wp_presentation_feedback* feedback, const PresentedFrame& shown) {

@@ -51,6 +51,8 @@ class WaylandWindow {
   void check_alive(const char* doing);
 
   std::uint64_t stalls() const { return stalls_; }
+  // CLOCK_MONOTONIC when the last commit's frame callback was read (0: none yet).
+  std::int64_t last_frame_done_ns() const { return frame_done_ns_; }
   std::string info() const;
 
   // Event handlers (the listeners in wayland_window.cpp call these).
@@ -92,7 +94,8 @@ class WaylandWindow {
   bool configured_ = false, closed_ = false;
   int configured_width_ = 0, configured_height_ = 0;
   wl_callback* frame_callback_ = nullptr;
-  std::int64_t committed_ns_ = 0;  // CLOCK_MONOTONIC of the commit whose frame callback is awaited
+  std::int64_t committed_ns_ = 0;
+  std::int64_t frame_done_ns_ = 0;  // CLOCK_MONOTONIC of the commit whose frame callback is awaited
   std::deque<Feedback> pending_;
   std::vector<PresentedFrame> presented_;
   std::uint64_t stalls_ = 0;

@@ -72,6 +72,10 @@ class DisplayBackend : public GpuBackend {
     (void)wait_ms;
     return true;
   }
+  // When the screen last took a frame (CLOCK_MONOTONIC ns; 0: not yet): the arrival of the last
+  // commit's frame callback (the compositor's repaint), or the vblank of the last page flip. Late
+  // latching predicts the next latch from it.
+  virtual std::int64_t last_latch_ns() const { return 0; }
   void present(const RenderTarget& frame, std::span<const PixelRegion> damage, std::uint64_t frame_number) {
     if (copy(frame, damage)) show(frame_number);
   }

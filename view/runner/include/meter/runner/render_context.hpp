@@ -31,6 +31,9 @@ struct RenderContext {
   ~RenderContext();
 
   std::chrono::steady_clock::time_point started;  // before the package was read
+  // The start-up's steps end: the package read, the backend (a display: connected, EGL up) opened,
+  // the renderer made (targets, programs, uploads, text); --info prints the split.
+  std::chrono::steady_clock::time_point package_read{}, backend_opened{}, renderer_made{};
   std::filesystem::path out_dir;
   engine::Scene scene;
   std::unique_ptr<platform::GpuBackend> backend;

@@ -11,6 +11,9 @@ struct ViewOptions {
   std::string backend = "egl";   // egl | osmesa
   // Where frames go besides the PNG dump: offscreen (none), wayland[:SOCKET] (docs/display.md).
   std::string output = "offscreen";
+  // Live with a display: callback (a due frame drawn as soon as the display took the frame before)
+  // or late (at the last safe moment before the display's next latch); display_latch.hpp.
+  std::string latch = "callback";
   std::string size;              // WxH; empty = the scene config's size
   int msaa = 4;
   std::string out_dir = ".";
