@@ -3,7 +3,19 @@
 function(meter_test_program_settings target)
   # The test drivers themselves at -O1 in optimised builds (a third less compile time than -O3);
   # the libraries they test keep the build's own flags.
-  target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo>:-O1>)
+  # In the sanitizer build at -O0 and without libFuzzer's coverage counters (no fuzzer runs a test
+  # driver): a test source under clang with ASan+UBSan compiled in 9.0 s instead of 27.8 s
+  # (protocol's first test batch, 2026-12-06), and the test programs were 45 % of that build's
+  # compile time. The sanitizers still check every line the tests run; the libraries under test keep
+  # -O2 and their coverage counters.
+  if(METER_SANITIZE)
+    target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo>:-O0>)
+  else()
+    target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo>:-O1>)
+  endif()
+  if(METER_FUZZ)
+    target_compile_options(${target} PRIVATE -fno-sanitize=fuzzer-no-link)
+  endif()
   # A test file's fixtures live in an anonymous namespace and TEST_F derives from them; a unity batch
   # includes the file, and GCC then takes it for a header and warns of the derived class's linkage.
   # The idiom is right in a test file; the product keeps the warning (it caught a file-local type
