@@ -43,7 +43,7 @@ std::string card_of(const std::string& target) {
 class DrmDisplay final : public EglDisplayBackend {
  public:
   explicit DrmDisplay(const DisplayOptions& options)
-      : EglDisplayBackend("drm"), kms_(card_of(options.target), options.frame_wait_ms) {
+      : EglDisplayBackend("drm"), kms_(card_of(options.target), options.frame_wait_ms, options.drm_modeset) {
     if (kms_.width() < options.width || kms_.height() < options.height)
       throw BackendError("drm: " + kms_.info() + ": the mode is smaller than the " + std::to_string(options.width) + "x" +
                          std::to_string(options.height) + " frame (refused: it would be cut; give the panel a larger mode)");
@@ -81,9 +81,12 @@ class DrmDisplay final : public EglDisplayBackend {
   void show(std::uint64_t frame_number) override {
     const std::vector<PixelRegion> damage = take_shown_damage();
     std::string error;
-    if (!egl_->swap({}, error)) throw DisplayLost("drm: eglSwapBuffers failed (" + error + ")");
+    if (!egl_->swap({}, error)) throw DisplayLost("drm: " + kms_.card() + ": eglSwapBuffers failed (" + error + ")");
     gbm_bo* bo = gbm_surface_lock_front_buffer(surface_);
-    if (!bo) throw BackendError("drm: gbm_surface_lock_front_buffer failed: no free scanout buffer");
+    if (!bo) {
+      kms_.check_device("taking the drawn buffer for scanout");
+      throw BackendError("drm: " + kms_.card() + ": gbm_surface_lock_front_buffer failed: no free scanout buffer");
+    }
     auto* data = static_cast<BufferFb*>(gbm_bo_get_user_data(bo));
     if (!data) {
       data = new BufferFb{&kms_, kms_.framebuffer(gbm_bo_get_handle(bo).u32, gbm_bo_get_stride(bo))};

@@ -11,6 +11,10 @@ struct ViewOptions {
   std::string backend = "egl";   // egl | osmesa
   // Where frames go besides the PNG dump: offscreen (none), wayland[:SOCKET] (docs/display.md).
   std::string output = "offscreen";
+  // --output drm: auto | atomic | legacy (platform::DisplayOptions::drm_modeset).
+  std::string drm_modeset = "auto";
+  // play with --output: after the recording, the last frame stays shown until SIGINT/SIGTERM.
+  bool hold = false;
   std::string size;              // WxH; empty = the scene config's size
   int msaa = 4;
   std::string out_dir = ".";
