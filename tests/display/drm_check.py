@@ -16,7 +16,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 FRAME = 320 * 240        # the gauge's size in the guest, pixels
 RAMP_FRAMES = 8          # frames of the played ramp (one a state)
-UNPLUG_BOUND_MS = 3000   # the removed device noticed and the view gone within this
+# The removed device noticed and the view gone within this (under TCG on this loaded host: the
+# hold asks the device every 50-100 ms; the rest is the guest's process exit and the script's
+# 0.1 s polls, 2.5-3.5 s measured).
+UNPLUG_BOUND_MS = 8000
 
 
 def prepare(convert, source_dir, out):
@@ -31,13 +34,14 @@ def prepare(convert, source_dir, out):
 
 
 def ramp(path):
-    """A link recording: Vehicle.Speed up by 0.5 km/h every 1/30 s, RAMP_FRAMES states (the needle moves a little each
-    frame: only part of the frame changes)."""
+    """A link recording: Vehicle.Speed up by 0.5 km/h every 1/25 s (exact in decimal: frame k of
+    --fps 25 takes state k), RAMP_FRAMES states (the needle moves a little each frame: only part of
+    the frame changes)."""
     with open(path, "w") as f:
-        f.write("# Vehicle.Speed up 0.5 km/h a frame at 30 frames/s\n")
+        f.write("# Vehicle.Speed up 0.5 km/h a frame at 25 frames/s\n")
         f.write("(100.000000000) SNAPSHOT seq=1 sent=100.000000000 complete=1 Vehicle.Speed=60:valid\n")
         for k in range(1, RAMP_FRAMES):
-            t = 100 + k / 30
+            t = 100 + k * 0.04
             f.write(f"({t:.9f}) DELTA seq={k + 1} sent={t:.9f} Vehicle.Speed={60 + 0.5 * k}:valid\n")
 
 
@@ -132,7 +136,7 @@ def judge_partial(out, read, notes):
         errors.append(f"the device removed under the holding view ({read('unplug.dev')}): rc {read('partial.rc')} "
                       f"(3 expected), exit {ms} ms after the removal (at most {UNPLUG_BOUND_MS}):\n{log[-2000:]}")
     else:
-        notes.append(f"unplug: exit 3 {ms} ms after removing {read('unplug.dev')}: "
+        notes.append(f"unplug: error logged {read('unplug.noticed')} ms and exit 3 {ms} ms after removing {read('unplug.dev')}: "
                      + log[log.index("the display went away"):].splitlines()[0])
     return errors
 
@@ -150,7 +154,7 @@ def judge(out, watcher, notes=None):
             return f.read().strip()
     errors = list(watcher.errors)
     first = read("first.log") or ""
-    planes = re.search(r"plane properties: (.*)", first)
+    planes = re.search(r"plane properties: ([^;]*)", first)
     if "atomic, primary plane" not in first or not planes:
         errors.append(f"first: no atomic KMS output with its plane's properties in its log:\n{first}")
     else:

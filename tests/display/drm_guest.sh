@@ -16,8 +16,8 @@
 #           moving by small steps: only part of each frame changes), a line per frame shown with
 #           the pixels copied (--info), its last frame held (--hold) for the host's screendump
 #           (shot2); then the virtio-gpu PCI device removed under it (the display ends here:
-#           last): OUT/unplug.ms is how long the view took to exit after the removal, "hung" when it
-#           did not within 10 s.
+#           last): OUT/unplug.noticed and OUT/unplug.ms are how long the view took to log the lost
+#           display and to exit after the removal, unplug.ms "hung" when it did not within 15 s.
 set -u
 view=$1 msp=$2 rec=$3 out=$4
 export GALLIUM_DRIVER=softpipe
@@ -53,7 +53,7 @@ fcntl.ioctl(fd, 0x641e)  # DRM_IOCTL_SET_MASTER: fails (EINVAL/EBUSY) while anot
 print("master")' >"$out/probe.log" 2>&1
 echo $? >"$out/probe.rc"
 
-show partial shot2 --play "$rec" --fps 30 --dump-last --timing-csv "$out/partial.csv" --drm-modeset legacy --hold ||
+show partial shot2 --play "$rec" --fps 25 --dump-last --timing-csv "$out/partial.csv" --drm-modeset legacy --hold ||
   exit 0
 # The PCI device of card0 (its virtio device's parent), removed while the view holds its frame.
 dev=$(readlink -f /sys/class/drm/card0/device)
@@ -61,7 +61,12 @@ dev=$(readlink -f /sys/class/drm/card0/device)
 echo "$dev" >"$out/unplug.dev"
 began=$(date +%s%N)
 echo 1 >"$dev/remove" &
-for _ in $(seq 1 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+for _ in $(seq 1 150); do
+  [ -f "$out/unplug.noticed" ] || ! grep -q "the display went away" "$out/partial.log" ||
+    echo $((($(date +%s%N) - began) / 1000000)) >"$out/unplug.noticed"
+  kill -0 "$pid" 2>/dev/null || break
+  sleep 0.1
+done
 if kill -0 "$pid" 2>/dev/null; then
   echo hung >"$out/unplug.ms"
   kill -KILL "$pid"

@@ -267,6 +267,7 @@ bool KmsOutput::wait_for_flip() {
   while (flip_pending_) {
     const int left = frame_wait_ms_ - int((kms_now_ns() - began) / 1'000'000);
     if (left <= 0 || !dispatch(left)) {
+      check_device("while waiting for a page flip");  // a removed device sends no event
       ++stalls_;  // no vblank came: a frozen display
       return false;
     }
@@ -294,6 +295,8 @@ std::vector<PresentedFrame> KmsOutput::take_presented(int wait_ms) {
     } else {
       dispatch(0);
     }
+  } else if (wait_ms > 0) {
+    check_device("while the frame was held");  // nothing to wait for: a removed device wakes no poll
   }
   return std::exchange(presented_, {});
 }
