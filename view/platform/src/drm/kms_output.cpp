@@ -267,7 +267,7 @@ bool KmsOutput::wait_for_flip() {
   while (flip_pending_) {
     const int left = frame_wait_ms_ - int((kms_now_ns() - began) / 1'000'000);
     if (left <= 0 || !dispatch(left)) {
-      check_device("while waiting for a page flip");  // a removed device sends no event
+      check_device("while waiting for a page flip");  // a removed device may send no event
       ++stalls_;  // no vblank came: a frozen display
       return false;
     }
@@ -296,7 +296,7 @@ std::vector<PresentedFrame> KmsOutput::take_presented(int wait_ms) {
       dispatch(0);
     }
   } else if (wait_ms > 0) {
-    check_device("while the frame was held");  // nothing to wait for: a removed device wakes no poll
+    check_device("while the frame was held");  // nothing pending: only an ioctl tells
   }
   return std::exchange(presented_, {});
 }

@@ -47,7 +47,7 @@ class KmsOutput {
   // asked whether it is still there (check_device).
   std::vector<PresentedFrame> take_presented(int wait_ms);
   // Throws DisplayLost naming the card and `doing` when the device went away (a KMS ioctl answers
-  // ENODEV or EIO): a removed device's fd stays open but never wakes a poll.
+  // ENODEV or EIO): a removed device's fd stays open, and only an ioctl tells that it is gone.
   void check_device(const std::string& doing) const;
   std::uint64_t stalls() const { return stalls_; }
 
