@@ -136,7 +136,8 @@ def judge_partial(out, read, notes):
         errors.append(f"the device removed under the holding view ({read('unplug.dev')}): rc {read('partial.rc')} "
                       f"(3 expected), exit {ms} ms after the removal (at most {UNPLUG_BOUND_MS}):\n{log[-2000:]}")
     else:
-        notes.append(f"unplug: error logged {read('unplug.noticed')} ms and exit 3 {ms} ms after removing {read('unplug.dev')}: "
+        notes.append(f"unplug: error logged {read('unplug.noticed')} ms and exit 3 {ms} ms after removing {read('unplug.dev')} "
+                     f"(the legacy/partial/unplug step: {read('partial.ms')} ms in the guest): "
                      + log[log.index("the display went away"):].splitlines()[0])
     return errors
 

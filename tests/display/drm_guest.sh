@@ -17,7 +17,8 @@
 #           the pixels copied (--info), its last frame held (--hold) for the host's screendump
 #           (shot2); then the virtio-gpu PCI device removed under it (the display ends here:
 #           last): OUT/unplug.noticed and OUT/unplug.ms are how long the view took to log the lost
-#           display and to exit after the removal, unplug.ms "hung" when it did not within 15 s.
+#           display and to exit after the removal, unplug.ms "hung" when it did not within 15 s;
+#           OUT/partial.ms the whole step (start, frames, screendump, removal, exit).
 set -u
 view=$1 msp=$2 rec=$3 out=$4
 export GALLIUM_DRIVER=softpipe
@@ -53,6 +54,7 @@ fcntl.ioctl(fd, 0x641e)  # DRM_IOCTL_SET_MASTER: fails (EINVAL/EBUSY) while anot
 print("master")' >"$out/probe.log" 2>&1
 echo $? >"$out/probe.rc"
 
+started=$(date +%s%N)
 show partial shot2 --play "$rec" --fps 25 --dump-last --timing-csv "$out/partial.csv" --drm-modeset legacy --hold ||
   exit 0
 # The PCI device of card0 (its virtio device's parent), removed while the view holds its frame.
@@ -75,4 +77,5 @@ else
 fi
 wait "$pid"
 echo $? >"$out/partial.rc"
+echo $((($(date +%s%N) - started) / 1000000)) >"$out/partial.ms"
 exit 0
