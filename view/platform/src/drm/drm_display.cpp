@@ -15,6 +15,7 @@
 
 #include "backends.hpp"
 #include "drm/kms_output.hpp"
+#include "meter/platform/display_damage.hpp"
 #include "egl/egl_display_backend.hpp"
 
 namespace meter::platform::detail {
@@ -92,10 +93,7 @@ class DrmDisplay final : public EglDisplayBackend {
       data = new BufferFb{&kms_, kms_.framebuffer(gbm_bo_get_handle(bo).u32, gbm_bo_get_stride(bo))};
       gbm_bo_set_user_data(bo, data, destroy_fb_data);
     }
-    // FB_DAMAGE_CLIPS have their origin top-left.
-    std::vector<PixelRegion> clips;
-    for (const auto& r : damage) clips.push_back({r.x, surface_h_ - r.y - r.height, r.width, r.height});
-    kms_.flip(data->fb, clips, frame_number);
+    kms_.flip(data->fb, top_left_origin(damage, surface_h_), frame_number);  // FB_DAMAGE_CLIPS: origin top-left
     (shown_bo_ ? queued_bo_ : shown_bo_) = bo;  // the first (the modeset) is on screen at once
   }
 
