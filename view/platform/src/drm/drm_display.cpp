@@ -74,6 +74,10 @@ class DrmDisplay final : public EglDisplayBackend {
     }
     if (shown_bo_ && queued_bo_) gbm_surface_release_buffer(surface_, std::exchange(shown_bo_, nullptr));
     if (queued_bo_) shown_bo_ = std::exchange(queued_bo_, nullptr);
+    // Mesa's GBM driver crashes (SIGSEGV in the draw) when it needs a new back buffer from a
+    // device that was removed: asked first, a removal ends the view with DisplayLost instead (one
+    // ioctl a frame; a removal between this and the draw still reaches Mesa).
+    kms_.check_device("before the frame was drawn into its buffer");
     carried_.insert(carried_.end(), damage.begin(), damage.end());
     copy_frame(frame, std::exchange(carried_, {}));
     return true;
