@@ -36,4 +36,11 @@ long long area(std::span<const PixelRegion> boxes) {
   return sum;
 }
 
+std::vector<PixelRegion> top_left_origin(std::span<const PixelRegion> boxes, int surface_height) {
+  std::vector<PixelRegion> out;
+  out.reserve(boxes.size());
+  for (const auto& r : boxes) out.push_back({r.x, surface_height - r.y - r.height, r.width, r.height});
+  return out;
+}
+
 }  // namespace meter::platform

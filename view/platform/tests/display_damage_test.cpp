@@ -46,6 +46,13 @@ TEST(DisplayDamage, BoxesAreCutToTheFrame) {
   EXPECT_EQ(h.repaint(2, Boxes{{-5, -5, 10, 10}}), (Boxes{{0, 0, 5, 5}, {90, 40, 10, 10}}));
 }
 
+TEST(DisplayDamage, KmsClipsHaveTheirOriginTopLeft) {
+  // A 50-high surface: a box on the bottom row in GL coordinates is on the last rows for KMS, one
+  // touching the top edge starts at row 0.
+  EXPECT_EQ(top_left_origin(Boxes{{10, 0, 20, 5}, {0, 40, 4, 10}, {3, 7, 1, 1}}, 50),
+            (Boxes{{10, 45, 20, 5}, {0, 0, 4, 10}, {3, 42, 1, 1}}));
+}
+
 TEST(DisplayDamage, AreaSumsTheBoxes) {
   EXPECT_EQ(area(Boxes{{0, 0, 10, 10}, {5, 5, 10, 10}, {0, 0, 0, 7}}), 200);
 }

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <stdexcept>
+#include <string>
+#include <thread>
 #include <utility>
 
 #include "meter/platform/display_damage.hpp"
+#include "meter/runner/process_signals.hpp"
 #include "meter/protocol/trace_events.hpp"
 #include "meter/protocol/log/logger.hpp"
 #include "meter/protocol/wire.hpp"
@@ -42,12 +46,20 @@ void DisplaySink::on_frame(const engine::FrameRecord& frame) {
   if (!damage.empty()) copy();
   if (integrity_) check(frame, copy, copied, copy_ms);
   if (copied) {
+    const std::uint64_t copied_before = summary_.pixels_copied;
+    summary_.pixels_copied = ctx_.display->pixels_copied();
     ctx_.display->show(n);
     if (frame.render_ended_ns) summary_.after_render_ms += double(began - frame.render_ended_ns) / 1e6;
     ++summary_.presents;
     summary_.pixels_damaged += static_cast<std::uint64_t>(platform::area(damage));
     last_frame_ = n;
     summary_.present_ms += double(protocol::monotonic_now_ns() - began) / 1e6;
+    if (log_each_frame_) {
+      const auto& target = ctx_.renderer.resolved_target();
+      log_ << "meter-view: display: frame " << n << " shown: copied " << summary_.pixels_copied - copied_before
+           << " pixels of the frame's " << std::int64_t(target.width()) * target.height() << " (" << platform::area(damage)
+           << " damaged)\n";
+    }
   } else {
     for (PresentationListener* l : listeners_) l->not_presented(n);
   }
@@ -107,6 +119,17 @@ void DisplaySink::finish() {
     log_ << "; the integrity monitor on the shown buffer " << summary_.monitor_ms / double(summary_.monitored)
          << " ms per frame (" << summary_.monitored << " frames)";
   log_ << "\n";
+}
+
+void DisplaySink::hold(double seconds, std::ostream& log) {
+  install_stop_handlers();
+  log << "meter-view: frame " << last_frame_.value_or(0) << " on the display; holding it "
+      << (seconds > 0 ? std::to_string(seconds) + " s" : std::string("until SIGINT/SIGTERM")) << std::endl;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!stop_requested() && (seconds <= 0 || std::chrono::steady_clock::now() < until)) {
+    ctx_.display->take_presented(50);  // reads the display's events: a lost display throws
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
 }
 
 void DisplaySink::take(int wait_ms) {

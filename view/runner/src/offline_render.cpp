@@ -1,33 +1,14 @@
 #include "meter/runner/offline_render.hpp"
 
-#include <thread>
-
 #include "meter/engine/pipeline/frame_pipeline.hpp"
 #include "meter/platform/image.hpp"
 #include "meter/runner/frames_csv.hpp"
 #include "meter/runner/display_sink.hpp"
 #include "meter/runner/option_units.hpp"
-#include "meter/runner/process_signals.hpp"
 #include "meter/runner/script_log.hpp"
 #include "meter/runner/values_input.hpp"
 
 namespace meter::runner {
-
-namespace {
-
-// The one frame stays on the display until --duration seconds passed (0: until SIGINT/SIGTERM);
-// the display going away ends the process (platform::DisplayLost).
-void hold_on_display(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
-  install_stop_handlers();
-  log << "meter-view: frame 0 on the display; holding it " << (options.duration_s > 0 ? std::to_string(options.duration_s) + " s" : std::string("until SIGINT/SIGTERM")) << std::endl;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.duration_s);
-  while (!stop_requested() && (options.duration_s <= 0 || std::chrono::steady_clock::now() < until)) {
-    ctx.display->take_presented(50);  // reads the compositor's events: a lost display throws
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-}
-
-}  // namespace
 
 // Offline mode: a policy over the engine's frame pipeline with one frame, forced and read back: the
 // state from --values / --set; its sink the timing CSV; the PNG and its frames.csv row written here.
@@ -56,7 +37,8 @@ void render_offline(RenderContext& ctx, const ViewOptions& options, std::ostream
         << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ctx.started).count() << " ms\n";
     log_script_stats(ctx.pipeline.evaluator(), log);
   }
-  if (ctx.display) hold_on_display(ctx, options, log);
+  // The one frame stays on the display until --duration seconds passed (0: until SIGINT/SIGTERM).
+  if (ctx.display_sink) ctx.display_sink->hold(options.duration_s, log);
 }
 
 }  // namespace meter::runner

@@ -105,7 +105,7 @@ class RecordingState {
 
 // Play mode: a policy over the engine's frame pipeline. The state comes from the recording, frame
 // k at k/fps after its first update on a simulated clock (no waiting); sinks: the timing CSV and
-// the PNG dump (frames.csv rows).
+// the PNG dump (frames.csv rows), the display last; with --hold its last frame stays shown.
 void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log) {
   const auto frames = read_recording(options.play);
   const PlaySpan span = play_span(frames, options.play);
@@ -142,6 +142,7 @@ void run_play(RenderContext& ctx, const ViewOptions& options, std::ostream& log)
       << png_writer.failures() << " dumps failed\n";
   ctx.governed.summary(log);
   png_writer.check();
+  if (options.hold) ctx.display_sink->hold(0, log);  // --hold needs --output (run_view)
 }
 
 }  // namespace meter::runner

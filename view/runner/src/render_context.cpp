@@ -18,6 +18,7 @@ std::unique_ptr<platform::GpuBackend> backend_for(const ViewOptions& options, co
       throw ViewError("--output " + options.output + ": a display renders through EGL, not --backend " + options.backend);
     platform::DisplayOptions d;
     d.target = options.output;
+    d.drm_modeset = options.drm_modeset;
     d.width = scene.config.size[0], d.height = scene.config.size[1];
     if (!options.size.empty()) std::tie(d.width, d.height) = parse_size(options.size);
     return platform::open_display(d);
@@ -80,7 +81,10 @@ RenderContext::RenderContext(const ViewOptions& options, std::ostream& log)
   if (display) {
     display_sink = std::make_unique<DisplaySink>(*this, log);
     display_sink->add_listener(timing);
-    if (options.info) log << "meter-view: display: " << display->display_info() << "\n";
+    if (options.info) {
+      log << "meter-view: display: " << display->display_info() << "\n";
+      display_sink->log_each_frame();
+    }
   }
 }
 

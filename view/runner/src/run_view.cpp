@@ -8,6 +8,7 @@
 #include "meter/runner/play_recording.hpp"
 #include "meter/runner/process_signals.hpp"
 #include "meter/runner/render_context.hpp"
+#include "meter/runner/view_error.hpp"
 #include "meter/protocol/log/logger.hpp"
 
 namespace meter::runner {
@@ -15,6 +16,8 @@ namespace meter::runner {
 int run_view(const ViewOptions& options, std::ostream& log) {
   install_dump_request_handler();
   try {
+    if (options.hold && (options.play.empty() || options.output == "offscreen"))
+      throw ViewError("--hold keeps a played recording's last frame on a display: it needs --play and --output");
     protocol::use_catalog_option(options.catalog);  // before the scene: its bindings name catalog signals
     if (!options.play.empty()) {
       RenderContext ctx(options, log);

@@ -15,6 +15,7 @@
 
 #include "backends.hpp"
 #include "drm/kms_output.hpp"
+#include "meter/platform/display_damage.hpp"
 #include "egl/egl_display_backend.hpp"
 
 namespace meter::platform::detail {
@@ -43,7 +44,7 @@ std::string card_of(const std::string& target) {
 class DrmDisplay final : public EglDisplayBackend {
  public:
   explicit DrmDisplay(const DisplayOptions& options)
-      : EglDisplayBackend("drm"), kms_(card_of(options.target), options.frame_wait_ms) {
+      : EglDisplayBackend("drm"), kms_(card_of(options.target), options.frame_wait_ms, options.drm_modeset) {
     if (kms_.width() < options.width || kms_.height() < options.height)
       throw BackendError("drm: " + kms_.info() + ": the mode is smaller than the " + std::to_string(options.width) + "x" +
                          std::to_string(options.height) + " frame (refused: it would be cut; give the panel a larger mode)");
@@ -73,6 +74,10 @@ class DrmDisplay final : public EglDisplayBackend {
     }
     if (shown_bo_ && queued_bo_) gbm_surface_release_buffer(surface_, std::exchange(shown_bo_, nullptr));
     if (queued_bo_) shown_bo_ = std::exchange(queued_bo_, nullptr);
+    // Mesa's GBM driver crashes (SIGSEGV in the draw) when it needs a new back buffer from a
+    // device that was removed: asked first, a removal ends the view with DisplayLost instead (one
+    // ioctl a frame; a removal between this and the draw still reaches Mesa).
+    kms_.check_device("before the frame was drawn into its buffer");
     carried_.insert(carried_.end(), damage.begin(), damage.end());
     copy_frame(frame, std::exchange(carried_, {}));
     return true;
@@ -81,18 +86,18 @@ class DrmDisplay final : public EglDisplayBackend {
   void show(std::uint64_t frame_number) override {
     const std::vector<PixelRegion> damage = take_shown_damage();
     std::string error;
-    if (!egl_->swap({}, error)) throw DisplayLost("drm: eglSwapBuffers failed (" + error + ")");
+    if (!egl_->swap({}, error)) throw DisplayLost("drm: " + kms_.card() + ": eglSwapBuffers failed (" + error + ")");
     gbm_bo* bo = gbm_surface_lock_front_buffer(surface_);
-    if (!bo) throw BackendError("drm: gbm_surface_lock_front_buffer failed: no free scanout buffer");
+    if (!bo) {
+      kms_.check_device("taking the drawn buffer for scanout");
+      throw BackendError("drm: " + kms_.card() + ": gbm_surface_lock_front_buffer failed: no free scanout buffer");
+    }
     auto* data = static_cast<BufferFb*>(gbm_bo_get_user_data(bo));
     if (!data) {
       data = new BufferFb{&kms_, kms_.framebuffer(gbm_bo_get_handle(bo).u32, gbm_bo_get_stride(bo))};
       gbm_bo_set_user_data(bo, data, destroy_fb_data);
     }
-    // FB_DAMAGE_CLIPS have their origin top-left.
-    std::vector<PixelRegion> clips;
-    for (const auto& r : damage) clips.push_back({r.x, surface_h_ - r.y - r.height, r.width, r.height});
-    kms_.flip(data->fb, clips, frame_number);
+    kms_.flip(data->fb, top_left_origin(damage, surface_h_), frame_number);  // FB_DAMAGE_CLIPS: origin top-left
     (shown_bo_ ? queued_bo_ : shown_bo_) = bo;  // the first (the modeset) is on screen at once
   }
 

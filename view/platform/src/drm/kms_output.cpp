@@ -32,9 +32,12 @@ void page_flip_done(int, unsigned sequence, unsigned sec, unsigned usec, void* d
 
 }  // namespace
 
-KmsOutput::KmsOutput(const std::string& card, int frame_wait_ms) : card_(card), frame_wait_ms_(frame_wait_ms) {
+KmsOutput::KmsOutput(const std::string& card, int frame_wait_ms, const std::string& modeset)
+    : card_(card), frame_wait_ms_(frame_wait_ms) {
+  if (modeset != "auto" && modeset != "atomic" && modeset != "legacy")
+    throw BackendError("drm: modesetting '" + modeset + "': expected auto, atomic or legacy");
   try {
-    find_output(card);
+    find_output(card, modeset);
   } catch (...) {
     release();
     throw;
@@ -50,16 +53,19 @@ void KmsOutput::release() noexcept {
   close(std::exchange(fd_, -1));
 }
 
-void KmsOutput::find_output(const std::string& card) {
+void KmsOutput::find_output(const std::string& card, const std::string& modeset) {
   fd_ = open(card.c_str(), O_RDWR | O_CLOEXEC);
   if (fd_ < 0) throw BackendError("drm: cannot open " + card + ": " + std::strerror(errno));
   if (!drmIsMaster(fd_))
     throw BackendError("drm: " + card + " is driven by another process (this one is not its DRM master): one view per card");
   drmSetClientCap(fd_, DRM_CLIENT_CAP_UNIVERSAL_PLANES, 1);
-  if (drmSetClientCap(fd_, DRM_CLIENT_CAP_ATOMIC, 1) == 0) {
+  if (modeset == "legacy") {
+    why_legacy_ = "asked for: --drm-modeset legacy";
+  } else if (drmSetClientCap(fd_, DRM_CLIENT_CAP_ATOMIC, 1) == 0) {
     atomic_ = true;
   } else {
     why_legacy_ = std::string("the driver refused DRM_CLIENT_CAP_ATOMIC (") + std::strerror(errno) + ")";
+    if (modeset == "atomic") throw BackendError("drm: " + card + ": " + why_legacy_ + " and --drm-modeset atomic asks for it");
   }
   drmModeRes* res = drmModeGetResources(fd_);
   if (!res) throw BackendError("drm: " + card + " is not a KMS device (drmModeGetResources: " + std::strerror(errno) + ")");
@@ -97,25 +103,34 @@ void KmsOutput::find_output(const std::string& card) {
   }
   drmModeFreeResources(res);
   if (!connector_) throw BackendError("drm: " + card + " has no connected connector with a mode and a CRTC; tried:" + (tried.empty() ? " none" : tried));
+  find_plane();
+  if (atomic_ && !plane_) throw BackendError("drm: " + card + ": no primary plane for the CRTC of " + connector_name_);
+  if (atomic_) read_properties();
+}
+
+// The CRTC's primary plane and the names of its properties (a client without the atomic cap is
+// shown fewer: FB_ID, SRC_*, FB_DAMAGE_CLIPS are atomic-only).
+void KmsOutput::find_plane() {
   drmModePlaneRes* planes = drmModeGetPlaneResources(fd_);
   for (std::uint32_t i = 0; planes && i < planes->count_planes && !plane_; ++i) {
     drmModePlane* p = drmModeGetPlane(fd_, planes->planes[i]);
     if (!p) continue;
-    if ((p->possible_crtcs & (1u << crtc_index_)) &&
-        property(p->plane_id, DRM_MODE_OBJECT_PLANE, "type", false) != 0) {
+    if (p->possible_crtcs & (1u << crtc_index_)) {
       drmModeObjectProperties* props = drmModeObjectGetProperties(fd_, p->plane_id, DRM_MODE_OBJECT_PLANE);
+      std::string names;
       for (std::uint32_t k = 0; props && k < props->count_props; ++k) {
         drmModePropertyRes* pr = drmModeGetProperty(fd_, props->props[k]);
-        if (pr && std::strcmp(pr->name, "type") == 0 && props->prop_values[k] == DRM_PLANE_TYPE_PRIMARY) plane_ = p->plane_id;
+        if (!pr) continue;
+        names += std::string(names.empty() ? "" : " ") + pr->name;
+        if (std::strcmp(pr->name, "type") == 0 && props->prop_values[k] == DRM_PLANE_TYPE_PRIMARY) plane_ = p->plane_id;
         drmModeFreeProperty(pr);
       }
       drmModeFreeObjectProperties(props);
+      if (plane_) plane_properties_ = names;
     }
     drmModeFreePlane(p);
   }
   if (planes) drmModeFreePlaneResources(planes);
-  if (atomic_ && !plane_) throw BackendError("drm: " + card + ": no primary plane for the CRTC of " + connector_name_);
-  if (atomic_) read_properties();
 }
 
 // Property ids by name; 0 when `required` is false and the object lacks it.
@@ -253,11 +268,22 @@ bool KmsOutput::wait_for_flip() {
   while (flip_pending_) {
     const int left = frame_wait_ms_ - int((kms_now_ns() - began) / 1'000'000);
     if (left <= 0 || !dispatch(left)) {
+      check_device("while waiting for a page flip");  // a removed device may send no event
       ++stalls_;  // no vblank came: a frozen display
       return false;
     }
   }
   return true;
+}
+
+void KmsOutput::check_device(const std::string& doing) const {
+  drm_mode_crtc state{};
+  state.crtc_id = crtc_;
+  if (drmIoctl(fd_, DRM_IOCTL_MODE_GETCRTC, &state) == 0) return;
+  const int error = errno;
+  if (error == ENODEV || error == EIO)
+    throw DisplayLost("drm: " + card_ + " (" + connector_name_ + ", CRTC " + std::to_string(crtc_) + "): the device went away " +
+                      doing + " (DRM_IOCTL_MODE_GETCRTC: " + std::strerror(error) + ")");
 }
 
 std::vector<PresentedFrame> KmsOutput::take_presented(int wait_ms) {
@@ -270,6 +296,8 @@ std::vector<PresentedFrame> KmsOutput::take_presented(int wait_ms) {
     } else {
       dispatch(0);
     }
+  } else if (wait_ms > 0) {
+    check_device("while the frame was held");  // nothing pending: only an ioctl tells
   }
   return std::exchange(presented_, {});
 }
@@ -278,7 +306,8 @@ std::string KmsOutput::info() const {
   return "drm " + card_ + ": " + connector_name_ + " " + std::to_string(width_) + "x" + std::to_string(height_) + "@" +
          std::to_string(refresh_mhz_ / 1000) + ", CRTC " + std::to_string(crtc_) +
          (atomic_ ? ", atomic, primary plane " + std::to_string(plane_) + (p_damage_ ? ", FB_DAMAGE_CLIPS" : ", no FB_DAMAGE_CLIPS")
-                  : ", legacy (" + why_legacy_ + ")");
+                  : ", legacy drmModeSetCrtc + drmModePageFlip (" + why_legacy_ + ")") +
+         (plane_ ? ", plane properties: " + plane_properties_ : std::string());
 }
 
 }  // namespace meter::platform::detail

@@ -23,6 +23,10 @@ struct DisplayOptions {
   int width = 0, height = 0;  // the frame's size: the surface's buffers are this size
   bool fullscreen = true;     // xdg_toplevel.set_fullscreen; a smaller frame is centred by the compositor
   int frame_wait_ms = 1000;   // a frame callback later than this counts as a stall (a frozen display)
+  // KMS only: how the mode is set and frames are flipped. "auto": atomic where the driver takes
+  // DRM_CLIENT_CAP_ATOMIC, else legacy; "atomic": refused where the driver refuses it; "legacy":
+  // drmModeSetCrtc + drmModePageFlip, as on a driver without atomic modesetting.
+  std::string drm_modeset = "auto";
 };
 
 // When a frame reached the screen, from the compositor's presentation feedback.
@@ -35,7 +39,8 @@ struct PresentedFrame {
   std::uint32_t flags = 0;        // wp_presentation_feedback kinds: 1 vsync, 2 hw_clock, 4 hw_completion, 8 zero_copy
 };
 
-// The display went away (the compositor closed the connection or the window): the process ends
+// The display went away (the compositor closed the connection or the window, the KMS device was
+// removed): the process ends
 // with its own exit code (ViewExit::DisplayLost).
 class DisplayLost : public BackendError {
  public:

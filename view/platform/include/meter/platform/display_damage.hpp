@@ -33,4 +33,8 @@ class DamageHistory {
 // The sum of the boxes' areas (an overlap counted twice).
 long long area(std::span<const PixelRegion> boxes);
 
+// The boxes (GL window coordinates: origin bottom-left) of a `surface_height`-high surface with
+// their origin top-left, as KMS takes damage (FB_DAMAGE_CLIPS).
+std::vector<PixelRegion> top_left_origin(std::span<const PixelRegion> boxes, int surface_height);
+
 }  // namespace meter::platform

@@ -53,11 +53,19 @@ class DisplaySink : public engine::FrameSink {
   }
   // A frozen display is reported there (kViewFaultDisplayFrozen).
   void report_to(ViewHealth& health) { health_ = &health; }
+  // One log line per frame shown: the pixels copied into its buffer against the frame's and its
+  // damage (how partial the redraw stayed on the display; --info).
+  void log_each_frame() { log_each_frame_ = true; }
 
   void on_frame(const engine::FrameRecord& frame) override;
   // Waits (at most 1 s) for the feedback of the frames presented, tells the listeners, logs the
   // summary.
   void finish() override;
+
+  // After finish(): the frame last shown stays on the display for `seconds` (0: until SIGINT/
+  // SIGTERM), the display's events read every 50 ms: a display that went away throws
+  // platform::DisplayLost.
+  void hold(double seconds, std::ostream& log);
 
   const PresentationSummary& summary() const { return summary_; }
   // The frame last presented (shown, or still queued), or nullopt before the first present.
@@ -76,6 +84,7 @@ class DisplaySink : public engine::FrameSink {
   std::int64_t last_shown_ns_ = 0;
   std::uint64_t last_sequence_ = 0;
   bool finished_ = false;
+  bool log_each_frame_ = false;
   IntegrityStage* integrity_ = nullptr;
   ViewHealth* health_ = nullptr;
   std::vector<platform::PixelRegion> lost_;  // test only: damage of copies an injected fault lost

@@ -14,6 +14,10 @@ struct ViewOptions {
   // Live with a display: callback (a due frame drawn as soon as the display took the frame before)
   // or late (at the last safe moment before the display's next latch); display_latch.hpp.
   std::string latch = "callback";
+  // --output drm: auto | atomic | legacy (platform::DisplayOptions::drm_modeset).
+  std::string drm_modeset = "auto";
+  // play with --output: after the recording, the last frame stays shown until SIGINT/SIGTERM.
+  bool hold = false;
   std::string size;              // WxH; empty = the scene config's size
   int msaa = 4;
   std::string out_dir = ".";
