@@ -64,9 +64,9 @@ int main(int argc, char** argv) {
                  "drm:/dev/dri/cardN; the PNG dump keeps working (docs/display.md)")
       ->capture_default_str();
   app.add_option("--latch", o.latch,
-                 "live with --output: callback (a due frame is drawn as soon as the display took the frame "
-                 "before) or late (at the last safe moment before the display's next latch, predicted from its "
-                 "frame callbacks or page flips and presentation feedback); docs/display.md")
+                 "live with --output: late (a due frame is drawn at the last safe moment before the display's "
+                 "next latch, predicted from its frame callbacks or page flips and presentation feedback) or "
+                 "callback (as soon as the display took the frame before); docs/display.md")
       ->check(CLI::IsMember({"late", "callback"}))->capture_default_str();
   app.add_option("--drm-modeset", o.drm_modeset,
                  "--output drm: auto (atomic modesetting where the driver offers it, else legacy), atomic (refused "
