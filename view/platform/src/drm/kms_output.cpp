@@ -276,7 +276,7 @@ bool KmsOutput::wait_for_flip() {
   return true;
 }
 
-void KmsOutput::check_device(const std::string& doing) const {
+void KmsOutput::check_device(const char* doing) const {
   drm_mode_crtc state{};
   state.crtc_id = crtc_;
   if (drmIoctl(fd_, DRM_IOCTL_MODE_GETCRTC, &state) == 0) return;

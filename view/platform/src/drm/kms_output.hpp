@@ -48,7 +48,7 @@ class KmsOutput {
   std::vector<PresentedFrame> take_presented(int wait_ms);
   // Throws DisplayLost naming the card and `doing` when the device went away (a KMS ioctl answers
   // ENODEV or EIO): a removed device's fd stays open, and only an ioctl tells that it is gone.
-  void check_device(const std::string& doing) const;
+  void check_device(const char* doing) const;  // `doing`: a literal, no string built per frame
   std::uint64_t stalls() const { return stalls_; }
   // The vblank time of the last page flip event (CLOCK_MONOTONIC ns; 0: none yet).
   std::int64_t last_flip_ns() const { return last_flip_ns_; }
